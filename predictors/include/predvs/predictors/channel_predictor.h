@@ -1,0 +1,113 @@
+// predvs — the plumbing shared by every per-channel Kalman predictor.
+//
+// Channels are independent, each with a fixed-size Gaussian state of N entries. A derived filter
+// provides the motion model (transition and process noise over any dt), its measurement noise,
+// and may override step() to adapt R, Q or P (fuzzy, strong-tracking, self-tuning filters).
+#pragma once
+
+#include "predvs/predictors/kalman_math.h"
+#include "predvs/predictors/predictor.h"
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace predvs {
+
+template <int N>
+class ChannelPredictor : public Predictor {
+ public:
+  static_assert(N == 2 || N == 3, "a channel state is [p, v] or [p, v, a]");
+
+  void reset() override {
+    resetClock();
+    for (auto& c : state_) c = ChannelState{};
+    resetAdaptation();
+  }
+
+  void update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) override {
+    if (z.size() != channels())
+      throw std::invalid_argument(name() + ": measurement has " + std::to_string(z.size()) +
+                                  " entries, expected " + std::to_string(channels()));
+    const double dt = advanceClock(t_s);
+    for (int c = 0; c < channels(); ++c) {
+      ChannelState& s = state_[c];
+      s.innovation = Innovation{};
+      if (!s.initialized) {
+        if (isMeasured(z(c))) {
+          initialize(c, z(c));
+          s.initialized = true;
+        }
+        continue;
+      }
+      step(c, dt, z(c));
+    }
+  }
+  using Predictor::update;
+
+  ChannelEstimate predict(int channel, double t_s) const override {
+    const ChannelState& s = state_.at(channel);
+    if (!s.initialized) {
+      ChannelEstimate e;
+      e.x = ChannelVector::Constant(N, std::numeric_limits<double>::quiet_NaN());
+      e.P = ChannelMatrix::Constant(N, N, std::numeric_limits<double>::quiet_NaN());
+      return e;
+    }
+    const double dt = t_s - time();
+    if (!(dt > 0.0)) return toEstimate(s.g);
+    Gaussian<N> g = s.g;
+    timeUpdate(g, transition(channel, dt), processNoise(channel, dt));
+    return toEstimate(g);
+  }
+
+  Innovation innovation(int channel) const override { return state_.at(channel).innovation; }
+
+  /// The filtered Gaussian of a channel at the last update time (tests, monitors).
+  const Gaussian<N>& gaussian(int channel) const { return state_.at(channel).g; }
+  bool initialized(int channel) const { return state_.at(channel).initialized; }
+
+ protected:
+  struct ChannelState {
+    Gaussian<N> g;
+    bool initialized = false;
+    Innovation innovation;
+  };
+
+  ChannelPredictor(int channels, double r_px2, double p0_vel, double p0_acc)
+      : Predictor(channels), state_(static_cast<size_t>(channels)), r0_(r_px2), p0_vel_(p0_vel), p0_acc_(p0_acc) {}
+
+  /// Transition matrix of channel c over dt.
+  virtual Mat<N> transition(int c, double dt) const = 0;
+  /// Process noise of channel c over dt.
+  virtual Mat<N> processNoise(int c, double dt) const = 0;
+  /// Measurement noise variance of channel c (may be adapted).
+  virtual double measurementNoise(int /*c*/) const { return r0_; }
+  /// Clears adaptive terms (windows, adapted R, fading memories) on reset().
+  virtual void resetAdaptation() {}
+
+  /// First measurement: x = [z, 0(, 0)], P = diag(R, p0_vel(, p0_acc)).
+  virtual void initialize(int c, double z) {
+    Gaussian<N>& g = state_[c].g;
+    g.x.setZero();
+    g.x(0) = z;
+    g.P.setZero();
+    g.P(0, 0) = measurementNoise(c);
+    g.P(1, 1) = p0_vel_;
+    if constexpr (N == 3) g.P(2, 2) = p0_acc_;
+  }
+
+  /// One filter cycle on channel c: predict over dt, then fuse z unless it is NaN. Adaptive
+  /// filters override this and reuse timeUpdate()/measurementUpdate().
+  virtual void step(int c, double dt, double z) {
+    ChannelState& s = state_[c];
+    timeUpdate(s.g, transition(c, dt), processNoise(c, dt));
+    if (isMeasured(z)) s.innovation = measurementUpdate(s.g, z, measurementNoise(c));
+  }
+
+  std::vector<ChannelState> state_;
+  double r0_;
+  double p0_vel_;
+  double p0_acc_;
+};
+
+}  // namespace predvs

@@ -1,0 +1,104 @@
+// predvs — small fixed-size Kalman building blocks shared by every predictor (Eigen only).
+//
+// Motion models are continuous-time, discretised over an arbitrary step dt, so one model serves
+// the frame period T, a horizon h*T, or an irregular gap between two measurements.
+#pragma once
+
+#include "predvs/predictors/predictor.h"
+
+#include <Eigen/Core>
+
+#include <cmath>
+
+namespace predvs {
+
+template <int N>
+using Vec = Eigen::Matrix<double, N, 1>;
+template <int N>
+using Mat = Eigen::Matrix<double, N, N>;
+
+/// Gaussian state of one channel.
+template <int N>
+struct Gaussian {
+  Vec<N> x = Vec<N>::Zero();
+  Mat<N> P = Mat<N>::Identity();
+};
+
+template <int N>
+inline void symmetrize(Mat<N>& P) {
+  P = 0.5 * (P + P.transpose()).eval();
+}
+
+/// Time update: x <- F x, P <- F P F' + Q (kept symmetric).
+template <int N>
+inline void timeUpdate(Gaussian<N>& g, const Mat<N>& F, const Mat<N>& Q) {
+  g.x = F * g.x;
+  g.P = F * g.P * F.transpose() + Q;
+  symmetrize(g.P);
+}
+
+/// Measurement update of a scalar position measurement (H = [1 0 ..]) in Joseph form:
+///   K = P H' / S,  x <- x + K eps,  P <- (I - K H) P (I - K H)' + K R K'.
+/// The Joseph form keeps P symmetric PSD even when the gain is sub-optimal (adapted R, inflated
+/// or faded P), which is the case for every adaptive predictor here.
+template <int N>
+inline Innovation measurementUpdate(Gaussian<N>& g, double z, double R) {
+  Innovation in;
+  in.eps = z - g.x(0);
+  in.S = g.P(0, 0) + R;
+  in.valid = true;
+  const Vec<N> K = g.P.col(0) / in.S;
+  g.x += K * in.eps;
+  Mat<N> IKH = Mat<N>::Identity();
+  IKH.col(0) -= K;
+  g.P = IKH * g.P * IKH.transpose() + (R * K) * K.transpose();
+  symmetrize(g.P);
+  return in;
+}
+
+/// Constant velocity: x = [p, v], F = [[1, dt], [0, 1]].
+inline Mat<2> cvTransition(double dt) {
+  Mat<2> F;
+  F << 1.0, dt, 0.0, 1.0;
+  return F;
+}
+
+/// White-noise acceleration of spectral density q (units^2/s^3):
+///   Q = q [[dt^3/3, dt^2/2], [dt^2/2, dt]].
+inline Mat<2> cvProcessNoise(double q, double dt) {
+  Mat<2> Q;
+  const double dt2 = dt * dt, dt3 = dt2 * dt;
+  Q << dt3 / 3.0, dt2 / 2.0, dt2 / 2.0, dt;
+  return q * Q;
+}
+
+/// Constant acceleration: x = [p, v, a], F = [[1, dt, dt^2/2], [0, 1, dt], [0, 0, 1]].
+inline Mat<3> caTransition(double dt) {
+  Mat<3> F;
+  F << 1.0, dt, 0.5 * dt * dt, 0.0, 1.0, dt, 0.0, 0.0, 1.0;
+  return F;
+}
+
+/// White-noise jerk of spectral density q (units^2/s^5):
+///   Q = q [[dt^5/20, dt^4/8, dt^3/6], [dt^4/8, dt^3/3, dt^2/2], [dt^3/6, dt^2/2, dt]].
+inline Mat<3> caProcessNoise(double q, double dt) {
+  const double dt2 = dt * dt, dt3 = dt2 * dt, dt4 = dt3 * dt, dt5 = dt4 * dt;
+  Mat<3> Q;
+  Q << dt5 / 20.0, dt4 / 8.0, dt3 / 6.0,  //
+      dt4 / 8.0, dt3 / 3.0, dt2 / 2.0,    //
+      dt3 / 6.0, dt2 / 2.0, dt;
+  return q * Q;
+}
+
+/// Estimate of a fixed-size Gaussian as the interface's ChannelEstimate.
+template <int N>
+inline ChannelEstimate toEstimate(const Gaussian<N>& g) {
+  ChannelEstimate e;
+  e.x = g.x;
+  e.P = g.P;
+  return e;
+}
+
+inline bool isMeasured(double z) { return std::isfinite(z); }
+
+}  // namespace predvs

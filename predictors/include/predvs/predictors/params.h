@@ -1,0 +1,36 @@
+// predvs — named numeric parameters with use tracking (Eigen-free, used by every layer).
+#pragma once
+
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace predvs {
+
+/// Named numeric parameters of a predictor, trajectory or noise model, with use tracking so
+/// that a misspelt key in a scenario file is reported instead of silently ignored.
+class Params {
+ public:
+  Params() = default;
+  Params(std::initializer_list<std::pair<const std::string, double>> values) : values_(values) {}
+
+  void set(const std::string& key, double value) { values_[key] = value; }
+  bool has(const std::string& key) const { return values_.count(key) != 0; }
+  /// The value of `key`, or `fallback` when absent. Marks the key as known.
+  double get(const std::string& key, double fallback) const;
+  /// Same, and throws std::invalid_argument unless lo <= value <= hi (naming the key).
+  double get(const std::string& key, double fallback, double lo, double hi) const;
+  /// Keys that were set but never read by get(): unknown to whoever consumed them.
+  std::vector<std::string> unusedKeys() const;
+  /// Throws std::invalid_argument "unknown parameter 'KEY' for WHAT" if a key was never read.
+  void requireAllUsed(const std::string& what) const;
+  const std::map<std::string, double>& values() const { return values_; }
+
+ private:
+  std::map<std::string, double> values_;
+  mutable std::set<std::string> used_;
+};
+
+}  // namespace predvs

@@ -1,0 +1,109 @@
+// predvs — the predictor interface.
+//
+// A predictor sits ahead of the servo task: it fuses time-stamped (delayed) feature measurements
+// and answers "where will each feature be at time t" so the task can act on where the target will
+// be when the command takes effect, not where it was when the image was taken (METHODS §0).
+//
+// Conventions
+//  * A predictor tracks `channels()` independent scalar signals (for the servo loop: u and v of
+//    every image point; for E6: x_i, y_i, d_x). Each channel has its own Gaussian state
+//    [p, v] or [p, v, a] (at most 3 states).
+//  * Every measurement carries its acquisition time t_s (seconds). Times passed to update() must
+//    be strictly increasing; update() with a time not after the last one throws std::invalid_argument.
+//  * update(t, z) predicts to t and fuses z; a NaN entry in z means "this channel was not measured"
+//    (predict-only for that channel). update(t) with no z is predict-only for every channel
+//    (occlusion, dropped frame).
+//  * predict(channel, t) is const: it never changes the filter. It answers for any t at or after the
+//    last update time (t before the last update is clamped to the filter time: no smoothing).
+//  * Before the first measurement a channel is uninitialised: predict() returns NaN position.
+#pragma once
+
+#include "predvs/predictors/params.h"
+
+#include <Eigen/Core>
+
+#include <limits>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace predvs {
+
+/// State vector of one channel: [p, v] or [p, v, a]; fixed maximum size, no heap allocation.
+using ChannelVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
+/// Covariance of one channel's state; fixed maximum size 3x3, no heap allocation.
+using ChannelMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
+
+/// Gaussian estimate of one channel at a given time.
+struct ChannelEstimate {
+  ChannelVector x;  ///< [position, velocity(, acceleration)] in the channel's units (px, px/s, px/s^2)
+  ChannelMatrix P;  ///< covariance of x
+  double position() const { return x.size() > 0 ? x(0) : std::numeric_limits<double>::quiet_NaN(); }
+  double velocity() const { return x.size() > 1 ? x(1) : 0.0; }
+  double positionVariance() const { return P.size() > 0 ? P(0, 0) : std::numeric_limits<double>::quiet_NaN(); }
+};
+
+/// Innovation of the last update of one channel: eps = z - H x(k|k-1), S = H P(k|k-1) H' + R.
+/// `valid` is false when the channel was not measured at the last update.
+struct Innovation {
+  double eps = 0.0;
+  double S = 0.0;
+  bool valid = false;
+};
+
+class Predictor {
+ public:
+  virtual ~Predictor() = default;
+
+  /// Registry name, e.g. "kf-cv".
+  virtual std::string name() const = 0;
+  /// Number of independent scalar channels.
+  int channels() const { return channels_; }
+
+  /// Back to the state after construction: every channel uninitialised, adaptive terms reset.
+  virtual void reset() = 0;
+  /// Predict to the acquisition time t_s and fuse z (size channels(); NaN = channel not measured).
+  virtual void update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) = 0;
+  /// Predict-only step to t_s (no measurement at all: occlusion or dropped frame).
+  void update(double t_s);
+  /// Estimate of `channel` at time t_s (>= last update time), without changing the filter.
+  virtual ChannelEstimate predict(int channel, double t_s) const = 0;
+  /// Innovation of the last update on `channel`.
+  virtual Innovation innovation(int channel) const = 0;
+
+  /// Time of the last update (NaN before the first).
+  double time() const { return t_last_; }
+  /// Predicted positions of every channel at t_s (convenience over predict()).
+  Eigen::VectorXd predictPositions(double t_s) const;
+  /// Predicted velocities of every channel at t_s.
+  Eigen::VectorXd predictVelocities(double t_s) const;
+
+ protected:
+  explicit Predictor(int channels);
+  /// Checks that t_s is after the last update and records it; returns dt (0 on the first call).
+  double advanceClock(double t_s);
+  void resetClock();
+
+ private:
+  int channels_;
+  double t_last_;
+};
+
+/// One entry of the predictor registry.
+struct PredictorInfo {
+  std::string name;
+  std::string summary;  ///< one line for `predvs list`
+};
+
+/// Every registered predictor, in display order.
+const std::vector<PredictorInfo>& predictorRegistry();
+/// True if `name` is registered.
+bool isPredictor(const std::string& name);
+/// Builds the predictor `name` for `channels` channels. Throws std::invalid_argument naming the
+/// unknown predictor, or the unknown / out-of-range parameter key.
+std::unique_ptr<Predictor> makePredictor(const std::string& name, int channels,
+                                         const Params& params = {});
+
+}  // namespace predvs

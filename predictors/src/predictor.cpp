@@ -1,0 +1,76 @@
+#include "predvs/predictors/predictor.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace predvs {
+
+double Params::get(const std::string& key, double fallback) const {
+  used_.insert(key);
+  const auto it = values_.find(key);
+  return it == values_.end() ? fallback : it->second;
+}
+
+double Params::get(const std::string& key, double fallback, double lo, double hi) const {
+  const double v = get(key, fallback);
+  if (!(v >= lo && v <= hi)) {
+    std::ostringstream msg;
+    msg << "predictor parameter '" << key << "' = " << v << " is out of range [" << lo << ", " << hi << "]";
+    throw std::invalid_argument(msg.str());
+  }
+  return v;
+}
+
+void Params::requireAllUsed(const std::string& what) const {
+  const auto unknown = unusedKeys();
+  if (!unknown.empty()) throw std::invalid_argument("unknown parameter '" + unknown.front() + "' for " + what);
+}
+
+std::vector<std::string> Params::unusedKeys() const {
+  std::vector<std::string> out;
+  for (const auto& kv : values_)
+    if (!used_.count(kv.first)) out.push_back(kv.first);
+  return out;
+}
+
+Predictor::Predictor(int channels) : channels_(channels), t_last_(std::numeric_limits<double>::quiet_NaN()) {
+  if (channels <= 0) throw std::invalid_argument("a predictor needs at least one channel");
+}
+
+void Predictor::update(double t_s) {
+  update(t_s, Eigen::VectorXd::Constant(channels_, std::numeric_limits<double>::quiet_NaN()));
+}
+
+double Predictor::advanceClock(double t_s) {
+  if (!std::isfinite(t_s)) throw std::invalid_argument(name() + ": update time is not finite");
+  if (std::isnan(t_last_)) {
+    t_last_ = t_s;
+    return 0.0;
+  }
+  if (!(t_s > t_last_)) {
+    std::ostringstream msg;
+    msg << name() << ": update time " << t_s << " s is not after the previous one (" << t_last_ << " s)";
+    throw std::invalid_argument(msg.str());
+  }
+  const double dt = t_s - t_last_;
+  t_last_ = t_s;
+  return dt;
+}
+
+void Predictor::resetClock() { t_last_ = std::numeric_limits<double>::quiet_NaN(); }
+
+Eigen::VectorXd Predictor::predictPositions(double t_s) const {
+  Eigen::VectorXd out(channels_);
+  for (int c = 0; c < channels_; ++c) out(c) = predict(c, t_s).position();
+  return out;
+}
+
+Eigen::VectorXd Predictor::predictVelocities(double t_s) const {
+  Eigen::VectorXd out(channels_);
+  for (int c = 0; c < channels_; ++c) out(c) = predict(c, t_s).velocity();
+  return out;
+}
+
+}  // namespace predvs

@@ -1,0 +1,62 @@
+// The predictor registry: adding a predictor is one entry here (and one line in the property
+// suite, tests/predictors/property_test.cpp).
+#include "predvs/predictors/kalman_baselines.h"
+#include "predvs/predictors/predictor.h"
+
+#include <functional>
+#include <stdexcept>
+
+namespace predvs {
+namespace {
+
+using Factory = std::function<std::unique_ptr<Predictor>(int, const Params&)>;
+
+struct Entry {
+  PredictorInfo info;
+  Factory make;
+};
+
+template <class P>
+Factory factory() {
+  return [](int channels, const Params& params) { return std::make_unique<P>(channels, params); };
+}
+
+const std::vector<Entry>& entries() {
+  static const std::vector<Entry> table = {
+      {{"hold", "no prediction: the last (delayed) measurement"}, factory<HoldPredictor>()},
+      {{"kf-cv", "Kalman filter, constant-velocity model"}, factory<KfCvPredictor>()},
+      {{"kf-ca", "Kalman filter, constant-acceleration model"}, factory<KfCaPredictor>()},
+  };
+  return table;
+}
+
+}  // namespace
+
+const std::vector<PredictorInfo>& predictorRegistry() {
+  static const std::vector<PredictorInfo> infos = [] {
+    std::vector<PredictorInfo> out;
+    for (const auto& e : entries()) out.push_back(e.info);
+    return out;
+  }();
+  return infos;
+}
+
+bool isPredictor(const std::string& name) {
+  for (const auto& e : entries())
+    if (e.info.name == name) return true;
+  return false;
+}
+
+std::unique_ptr<Predictor> makePredictor(const std::string& name, int channels, const Params& params) {
+  for (const auto& e : entries()) {
+    if (e.info.name != name) continue;
+    auto p = e.make(channels, params);
+    params.requireAllUsed("predictor '" + name + "'");
+    return p;
+  }
+  std::string known;
+  for (const auto& e : entries()) known += (known.empty() ? "" : ", ") + e.info.name;
+  throw std::invalid_argument("unknown predictor '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace predvs

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Installs every Debian package predvs needs to build, test and plot, and only what is missing.
+# Runs as root on a fresh Debian 12 (bookworm); as another user it uses sudo when available.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config
+  libeigen3-dev
+  libvisp-dev          # ViSP 3.5: vpServo, vpSimulatorCamera, vpLinearKalmanFilterInstantiation
+  libopencv-dev        # cv::KalmanFilter (benchmark baseline); also pulled in by ViSP
+  libyaml-cpp-dev      # scenario files
+  libcli11-dev         # the predvs command line
+  nlohmann-json3-dev   # summary.json / leaderboard.json
+  libgtest-dev libgmock-dev
+  libbenchmark-dev
+  gnuplot-nox          # PNG plots (pngcairo terminal)
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
+    echo "install-deps: missing packages (${missing[*]}) and not root; run as root" >&2; exit 1
+  fi
+fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
