@@ -1,5 +1,6 @@
 // The predictor registry: adding a predictor is one entry here (and one line in the property
 // suite, tests/predictors/property_test.cpp).
+#include "predvs/predictors/fakf.h"
 #include "predvs/predictors/kalman_baselines.h"
 #include "predvs/predictors/predictor.h"
 
@@ -26,6 +27,7 @@ const std::vector<Entry>& entries() {
       {{"hold", "no prediction: the last (delayed) measurement"}, factory<HoldPredictor>()},
       {{"kf-cv", "Kalman filter, constant-velocity model"}, factory<KfCvPredictor>()},
       {{"kf-ca", "Kalman filter, constant-acceleration model"}, factory<KfCaPredictor>()},
+      {{"fakf-classic", "fuzzy adaptive KF (Escamilla-Ambrosio & Mort): CV model, R += fuzzy(C - S)"}, factory<FakfClassicPredictor>()},
   };
   return table;
 }
