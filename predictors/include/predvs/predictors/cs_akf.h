@@ -1,0 +1,185 @@
+// predvs — the current statistical (CS) motion model and its Kalman filters (METHODS §2, paper 000 §3).
+//
+// Model, per channel, state x = [p, v, a]. The acceleration is a mean abar plus a first-order Markov
+// deviation with correlation rate alpha (1/s), driven by white noise of density 2 alpha sigma^2:
+//
+//   p' = v,   v' = a,   a' = -alpha a + alpha abar + w,   E[w(t) w(s)] = 2 alpha sigma^2 delta(t - s).
+//
+// Exactly discretised over a step dt (x = alpha dt, e = exp(-x)):
+//
+//   x(k+1) = F x(k) + U abar + w(k),   Cov w(k) = Q,
+//   F = [[1, dt, (e - 1 + x)/alpha^2], [0, 1, (1 - e)/alpha], [0, 0, e]]            (singerTransition)
+//   U = [(1 - x + x^2/2 - e)/alpha^2, dt - (1 - e)/alpha, 1 - e]'                    (singerInput)
+//   Q = 2 alpha sigma^2 [q_ij] with the q_ij of METHODS §2                           (singerProcessNoise)
+//
+// CS filter (the "current" statistical model): the mean abar is the filter's own predicted
+// acceleration, abar = a(k|k-1). Since a(k|k-1) = e a(k-1|k-1) + (1 - e) abar, that choice makes
+// a(k|k-1) = a(k-1|k-1), and the mean prediction F x + U abar = (F + U [0 0 1]) x is exactly the
+// constant-acceleration prediction F_CA x. alpha and sigma^2 then act only through Q.
+//
+// Covariance propagation (our choice, METHODS §11): P(k|k-1) = F_CA P F_CA' + Q_singer. The map the
+// mean actually applies is F_CA (abar is a function of the state, not an exogenous input), so F_CA is
+// its exact Jacobian. Propagating with the Singer F instead would shrink the acceleration variance by
+// e^2 every step while the mean keeps the full acceleration: P would understate the actual error,
+// the gain would fall, and the filter would become overconfident and lag (the fragility METHODS §11
+// reports). The same F_CA / Q_singer pair is used by update() and by the const prediction query,
+// so a horizon prediction is consistent with the filter's own time update.
+#pragma once
+
+#include "predvs/predictors/channel_predictor.h"
+
+#include <vector>
+
+namespace predvs {
+
+/// alpha*dt below which the Singer quantities are evaluated by their Taylor series in x = alpha*dt
+/// instead of the closed forms. The closed forms cancel O(1) terms down to O(x^5) (q11), so their
+/// relative rounding error grows like 1e-16 / x^5: ~1e-13 at x = 0.5 but 10% at x = 1e-3. The series
+/// (20 terms, coefficients computed once from the exponential series) is accurate to < 1e-15
+/// relative for x <= 0.5, so switching at 0.5 keeps both branches near machine precision on either
+/// side (tested for continuity).
+constexpr double kSingerSeriesThreshold = 0.5;
+
+/// Singer transition F over dt for correlation rate alpha (1/s), alpha >= 0 (alpha = 0 gives F_CA).
+Mat<3> singerTransition(double alpha, double dt);
+/// Singer input vector U over dt: the response of [p, v, a] to a constant mean acceleration abar.
+Vec<3> singerInput(double alpha, double dt);
+/// Singer process noise Q = 2 alpha sigma2 [q_ij] over dt (sigma2: acceleration variance, (px/s^2)^2).
+/// As alpha -> 0 with 2 alpha sigma2 = q fixed, Q tends to the white-jerk caProcessNoise(q, dt).
+Mat<3> singerProcessNoise(double alpha, double sigma2, double dt);
+
+/// Modified-Rayleigh acceleration variance of the CS model (paper 000 §3.1):
+///   sigma^2 = (4 - pi)/pi (a_max - abar)^2        if abar > 0,
+///   sigma^2 = (4 - pi)/pi (a_neg_max + abar)^2    if abar < 0   (a_neg_max: magnitude of the lower limit),
+///   sigma^2 = sigma0_sq                           if abar == 0.
+/// a_neg_max is used by magnitude, so -50 and 50 mean the same limit. The model assumes
+/// -a_neg_max < abar < a_max; outside, the formula is applied as written (the variance grows again).
+double rayleighVariance(double abar, double a_max, double a_neg_max, double sigma0_sq);
+
+/// Common part of the CS filters: F_CA mean prediction, F_CA / Singer-Q covariance propagation,
+/// Joseph-form scalar position update, and the hooks an adaptive variant overrides. Derived classes
+/// only say which acceleration variance sigma^2 drives Q (accelerationVariance()).
+///
+/// One cycle (step) on channel c, in this order:
+///   predictStep(c, dt)        x <- F_CA x, P <- F_CA P F_CA' + Q_singer(alpha, sigma^2(c), dt)
+///   inflatePrior(c, dt)       hook on P(k|k-1) before the update (default: nothing; a fuzzy filter
+///                             scales P here, e.g. P <- gamma P)
+///   correctStep(c, z)         only if z is measured: Joseph update with R = measurementNoise(c),
+///                             stores the innovation
+///   afterStep(c, dt, z)       hook after the update (adaptive variance, windows; default: nothing)
+///
+/// Parameters common to both CS filters:
+///   alpha   (1/s, default 1.0, range [1e-6, 1e3]): acceleration correlation rate; 1/alpha = 1 s is
+///           the time over which an image-feature acceleration (a target turning or speeding up
+///           by hand or on a conveyor) stays correlated. Q scales with 2 alpha sigma^2, so alpha
+///           must stay > 0 (alpha = 0 would mean no process noise at all).
+///   r       (px^2, default 1.0): measurement noise variance (1 px feature noise).
+///   p0_vel  ((px/s)^2, default 1e4): initial velocity variance (100 px/s std covers 10..100 px/s).
+///   p0_acc  ((px/s^2)^2, default 1e4): initial acceleration variance (as kf-ca).
+class CsKalmanPredictor : public ChannelPredictor<3> {
+ public:
+  /// Acceleration correlation rate (1/s).
+  double alpha() const { return alpha_; }
+  /// sigma^2 ((px/s^2)^2) that drives Q for the next time update of channel c.
+  virtual double accelerationVariance(int c) const = 0;
+
+ protected:
+  /// Reads alpha, r, p0_vel, p0_acc from params (derived classes read their own keys).
+  CsKalmanPredictor(int channels, const Params& params);
+
+  Mat<3> transition(int, double dt) const override { return caTransition(dt); }
+  Mat<3> processNoise(int c, double dt) const override;
+
+  /// predictStep; inflatePrior; correctStep if z is measured; afterStep. Not meant to be overridden
+  /// (override the hooks instead), but left virtual for filters that restructure the cycle.
+  void step(int c, double dt, double z) override;
+  /// Time update of channel c: x(k|k-1) = F_CA x(k-1|k-1), P(k|k-1) = F_CA P F_CA' + Q_singer.
+  virtual void predictStep(int c, double dt);
+  /// Hook on the prior P(k|k-1) (and x(k|k-1)) before the measurement update. Default: nothing.
+  virtual void inflatePrior(int /*c*/, double /*dt*/) {}
+  /// Measurement update of channel c with z (finite), R = measurementNoise(c), Joseph form;
+  /// records the innovation returned by innovation(c).
+  virtual void correctStep(int c, double z);
+  /// Hook after the (possible) measurement update; z is NaN when the channel was not measured.
+  virtual void afterStep(int /*c*/, double /*dt*/, double /*z*/) {}
+
+  /// Mutable Gaussian of channel c (x(k|k) after a step, x(k|k-1) inside inflatePrior).
+  Gaussian<3>& channelGaussian(int c) { return state_[static_cast<size_t>(c)].g; }
+
+ private:
+  double alpha_;
+};
+
+/// `cs-akf`: CS Kalman filter with the modified-Rayleigh variance and fixed limits:
+/// sigma^2(k) = rayleighVariance(a(k-1|k-1), a_max, a_neg_max, sigma0_sq) (abar = a(k|k-1) = a(k-1|k-1)).
+/// Parameters (besides alpha, r, p0_vel, p0_acc):
+///   a_max      (px/s^2, default 50): largest expected positive acceleration. Targets moving at
+///              10..100 px/s that reverse or turn within ~1..2 s accelerate by up to ~50..100 px/s^2;
+///              the circle of METHODS §10 E4/§11 (200 px, 0.15 rad/s) has 4.5 px/s^2, E2 jumps to 30.
+///   a_neg_max  (px/s^2, default 50): magnitude of the largest negative acceleration.
+///   sigma0_sq  ((px/s^2)^2, default 1.0): variance used when abar == 0 (in practice only at start).
+/// Known weakness (the reason for the adaptive variant): small a_max gives smooth estimates but a
+/// slow response to manoeuvres, large a_max the opposite.
+class CsAkfPredictor : public CsKalmanPredictor {
+ public:
+  CsAkfPredictor(int channels, const Params& params);
+  std::string name() const override { return "cs-akf"; }
+  double accelerationVariance(int c) const override;
+
+ private:
+  double a_max_;
+  double a_neg_max_;
+  double sigma0_sq_;
+};
+
+/// `cs-akf-adaptive`: CS Kalman filter whose acceleration variance adapts from the filter's own
+/// acceleration estimates instead of a fixed a_max (paper 000 §3.2; its eq. 10 is lost, this is the
+/// variant METHODS §2 suggests):
+///
+///   sigma^2(k) = clamp((4 - pi)/pi (a(k|k) - a(k-1|k-1))^2, sigma_min_sq, sigma_max_sq),
+///
+/// computed after the measurement update of frame k and used in Q for the prediction to k+1.
+/// Since a(k|k-1) = a(k-1|k-1) under the CS mean, the difference is the acceleration correction
+/// K_a eps of the last update: a large innovation (a manoeuvre) raises Q at once, which raises the
+/// gain; on smooth motion the correction is small and sigma^2 sits on its floor.
+/// Choices:
+///   * the raw one-step difference, no averaging: fastest reaction to a jump (averaging would delay
+///     it by the window length), with the floor and ceiling bounding the feedback loop;
+///   * a frame without a measurement on that channel leaves sigma^2 and a(k-1|k-1) unchanged
+///     (a predict-only step has no correction, so it carries no information about manoeuvres);
+///   * sigma^2 starts at sigma_max_sq, so the filter converges quickly from its first measurements.
+/// Parameters (besides alpha, r, p0_vel, p0_acc):
+///   sigma_min_sq ((px/s^2)^2, default see cs_akf.cpp / registry summary): the floor. On smooth
+///                motion sigma^2 stays on it and it alone sets the smoothing / lag trade-off
+///                (METHODS §11); its effect is measured in tests/predictors/cs_akf_test.cpp.
+///   sigma_max_sq ((px/s^2)^2, default 1000 ~ (4-pi)/pi * 60^2): the ceiling.
+///
+/// Extension points for subclasses (e.g. the improved fuzzy AKF, METHODS §3): override
+/// measurementNoise(c) for a per-channel adapted R, inflatePrior() to scale P(k|k-1), afterStep()
+/// to update windows (call CsAkfAdaptivePredictor::afterStep to keep the variance adaptation), and
+/// resetAdaptation() (call the base version too). channelGaussian(c), innovation(c) and state_
+/// give access to the per-channel estimate.
+class CsAkfAdaptivePredictor : public CsKalmanPredictor {
+ public:
+  CsAkfAdaptivePredictor(int channels, const Params& params);
+  std::string name() const override { return "cs-akf-adaptive"; }
+  double accelerationVariance(int c) const override { return sigma2_[static_cast<size_t>(c)]; }
+  double sigmaMinSq() const { return sigma_min_sq_; }
+  double sigmaMaxSq() const { return sigma_max_sq_; }
+
+ protected:
+  /// Adapts sigma^2(c) from a(k|k) - a(k-1|k-1) when z was measured.
+  void afterStep(int c, double dt, double z) override;
+  /// sigma^2 back to sigma_max_sq and the acceleration memory cleared, on every channel.
+  void resetAdaptation() override;
+  /// Records a(0|0) as the first acceleration memory.
+  void initialize(int c, double z) override;
+
+ private:
+  double sigma_min_sq_;
+  double sigma_max_sq_;
+  std::vector<double> sigma2_;  ///< per channel, (px/s^2)^2
+  std::vector<double> a_prev_;  ///< a(k-1|k-1) per channel, px/s^2
+};
+
+}  // namespace predvs
