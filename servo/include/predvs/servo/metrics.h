@@ -1,0 +1,57 @@
+// predvs — error metrics shared by the open-loop prediction experiment and the closed loop
+// (METHODS §10: RMSE, final error, peak error, convergence time, integrated absolute error,
+// control effort).
+//
+// Input: a scalar error e(t_i) >= 0 per step on a uniform or non-uniform time grid (open loop:
+// the Euclidean prediction error in the target's units; closed loop: the RMS over the four points
+// of the pixel distance between the true and the desired features), and optionally the camera
+// velocity command v(t_i) (closed loop).
+//
+// Definitions (choices, documented):
+//  * steady window: t >= t_0 + steady_start_fraction * (t_end - t_0) (default: the second half of
+//    the run), so the initial transient (filter initialisation, visual-servo convergence) does
+//    not enter the steady-state figures. rmse_px and max_error_px are over this window.
+//  * final_error: mean of e over the last 10 % of the run (t >= t_0 + 0.9 (t_end - t_0)).
+//  * iae: integral of e dt over the whole run (rectangle rule with the step to the next sample).
+//  * settling_time_s: the first time after which e stays at or below
+//        e_final + settling_band * (e_peak - e_final),  settling_band = 0.05 by default,
+//    measured from t_0, where e_peak is the maximum of e over the run; NaN if e ends above it.
+//    (A band relative to the excursion, because the tracking error of a moving target does not
+//    go to zero.)
+//  * control_effort: sum of ||v||^2 dt over the whole run ((m/s)^2 s + (rad/s)^2 s mixed as
+//    ViSP's 6-vector); NaN when no command is given (open loop).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <limits>
+#include <vector>
+
+namespace predvs {
+
+struct MetricsOptions {
+  double steady_start_fraction = 0.5;  ///< start of the steady window, fraction of the run (metrics.steady_start_fraction)
+  double final_fraction = 0.1;         ///< length of the final window, fraction of the run (metrics.final_fraction)
+  double settling_band = 0.05;         ///< settling band, fraction of (e_peak - e_final) (metrics.settling_band)
+};
+
+struct Metrics {
+  double rmse = std::numeric_limits<double>::quiet_NaN();             ///< sqrt(mean e^2) over the steady window
+  double final_error = std::numeric_limits<double>::quiet_NaN();      ///< mean e over the final window
+  double max_error = std::numeric_limits<double>::quiet_NaN();        ///< max e over the steady window
+  double peak_error = std::numeric_limits<double>::quiet_NaN();       ///< max e over the whole run
+  double iae = std::numeric_limits<double>::quiet_NaN();              ///< integral of e dt, whole run
+  double settling_time_s = std::numeric_limits<double>::quiet_NaN();  ///< see header comment
+  double control_effort = std::numeric_limits<double>::quiet_NaN();   ///< sum ||v||^2 dt (closed loop)
+  int steady_samples = 0;                                             ///< samples in the steady window
+};
+
+/// Computes the metrics of e(t) (NaN entries of e are skipped: e.g. before the first prediction).
+/// `t_s` and `error` must have the same size (std::invalid_argument otherwise); `velocity`, when
+/// not null, holds one 6-vector per sample. Options out of (0, 1) throw std::invalid_argument
+/// naming metrics.<key>.
+Metrics computeMetrics(const std::vector<double>& t_s, const std::vector<double>& error,
+                       const MetricsOptions& options = {},
+                       const std::vector<Eigen::Matrix<double, 6, 1>>* velocity = nullptr);
+
+}  // namespace predvs

@@ -1,0 +1,54 @@
+// predvs — 2D target trajectories: position and velocity at any time t (METHODS §10, E1–E4, E9).
+//
+// Unit-agnostic: the same trajectory describes a target in pixels (open-loop prediction, E1–E4)
+// or the in-plane translation of the target in metres (closed loop). Every trajectory is built by
+// name from predvs::Params; unknown keys are rejected (Params::requireAllUsed). Time in seconds,
+// positions in "units", velocities in units/s, frequencies in Hz, angular rates in rad/s.
+//
+// Names, keys and defaults (defaults are the papers' values where the paper gives one):
+//   static      x0 = 0, y0 = 0                          p(t) = (x0, y0)
+//   line        x0 = 0, y0 = 0, vx = 10, vy = 10        p(t) = p0 + v t              (E1, paper 000 §6.1)
+//   accel-jump  x0 = 0, y0 = 0, vx = 20, vy = 20, ax = 1, ay = 1, t_jump = 14, ax_jump = 30,
+//               ay_jump = 30                             constant acceleration a before t_jump and
+//               a_jump after it, position and velocity continuous at t_jump (E2, paper 000 §6.1:
+//               "the accelerations change to 30 after 14 s")
+//   zigzag      x0 = 0, y0 = 0, vx = 1, vy = 10, t_switch = 9, periodic = 0
+//               p_x = x0 + vx t; v_y = vy before t_switch and -vy after it (E3). With periodic = 1
+//               the sign of v_y flips every t_switch seconds (a triangle wave).
+//   circle      cx = 0, cy = 0, radius = 20, omega = 0.15, phase = 0
+//               p(t) = c + r (cos(omega t + phase), sin(omega t + phase))  (E4, paper 000 §6.2)
+//   sinusoid    x0 = 0, y0 = 0, amp_x = 20, amp_y = 20, freq_x = 0.1, freq_y = 0.15,
+//               phase_x = 0, phase_y = 0
+//               p_i(t) = i0 + amp_i sin(2 pi freq_i t + phase_i)  (E9: different x/y frequencies)
+#pragma once
+
+#include "predvs/predictors/params.h"
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace predvs {
+
+class Trajectory {
+ public:
+  virtual ~Trajectory() = default;
+  /// Registry name, e.g. "circle".
+  virtual std::string name() const = 0;
+  /// Position at t_s.
+  virtual Eigen::Vector2d position(double t_s) const = 0;
+  /// Exact time derivative of position() at t_s (right derivative at a switching instant).
+  virtual Eigen::Vector2d velocity(double t_s) const = 0;
+};
+
+/// Names accepted by makeTrajectory, in display order.
+const std::vector<std::string>& trajectoryNames();
+/// Builds trajectory `name` from `params` (keys above; absent keys take the defaults). Throws
+/// std::invalid_argument for an unknown name ("unknown trajectory 'x' (known: ...)"), an unknown
+/// key ("unknown parameter 'k' for trajectory 'circle'") or an out-of-range value (e.g. negative
+/// radius, t_switch <= 0).
+std::unique_ptr<Trajectory> makeTrajectory(const std::string& name, const Params& params = {});
+
+}  // namespace predvs
