@@ -1,5 +1,6 @@
 // The predictor registry: adding a predictor is one entry here (and one line in the property
 // suite, tests/predictors/property_test.cpp).
+#include "predvs/predictors/cs_akf.h"
 #include "predvs/predictors/fakf.h"
 #include "predvs/predictors/kalman_baselines.h"
 #include "predvs/predictors/predictor.h"
@@ -27,6 +28,8 @@ const std::vector<Entry>& entries() {
       {{"hold", "no prediction: the last (delayed) measurement"}, factory<HoldPredictor>()},
       {{"kf-cv", "Kalman filter, constant-velocity model"}, factory<KfCvPredictor>()},
       {{"kf-ca", "Kalman filter, constant-acceleration model"}, factory<KfCaPredictor>()},
+      {{"cs-akf", "current-statistical-model KF: Singer Q, Rayleigh variance with fixed a_max"}, factory<CsAkfPredictor>()},
+      {{"cs-akf-adaptive", "CS-model KF, variance adapted from successive acceleration estimates"}, factory<CsAkfAdaptivePredictor>()},
       {{"fakf-classic", "fuzzy adaptive KF (Escamilla-Ambrosio & Mort): CV model, R += fuzzy(C - S)"}, factory<FakfClassicPredictor>()},
   };
   return table;

@@ -149,10 +149,14 @@ class CsAkfPredictor : public CsKalmanPredictor {
 ///     (a predict-only step has no correction, so it carries no information about manoeuvres);
 ///   * sigma^2 starts at sigma_max_sq, so the filter converges quickly from its first measurements.
 /// Parameters (besides alpha, r, p0_vel, p0_acc):
-///   sigma_min_sq ((px/s^2)^2, default see cs_akf.cpp / registry summary): the floor. On smooth
-///                motion sigma^2 stays on it and it alone sets the smoothing / lag trade-off
-///                (METHODS §11); its effect is measured in tests/predictors/cs_akf_test.cpp.
+///   sigma_min_sq ((px/s^2)^2, default 10): the floor. On smooth motion sigma^2 stays on it and it
+///                alone sets the smoothing / lag trade-off (METHODS §11); its effect is measured in
+///                tests/predictors/cs_akf_test.cpp (see kDefaultSigmaMinSq in cs_akf.cpp).
 ///   sigma_max_sq ((px/s^2)^2, default 1000 ~ (4-pi)/pi * 60^2): the ceiling.
+///   adapt_tau_s  (s, default 0): time constant of the reference acceleration. 0 is the variant
+///                above (reference = a(k-1|k-1)); tau > 0 replaces a(k-1|k-1) by a low-passed
+///                a_ref += (1 - exp(-dt/tau)) (a(k|k) - a_ref), which measures the change over ~tau
+///                and makes a small floor less harmful on smooth motion (measured, not the default).
 ///
 /// Extension points for subclasses (e.g. the improved fuzzy AKF, METHODS §3): override
 /// measurementNoise(c) for a per-channel adapted R, inflatePrior() to scale P(k|k-1), afterStep()
@@ -178,6 +182,7 @@ class CsAkfAdaptivePredictor : public CsKalmanPredictor {
  private:
   double sigma_min_sq_;
   double sigma_max_sq_;
+  double adapt_tau_s_;
   std::vector<double> sigma2_;  ///< per channel, (px/s^2)^2
   std::vector<double> a_prev_;  ///< a(k-1|k-1) per channel, px/s^2
 };
