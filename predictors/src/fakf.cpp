@@ -1,6 +1,7 @@
 #include "predvs/predictors/fakf.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace predvs {
@@ -52,8 +53,8 @@ fuzzy::DomSystemConfig domConfig(const Params& p) {
 FakfClassicPredictor::FakfClassicPredictor(int channels, const Params& params)
     : ChannelPredictor<2>(channels, params.get("r", 1.0, 1e-12, 1e12), params.get("p0_vel", 1e4, 0.0, 1e12), 0.0),
       q_(params.get("q", 100.0, 0.0, 1e12)),
-      r_min_(params.get("r_min", 1e-3, 1e-12, 1e12)),
-      r_max_(params.get("r_max", 1e4, 1e-12, 1e12)),
+      r_min_(params.get("r_min", 0.01 * r0_, 1e-12, 1e12)),
+      r_max_(params.get("r_max", 100.0 * r0_, 1e-12, 1e12)),
       window_length_(static_cast<int>(params.get("window", 10.0, 2.0, 1000.0))),
       dom_(fuzzy::makeFakfDomSystem(domConfig(params))) {
   if (!(r_min_ <= r0_ && r0_ <= r_max_))
@@ -80,6 +81,86 @@ void FakfClassicPredictor::step(int c, double dt, double z) {
     R = std::clamp(R + dom_.evaluate(dom), r_min_, r_max_);
   }
   s.innovation = measurementUpdate(s.g, z, R);
+}
+
+
+namespace {
+
+fuzzy::BetaSystemConfig betaConfig(const Params& p) {
+  fuzzy::BetaSystemConfig c;
+  c.e_range = p.get("e_range", c.e_range, 1e-9, 1e9);
+  c.dp_range = p.get("dp_range", c.dp_range, 1e-9, 1e9);
+  c.beta_min = p.get("beta_min", c.beta_min, 1e-3, 1.0 - 1e-9);
+  c.beta_max = p.get("beta_max", c.beta_max, 1.0 + 1e-9, 1e3);
+  return c;
+}
+
+fuzzy::GammaSystemConfig gammaConfig(const Params& p) {
+  fuzzy::GammaSystemConfig c;
+  c.de_min = p.get("de_min", c.de_min, 0.0, 1e9);
+  c.de_max = p.get("de_max", c.de_max, 0.0, 1e9);
+  c.gamma_min = p.get("gamma_min", c.gamma_min, 1.0, 1e12);
+  c.gamma_max = p.get("gamma_max", c.gamma_max, 1.0, 1e12);
+  return c;
+}
+
+}  // namespace
+
+FakfPredictor::FakfPredictor(int channels, const Params& params)
+    : CsAkfAdaptivePredictor(channels, params),
+      window_length_(static_cast<int>(params.get("window", 10.0, 2.0, 1000.0))),
+      inflation_period_(static_cast<int>(params.get("inflation_period", 10.0, 1.0, 1000.0))),
+      r_min_(params.get("r_min", 0.01 * r0_, 1e-12, 1e12)),
+      r_max_(params.get("r_max", 100.0 * r0_, 1e-12, 1e12)),
+      de_min_(params.get("de_min", 2.0, 0.0, 1e9)),
+      inflate_below_de_min_(params.get("inflate_below_de_min", 0.0, 0.0, 1.0) != 0.0),
+      beta_(fuzzy::makeFakfBetaSystem(betaConfig(params))),
+      gamma_(fuzzy::makeFakfGammaSystem(gammaConfig(params))) {
+  if (!(r_min_ <= r0_ && r0_ <= r_max_)) throw std::invalid_argument("fakf: need r_min <= r <= r_max");
+  FakfPredictor::resetAdaptation();
+}
+
+void FakfPredictor::resetAdaptation() {
+  CsAkfAdaptivePredictor::resetAdaptation();
+  Channel init;
+  init.r = r0_;
+  init.window = InnovationWindow(window_length_);
+  chan_.assign(static_cast<size_t>(channels()), init);
+}
+
+void FakfPredictor::step(int c, double dt, double z) {
+  pending_z_ = z;
+  CsAkfAdaptivePredictor::step(c, dt, z);
+}
+
+void FakfPredictor::inflatePrior(int c, double dt) {
+  CsAkfAdaptivePredictor::inflatePrior(c, dt);
+  Channel& ch = chan_[static_cast<size_t>(c)];
+  ch.gamma = 1.0;
+  if (!isMeasured(pending_z_)) return;
+  Gaussian<3>& g = channelGaussian(c);
+  const double eps = pending_z_ - g.x(0);
+  const double S = g.P(0, 0) + ch.r;  // theoretical innovation power with R(k-1)
+  ch.window.push(eps);
+  if (!ch.window.full()) return;
+
+  // R(k) = beta(E', dP') R(k-1)
+  const double e_mean = ch.window.mean();
+  const double x[2] = {e_mean, ch.window.meanSquare() - S};
+  ch.r = std::clamp(beta_.evaluate(x) * ch.r, r_min_, r_max_);
+
+  // P(k|k-1) <- gamma P(k|k-1), decided every inflation_period measured frames.
+  if (ch.measured++ % inflation_period_ != 0) return;
+  if (ch.has_ref) {
+    const double dE = std::abs(e_mean - ch.e_ref);
+    if (dE > std::abs(ch.e_ref) && (inflate_below_de_min_ || dE >= de_min_)) {
+      ch.gamma = gamma_.evaluate(dE);
+      g.P *= ch.gamma;
+      ++ch.inflations;
+    }
+  }
+  ch.e_ref = e_mean;
+  ch.has_ref = true;
 }
 
 }  // namespace predvs

@@ -31,6 +31,7 @@ const std::vector<Entry>& entries() {
       {{"cs-akf", "current-statistical-model KF: Singer Q, Rayleigh variance with fixed a_max"}, factory<CsAkfPredictor>()},
       {{"cs-akf-adaptive", "CS-model KF, variance adapted from successive acceleration estimates"}, factory<CsAkfAdaptivePredictor>()},
       {{"fakf-classic", "fuzzy adaptive KF (Escamilla-Ambrosio & Mort): CV model, R += fuzzy(C - S)"}, factory<FakfClassicPredictor>()},
+      {{"fakf", "improved fuzzy adaptive KF (paper 000): adaptive CS model, R *= fuzzy(E', C - S), fuzzy P inflation"}, factory<FakfPredictor>()},
   };
   return table;
 }
