@@ -4,6 +4,8 @@
 #include "predvs/predictors/fakf.h"
 #include "predvs/predictors/kalman_baselines.h"
 #include "predvs/predictors/predictor.h"
+#include "predvs/predictors/st_akf.h"
+#include "predvs/predictors/stkf.h"
 
 #include <functional>
 #include <stdexcept>
@@ -30,6 +32,9 @@ const std::vector<Entry>& entries() {
       {{"kf-ca", "Kalman filter, constant-acceleration model"}, factory<KfCaPredictor>()},
       {{"cs-akf", "current-statistical-model KF: Singer Q, Rayleigh variance with fixed a_max"}, factory<CsAkfPredictor>()},
       {{"cs-akf-adaptive", "CS-model KF, variance adapted from successive acceleration estimates"}, factory<CsAkfAdaptivePredictor>()},
+      {{"stkf", "self-tuning KF: CV model, R from line-fit residuals of the last k frames"}, factory<StkfPredictor>()},
+      {{"st-akf", "strong-tracking adaptive KF: CA model with fading factors"}, factory<StAkfPredictor>()},
+      {{"st-akf-pm", "st-akf re-initialised by the predictive discontinuity monitor"}, factory<StAkfPmPredictor>()},
       {{"fakf-classic", "fuzzy adaptive KF (Escamilla-Ambrosio & Mort): CV model, R += fuzzy(C - S)"}, factory<FakfClassicPredictor>()},
       {{"fakf", "improved fuzzy adaptive KF (paper 000): adaptive CS model, R *= fuzzy(E', C - S), fuzzy P inflation"}, factory<FakfPredictor>()},
   };

@@ -1,0 +1,108 @@
+// predvs — strong-tracking adaptive Kalman filter (ST-AKF, METHODS §5, paper 004 §3) and its
+// variant supervised by the predictive monitor (METHODS §6, paper 004 §4).
+#pragma once
+
+#include "predvs/predictors/channel_predictor.h"
+#include "predvs/predictors/monitor.h"
+
+#include <array>
+#include <vector>
+
+namespace predvs {
+
+/// `st-akf`: constant-acceleration Kalman filter with fading factors (strong tracking).
+///
+/// Per channel x = [p, v, a], F = CA transition over dt, Q = white-jerk noise of density q,
+/// H = [1, 0, 0]. When the innovations grow larger than the filter expects, the predicted
+/// covariance is inflated so that the gain rises and old data are forgotten faster:
+///   gamma = z - H F x(k|k),
+///   V0 = gamma^2 on the first step, then V0 <- (rho V0 + gamma^2) / (1 + rho)   (rho = 0.95),
+///   N = V0 - H Q H' - beta R          (beta >= 1 softens the factor),
+///   M = a_1 (F P F')_11               (paper 004 eq. 22: tr(diag(a) F P F' H'H) for H = [1 0 0]),
+///   c = N / M,  lambda_i = max(1, a_i c),
+///   P(k+1|k) = L^1/2 F P F' L^1/2 + Q,  L = diag(lambda_i).
+/// With all a_i = 1 this is the single-factor filter, lambda = max(1, tr N / tr M).
+/// The paper writes L F P F'; with unequal factors that product is not symmetric, so the factors
+/// are applied symmetrically here (identical when the factors are equal). The measurement update
+/// is in Joseph form, since a faded gain is not the optimal one.
+///
+/// Parameters: q (px^2/s^5, default 1000), r (px^2, 1), p0_vel (1e4), p0_acc (1e4), rho (0.95),
+/// beta (1), a1, a2, a3 (1: preset ratios of the fading factors of p, v, a; each >= 1).
+class StAkfPredictor : public ChannelPredictor<3> {
+ public:
+  StAkfPredictor(int channels, const Params& params);
+  std::string name() const override { return "st-akf"; }
+
+  /// Fading factors lambda_i of channel c at its last measured update (1 when no fading).
+  Vec<3> fadingFactors(int c) const { return ext_.at(static_cast<size_t>(c)).lambda; }
+  /// Innovation variance predicted before fading, H (F P F' + Q) H' + R, at the last update.
+  double unfadedS(int c) const { return ext_.at(static_cast<size_t>(c)).s_unfaded; }
+  /// Number of monitor alarms over all channels (always 0 without a monitor).
+  virtual int monitorAlarms() const { return 0; }
+
+ protected:
+  Mat<3> transition(int, double dt) const override { return caTransition(dt); }
+  Mat<3> processNoise(int, double dt) const override { return caProcessNoise(q_, dt); }
+  void resetAdaptation() override;
+  void step(int c, double dt, double z) override;
+  /// Starts channel c again at z (x = [z, 0, 0], P = P_0) and clears its fading memory.
+  void restartChannel(int c, double z);
+
+ private:
+  struct Extra {
+    double V0 = 0.0;
+    bool has_V0 = false;
+    Vec<3> lambda = Vec<3>::Ones();
+    double s_unfaded = 0.0;
+  };
+  double q_, rho_, beta_;
+  Vec<3> a_;
+  std::vector<Extra> ext_;
+};
+
+/// `st-akf-pm`: st-akf supervised by a DiscontinuityMonitor per channel.
+///
+/// Before each measured update the two-step prediction error dxp = z(k) - H x(k|k-2) is formed
+/// by propagating the estimate kept from two updates earlier over t(k) - t(k-2) (so it stays
+/// correct with irregular periods or after a predict-only frame). The band monitor watches dxp;
+/// the chi-square monitor watches the one-step innovation against its unfaded variance. On an
+/// alarm the channel is re-initialised at the measurement, x = [z, 0, 0], P = P_0, its fading
+/// memory and monitor history are cleared, as paper 004 does. (The paper's alternative, switching
+/// to a steady-state KF, is not implemented.)
+///
+/// Parameters: those of st-akf, plus monitor (0 = band, 1 = chi-square; default 0),
+/// pm_window (n, default 20), pm_band (lambda_b, default 6; see MonitorConfig), pm_floor (band floor, signal units,
+/// default 1e-6), pm_chi2 (threshold, default 15.13, false-alarm prob. 1e-4 per sample).
+class StAkfPmPredictor : public StAkfPredictor {
+ public:
+  StAkfPmPredictor(int channels, const Params& params);
+  std::string name() const override { return "st-akf-pm"; }
+
+  int monitorAlarms() const override;
+  /// The monitor of channel c (counters, last alarm time, last ratio).
+  const DiscontinuityMonitor& monitor(int c) const { return monitors_.at(static_cast<size_t>(c)); }
+
+ protected:
+  void resetAdaptation() override;
+  void initialize(int c, double z) override;
+  void step(int c, double dt, double z) override;
+
+ private:
+  struct Past {
+    Gaussian<3> g;
+    double t_s = 0.0;
+  };
+  struct History {
+    std::array<Past, 2> past;  // [0] = k-2, [1] = k-1
+    int count = 0;
+    void push(const Gaussian<3>& g, double t_s) {
+      past[0] = past[1];
+      past[1] = Past{g, t_s};
+      if (count < 2) ++count;
+    }
+  };
+  std::vector<DiscontinuityMonitor> monitors_;
+  std::vector<History> history_;
+};
+
+}  // namespace predvs

@@ -1,0 +1,122 @@
+#include "predvs/predictors/st_akf.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace predvs {
+
+StAkfPredictor::StAkfPredictor(int channels, const Params& params)
+    : ChannelPredictor<3>(channels, params.get("r", 1.0, 1e-12, 1e12), params.get("p0_vel", 1e4, 0.0, 1e12),
+                          params.get("p0_acc", 1e4, 0.0, 1e12)),
+      q_(params.get("q", 1000.0, 0.0, 1e12)),
+      rho_(params.get("rho", 0.95, 0.0, 1.0)),
+      beta_(params.get("beta", 1.0, 1.0, 1e6)),
+      ext_(static_cast<size_t>(channels)) {
+  a_ << params.get("a1", 1.0, 1.0, 1e6), params.get("a2", 1.0, 1.0, 1e6), params.get("a3", 1.0, 1.0, 1e6);
+}
+
+void StAkfPredictor::resetAdaptation() {
+  for (auto& e : ext_) e = Extra{};
+}
+
+void StAkfPredictor::restartChannel(int c, double z) {
+  initialize(c, z);
+  ext_[static_cast<size_t>(c)] = Extra{};
+}
+
+void StAkfPredictor::step(int c, double dt, double z) {
+  ChannelState& s = state_[static_cast<size_t>(c)];
+  Extra& ex = ext_[static_cast<size_t>(c)];
+  const Mat<3> F = transition(c, dt);
+  const Mat<3> Q = processNoise(c, dt);
+  if (!isMeasured(z)) {  // predict only: no innovation, so no fading information
+    timeUpdate(s.g, F, Q);
+    return;
+  }
+  const double R = measurementNoise(c);
+  const Vec<3> x_pred = F * s.g.x;
+  const Mat<3> FPFt = F * s.g.P * F.transpose();
+  const double gamma = z - x_pred(0);
+  ex.V0 = ex.has_V0 ? (rho_ * ex.V0 + gamma * gamma) / (1.0 + rho_) : gamma * gamma;
+  ex.has_V0 = true;
+  const double N = ex.V0 - Q(0, 0) - beta_ * R;
+  const double M = a_(0) * FPFt(0, 0);
+  const double cf = M > 0.0 ? N / M : 0.0;
+  for (int i = 0; i < 3; ++i) ex.lambda(i) = std::max(1.0, a_(i) * cf);
+  ex.s_unfaded = FPFt(0, 0) + Q(0, 0) + R;
+  const Vec<3> sqrt_l = ex.lambda.cwiseSqrt();
+  s.g.x = x_pred;
+  s.g.P = sqrt_l.asDiagonal() * FPFt * sqrt_l.asDiagonal();
+  s.g.P += Q;
+  symmetrize(s.g.P);
+  s.innovation = measurementUpdate(s.g, z, R);  // Joseph form
+}
+
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+MonitorConfig monitorConfig(const Params& params) {
+  MonitorConfig m;
+  m.statistic = params.get("monitor", 0.0, 0.0, 1.0) != 0.0 ? MonitorConfig::Statistic::kChiSquare
+                                                             : MonitorConfig::Statistic::kBand;
+  m.window = static_cast<int>(params.get("pm_window", 20.0, 2.0, 1000.0));
+  m.band_factor = params.get("pm_band", 6.0, 1e-6, 1e6);
+  m.band_floor = params.get("pm_floor", 1e-6, 0.0, 1e12);
+  m.chi2_threshold = params.get("pm_chi2", 15.13, 1e-6, 1e12);
+  return m;
+}
+
+}  // namespace
+
+StAkfPmPredictor::StAkfPmPredictor(int channels, const Params& params)
+    : StAkfPredictor(channels, params),
+      monitors_(static_cast<size_t>(channels), DiscontinuityMonitor(monitorConfig(params))),
+      history_(static_cast<size_t>(channels)) {}
+
+int StAkfPmPredictor::monitorAlarms() const {
+  int n = 0;
+  for (const auto& m : monitors_) n += m.alarms();
+  return n;
+}
+
+void StAkfPmPredictor::resetAdaptation() {
+  StAkfPredictor::resetAdaptation();
+  for (auto& m : monitors_) m.reset();
+  for (auto& h : history_) h = History{};
+}
+
+void StAkfPmPredictor::initialize(int c, double z) {
+  StAkfPredictor::initialize(c, z);
+  History& h = history_[static_cast<size_t>(c)];
+  h = History{};
+  h.push(state_[static_cast<size_t>(c)].g, time());
+}
+
+void StAkfPmPredictor::step(int c, double dt, double z) {
+  const size_t i = static_cast<size_t>(c);
+  History& h = history_[i];
+  DiscontinuityMonitor& mon = monitors_[i];
+  const double t_now = time();  // the clock was advanced before step()
+  double dxp = std::numeric_limits<double>::quiet_NaN();
+  if (isMeasured(z) && h.count == 2) {
+    // Two-step prediction x(k|k-2) from the estimate kept two updates ago.
+    const Past& p = h.past[0];
+    dxp = z - (transition(c, t_now - p.t_s) * p.g.x)(0);
+  }
+  StAkfPredictor::step(c, dt, z);
+  if (isMeasured(z)) {
+    const Innovation& in = state_[i].innovation;
+    const bool alarm = mon.config().statistic == MonitorConfig::Statistic::kChiSquare
+                           ? mon.observe(t_now, in.eps, unfadedS(c))
+                           : mon.observe(t_now, dxp);
+    if (alarm) {
+      restartChannel(c, z);  // calls initialize(): history restarts at this measurement
+      mon.restart();
+      return;
+    }
+  }
+  h.push(state_[i].g, t_now);
+}
+
+}  // namespace predvs

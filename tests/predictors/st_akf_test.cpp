@@ -1,0 +1,240 @@
+#include "predvs/predictors/monitor.h"
+#include "predvs/predictors/st_akf.h"
+
+#include "predictors/paper_trajectories.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <random>
+
+namespace predvs {
+namespace {
+
+Eigen::VectorXd vec1(double v) { return Eigen::VectorXd::Constant(1, v); }
+
+TEST(StAkf, NoFadingOnAModelMatchedSignalFadingAfterAManoeuvre) {
+  // GIVEN a noise-free constant-acceleration signal, exactly the filter's model
+  const double T = 0.04;
+  StAkfPredictor f(1, {{"q", 1.0}, {"r", 1.0}});
+  int n = 0;
+  double max_lambda_smooth = 0.0;
+  for (; n < 200; ++n) {
+    const double t = n * T;
+    f.update(t, vec1(5.0 + 30.0 * t + 0.5 * 8.0 * t * t));
+    // THEN once the start-up transient is over, every fading factor is exactly 1
+    if (n >= 10) max_lambda_smooth = std::max(max_lambda_smooth, f.fadingFactors(0).maxCoeff());
+  }
+  EXPECT_EQ(max_lambda_smooth, 1.0);
+  // WHEN the target jumps by 50 units (a manoeuvre the model does not predict)
+  const double t = n * T;
+  f.update(t, vec1(5.0 + 30.0 * t + 0.5 * 8.0 * t * t + 50.0));
+  // THEN the fading factor rises well above 1 (tr N / tr M grows with the innovation squared)
+  const double lambda_jump = f.fadingFactors(0)(0);
+  std::printf("[ st-akf ] lambda after a 50-unit jump: %.1f\n", lambda_jump);
+  EXPECT_GT(lambda_jump, 10.0);
+}
+
+TEST(StAkf, MultipleFactorsFollowThePresetRatios) {
+  // GIVEN preset ratios a = (1, 2, 4) and a manoeuvre that makes the filter fade
+  StAkfPredictor f(1, {{"q", 1.0}, {"a1", 1.0}, {"a2", 2.0}, {"a3", 4.0}});
+  for (int n = 0; n < 50; ++n) f.update(0.04 * n, vec1(0.0));
+  f.update(50 * 0.04, vec1(100.0));
+  // THEN lambda_i = a_i c once a_1 c > 1
+  const Vec<3> l = f.fadingFactors(0);
+  ASSERT_GT(l(0), 1.0);
+  EXPECT_NEAR(l(1), 2.0 * l(0), 1e-9 * l(1));
+  EXPECT_NEAR(l(2), 4.0 * l(0), 1e-9 * l(2));
+  // AND the covariance stays symmetric (Joseph form, symmetric fading)
+  const Mat<3>& P = f.gaussian(0).P;
+  EXPECT_LT((P - P.transpose()).cwiseAbs().maxCoeff(), 1e-12 * P.cwiseAbs().maxCoeff());
+}
+
+TEST(DiscontinuityMonitor, BandNeedsAFullWindowThenFiresOnAnOutlier) {
+  // GIVEN a band monitor, n = 5, lambda_b = 4, fed alternating +-1 errors (sigma_n = 1)
+  MonitorConfig cfg;
+  cfg.window = 5;
+  cfg.band_factor = 4.0;
+  DiscontinuityMonitor m(cfg);
+  for (int k = 0; k < 5; ++k) EXPECT_FALSE(m.observe(k, k % 2 ? 1.0 : -1.0));  // warming up
+  EXPECT_FALSE(m.observe(5, 1.0));
+  // WHEN an error of 10 arrives (centre near 0, band half-width 4 * 1)
+  EXPECT_TRUE(m.observe(6, 10.0));
+  // THEN it is counted with its time, and restart() keeps the counters
+  EXPECT_EQ(m.alarms(), 1);
+  EXPECT_EQ(m.lastAlarmTime(), 6.0);
+  m.restart();
+  EXPECT_FALSE(m.observe(7, 100.0));
+  EXPECT_EQ(m.alarms(), 1);
+  m.reset();
+  EXPECT_EQ(m.alarms(), 0);
+}
+
+TEST(DiscontinuityMonitor, ChiSquareComparesNormalisedInnovation) {
+  MonitorConfig cfg;
+  cfg.statistic = MonitorConfig::Statistic::kChiSquare;
+  cfg.chi2_threshold = 9.0;
+  cfg.warmup = 0;
+  DiscontinuityMonitor m(cfg);
+  EXPECT_FALSE(m.observe(0.0, 2.9, 1.0));  // 8.41 < 9
+  EXPECT_TRUE(m.observe(0.1, 6.1, 4.0));   // 9.30 >= 9
+  EXPECT_EQ(m.alarms(), 1);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Monitor on st-akf-pm: false alarms on smooth noisy motion, detection delay on a real step.
+
+// Metres throughout. Measurement noise sigma = 1 mm; q, r, P_0 chosen for a target moving at
+// metres per second (choice for these studies, not from the paper, which gives no values).
+constexpr double kNoiseM = 1e-3;
+Params pmParams(int monitor) {
+  return {{"q", 10.0}, {"r", kNoiseM * kNoiseM}, {"p0_vel", 100.0}, {"p0_acc", 1e3}, {"monitor", monitor}};
+}
+
+struct SmoothRun {
+  int alarms = 0;
+  double minutes = 0.0;
+};
+
+// Ten minutes of a smooth sinusoid (amplitude 0.5 m, period 6 s) with Gaussian noise, T = 0.04 s.
+SmoothRun smoothRun(int monitor, unsigned seed) {
+  StAkfPmPredictor f(1, pmParams(monitor));
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, kNoiseM);
+  const double T = 0.04;
+  const int frames = static_cast<int>(600.0 / T);
+  for (int n = 0; n < frames; ++n) {
+    const double t = n * T;
+    f.update(t, vec1(0.5 * std::sin(2.0 * M_PI * t / 6.0) + noise(rng)));
+  }
+  return {f.monitorAlarms(), 10.0};
+}
+
+TEST(StAkfPm, FewFalseAlarmsOnSmoothNoisyMotion) {
+  for (int monitor : {0, 1}) {
+    int alarms = 0;
+    double minutes = 0.0;
+    for (unsigned seed : {11u, 12u, 13u}) {
+      const SmoothRun r = smoothRun(monitor, seed);
+      alarms += r.alarms;
+      minutes += r.minutes;
+    }
+    std::printf("[ st-akf-pm ] monitor=%d (%s): %d false alarms in %.0f min = %.2f / min (T = 0.04 s)\n", monitor,
+                monitor ? "chi-square" : "band", alarms, minutes, alarms / minutes);
+    // THEN fewer than one false alarm per minute (1500 frames) on 30 minutes of smooth motion
+    EXPECT_LT(alarms / minutes, 1.0) << "monitor " << monitor;
+  }
+}
+
+TEST(StAkfPm, DetectsAPositionStepWithinAFewFrames) {
+  for (int monitor : {0, 1}) {
+    // GIVEN a target at rest with 1 mm noise, tracked for 2 s at T = 0.04 s
+    StAkfPmPredictor f(1, pmParams(monitor));
+    std::mt19937 rng(5);
+    std::normal_distribution<double> noise(0.0, kNoiseM);
+    const double T = 0.04;
+    int n = 0;
+    for (; n < 50; ++n) f.update(n * T, vec1(noise(rng)));
+    ASSERT_EQ(f.monitorAlarms(), 0);
+    // WHEN it steps by 2 cm (20 sigma)
+    const int step_frame = n;
+    int detected = -1;
+    for (; n < step_frame + 20 && detected < 0; ++n) {
+      f.update(n * T, vec1(0.02 + noise(rng)));
+      if (f.monitorAlarms() > 0) detected = n - step_frame;
+    }
+    std::printf("[ st-akf-pm ] monitor=%d: 2 cm step detected %d frame(s) after it\n", monitor, detected);
+    // THEN the alarm comes within 2 frames (the step is first seen in frame 0)
+    EXPECT_GE(detected, 0);
+    EXPECT_LE(detected, 2);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// E12 (paper 004 §5): target at rest, then a sudden sinusoid (period 3 s, amplitude 2 m).
+
+struct E12Result {
+  int delay_frames = -1;      // frames from the start of the motion to the first alarm (-1: none)
+  int alarms_at_rest = 0;
+  int alarms_total = 0;
+  double iae_m_s = 0.0;       // integral of |x(k|k) - x(k)| dt from the start of the motion (m s)
+  double iae_pred_m_s = 0.0;  // same for the one-frame-ahead prediction x(k+1|k)
+};
+
+// One E12 run over rest (1 s) + two periods of the sinusoid, 1 mm noise, frame period Th.
+E12Result runE12(const std::string& name, int monitor, double Th, unsigned seed) {
+  const paper::E12Config cfg;
+  const double duration = cfg.t_start_s + 2.0 * cfg.period_s;
+  Params p = pmParams(monitor);
+  if (name != "st-akf-pm") p = {{"q", 10.0}, {"r", kNoiseM * kNoiseM}, {"p0_vel", 100.0}, {"p0_acc", 1e3}};
+  auto f = makePredictor(name, 1, p);
+  const auto* st = dynamic_cast<const StAkfPredictor*>(f.get());
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, kNoiseM);
+  E12Result r;
+  const int frames = static_cast<int>(std::lround(duration / Th));
+  for (int n = 0; n <= frames; ++n) {
+    const double t = n * Th;
+    f->update(t, vec1(paper::e12Position(cfg, t) + noise(rng)));
+    const int alarms = st != nullptr ? st->monitorAlarms() : 0;
+    if (t < cfg.t_start_s) r.alarms_at_rest = alarms;
+    if (t >= cfg.t_start_s) {
+      if (r.delay_frames < 0 && alarms > r.alarms_at_rest)
+        r.delay_frames = static_cast<int>(std::lround((t - cfg.t_start_s) / Th));
+      r.iae_m_s += std::abs(f->predict(0, t).position() - paper::e12Position(cfg, t)) * Th;
+      r.iae_pred_m_s += std::abs(f->predict(0, t + Th).position() - paper::e12Position(cfg, t + Th)) * Th;
+    }
+    r.alarms_total = alarms;
+  }
+  return r;
+}
+
+TEST(StAkfE12, MonitorDetectsTheStartOfMotion) {
+  // Detected "quickly" = within this many frames of the first moving frame.
+  constexpr int kQuickFrames = 3;
+  constexpr unsigned kSeeds = 5;
+  for (double Th : {0.04, 0.002}) {
+    double iae_ca = 0.0, iae_ca_pred = 0.0, iae_st = 0.0, iae_st_pred = 0.0;
+    for (unsigned s = 0; s < kSeeds; ++s) {
+      const E12Result a = runE12("kf-ca", 0, Th, 100 + s), b = runE12("st-akf", 0, Th, 100 + s);
+      iae_ca += a.iae_m_s / kSeeds;
+      iae_ca_pred += a.iae_pred_m_s / kSeeds;
+      iae_st += b.iae_m_s / kSeeds;
+      iae_st_pred += b.iae_pred_m_s / kSeeds;
+    }
+    std::printf("[ E12 ] Th=%.3f s, %u seeds, mean IAE filtered / 1-step predicted (m s): kf-ca %.5f / %.5f, "
+                "st-akf %.5f / %.5f\n",
+                Th, kSeeds, iae_ca, iae_ca_pred, iae_st, iae_st_pred);
+    for (int monitor : {0, 1}) {
+      double iae = 0.0, iae_pred = 0.0;
+      int quick = 0, worst = 0, at_rest = 0, total = 0;
+      for (unsigned s = 0; s < kSeeds; ++s) {
+        const E12Result r = runE12("st-akf-pm", monitor, Th, 100 + s);
+        iae += r.iae_m_s / kSeeds;
+        iae_pred += r.iae_pred_m_s / kSeeds;
+        const bool is_quick = r.delay_frames >= 0 && r.delay_frames <= kQuickFrames;
+        quick += is_quick ? 1 : 0;
+        worst = std::max(worst, r.delay_frames < 0 ? 1 << 30 : r.delay_frames);
+        at_rest += r.alarms_at_rest;
+        total += r.alarms_total;
+        // THEN the monitor never fires while the target is at rest
+        EXPECT_EQ(r.alarms_at_rest, 0) << "Th " << Th << " monitor " << monitor;
+        // AND at Th = 0.04 s both monitors detect the start quickly in every seed. At Th = 0.002 s
+        // the first moving frame is displaced by only ~8 noise sigmas and the strong-tracking
+        // filter absorbs the change within 1-2 frames, so the monitors can miss the start there
+        // (measured and reported, not asserted).
+        if (Th > 0.01) {
+          EXPECT_TRUE(is_quick) << "Th " << Th << " monitor " << monitor;
+        }
+      }
+      std::printf("[ E12 ]   st-akf-pm %-10s IAE %.5f / %.5f; start detected within %d frames in %d/%u seeds "
+                  "(worst delay %s%d), alarms at rest %d, alarms in total %d\n",
+                  monitor ? "chi-square" : "band", iae, iae_pred, kQuickFrames, quick, kSeeds,
+                  worst == 1 << 30 ? "none: " : "", worst == 1 << 30 ? -1 : worst, at_rest, total);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace predvs

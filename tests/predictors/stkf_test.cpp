@@ -1,0 +1,236 @@
+#include "predvs/predictors/stkf.h"
+
+#include "predictors/paper_trajectories.h"
+
+#include <Eigen/QR>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <limits>
+#include <random>
+
+namespace predvs {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Round-off on O(100) sums of O(100) numbers.
+constexpr double kLinAlgTol = 1e-9;
+
+Eigen::VectorXd vec1(double v) { return Eigen::VectorXd::Constant(1, v); }
+
+TEST(Stkf, ResidualMakerEqualsLineFitResidualsByQr) {
+  // GIVEN a window of k samples and the fixed residual maker T_st
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 30.0);
+  for (int k : {3, 5, 10, 15, 20}) {
+    const Eigen::MatrixXd T = StkfPredictor::makeResidualMaker(k);
+    Eigen::VectorXd Y(k);
+    for (int i = 0; i < k; ++i) Y(i) = 100.0 + 2.5 * i + noise(rng);
+    // WHEN the line y = a n + b is fitted independently (Householder QR on the design matrix)
+    Eigen::MatrixXd A(k, 2);
+    for (int i = 0; i < k; ++i) A.row(i) << i + 1.0, 1.0;
+    const Eigen::Vector2d theta = A.colPivHouseholderQr().solve(Y);
+    const Eigen::VectorXd residual = Y - A * theta;
+    // THEN T_st Y are exactly those residuals, and T_st is a symmetric projector
+    EXPECT_LT((T * Y - residual).cwiseAbs().maxCoeff(), kLinAlgTol) << "k = " << k;
+    EXPECT_LT((T - T.transpose()).cwiseAbs().maxCoeff(), kLinAlgTol);
+    EXPECT_LT((T * T - T).cwiseAbs().maxCoeff(), kLinAlgTol);
+  }
+}
+
+// Feeds a line plus uniform noise of half-width `half_width` to a 1-channel stkf, and returns it.
+StkfPredictor feedLine(double half_width, const Params& params, int frames, unsigned seed) {
+  StkfPredictor f(1, params);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> w(-1.0, 1.0);
+  for (int n = 0; n < frames; ++n) f.update(0.1 * n, vec1(50.0 + 3.0 * n + half_width * w(rng)));
+  return f;
+}
+
+TEST(Stkf, RIsR0UntilTheWindowIsFullThenGrowsWithNoise) {
+  const Params p{{"window", 10}};
+  // GIVEN fewer than k samples, R is R_0
+  EXPECT_EQ(feedLine(10.0, p, 9, 1).currentR(0), 5.0);
+  // GIVEN a noise-free line, the residuals vanish and R stays R_0
+  EXPECT_NEAR(feedLine(0.0, p, 30, 1).currentR(0), 5.0, 1e-6);
+  // WHEN the noise grows, THEN the self-tuned R grows
+  const double r_small = feedLine(2.0, p, 30, 1).currentR(0);
+  const double r_large = feedLine(10.0, p, 30, 1).currentR(0);
+  EXPECT_GT(r_small, 5.0);
+  EXPECT_GT(r_large, r_small);
+}
+
+TEST(Stkf, SquaredAndPlainFormsUseTheWindowResidualVariance) {
+  // GIVEN the same noisy line fed to the squared (paper) and plain forms
+  const int k = 12, frames = 40;
+  const StkfPredictor sq = feedLine(6.0, {{"window", k}, {"squared", 1}}, frames, 3);
+  const StkfPredictor pl = feedLine(6.0, {{"window", k}, {"squared", 0}}, frames, 3);
+  // WHEN the residual variance of the last k samples is computed independently
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> w(-1.0, 1.0);
+  std::vector<double> y;
+  for (int n = 0; n < frames; ++n) y.push_back(50.0 + 3.0 * n + 6.0 * w(rng));
+  Eigen::VectorXd Y(k);
+  Eigen::MatrixXd A(k, 2);
+  for (int i = 0; i < k; ++i) {
+    Y(i) = y[static_cast<size_t>(frames - k + i)];
+    A.row(i) << i + 1.0, 1.0;
+  }
+  const Eigen::VectorXd res = Y - A * A.colPivHouseholderQr().solve(Y);
+  const double var = res.squaredNorm() / (k - 1);
+  // THEN R = R_0 + var^2 (squared) and R = R_0 + var (plain)
+  EXPECT_NEAR(sq.currentR(0), 5.0 + var * var, 1e-9 * var * var);
+  EXPECT_NEAR(pl.currentR(0), 5.0 + var, 1e-9 * var);
+}
+
+TEST(Stkf, OcclusionPredictsOnlyThenReinitialisesWhenPExceedsThreshold) {
+  // GIVEN the paper's filter tracking a ramp of 20 px/s at T = 0.1 s
+  const double T = 0.1;
+  StkfPredictor f(1, {});
+  int n = 0;
+  for (; n < 60; ++n) f.update(T * n, vec1(20.0 * T * n));
+  const Gaussian<2> g0 = f.gaussian(0);
+  // The expected covariance recursion during an occlusion, computed by hand (Q_0 = diag(5, 20)).
+  Eigen::Matrix2d P = g0.P;
+  int expected_frames = 0;
+  while (P.diagonal().maxCoeff() <= 4800.0) {
+    Eigen::Matrix2d F;
+    F << 1.0, T, 0.0, 1.0;
+    P = F * P * F.transpose();
+    P(0, 0) += 5.0;
+    P(1, 1) += 20.0;
+    ++expected_frames;
+  }
+  // WHEN the target is hidden
+  int frames = 0;
+  while (!f.reinitPending(0) && frames < 1000) {
+    f.update(T * n++);
+    ++frames;
+    // THEN the estimate is extrapolated at the learned velocity while predicting only
+    if (!f.reinitPending(0)) {
+      EXPECT_NEAR(f.gaussian(0).x(0), g0.x(0) + frames * T * g0.x(1), 1e-9);
+      EXPECT_FALSE(f.innovation(0).valid);
+    }
+  }
+  // THEN the channel is marked for re-initialisation exactly when a P diagonal passes 4800
+  EXPECT_EQ(frames, expected_frames);
+  EXPECT_EQ(f.reinitialisations(), 1);
+  std::printf("[ stkf ] occlusion: reinit after %d frames = %.1f s (paper: about 3 s)\n", frames, frames * T);
+  // AND the next measurement restarts it at x = [z, 0], P = P_0 = I
+  f.update(T * n++, vec1(-7.0));
+  EXPECT_FALSE(f.reinitPending(0));
+  EXPECT_EQ(f.gaussian(0).x(0), -7.0);
+  EXPECT_EQ(f.gaussian(0).x(1), 0.0);
+  EXPECT_TRUE(f.gaussian(0).P.isApprox(Eigen::Matrix2d::Identity()));
+}
+
+TEST(Stkf, KnownImageVelocityShiftsTheNextPredictionOnly) {
+  // GIVEN two identical filters
+  const double T = 0.1;
+  StkfPredictor a(2, {}), b(2, {});
+  for (int n = 0; n < 20; ++n) {
+    Eigen::VectorXd z(2);
+    z << 10.0 + n, -3.0 * n;
+    a.update(T * n, z);
+    b.update(T * n, z);
+  }
+  // WHEN b is told the robot moves the image by v = (40, -10) px/s
+  Eigen::VectorXd v(2);
+  v << 40.0, -10.0;
+  b.setKnownImageVelocity(v);
+  // THEN the prediction query already includes T v, without changing the filter
+  for (int c = 0; c < 2; ++c)
+    EXPECT_NEAR(b.predict(c, 20 * T).position() - a.predict(c, 20 * T).position(), T * v(c), kLinAlgTol);
+  // AND a predict-only update moves the state by T v more than without it
+  a.update(20 * T);
+  b.update(20 * T);
+  for (int c = 0; c < 2; ++c) EXPECT_NEAR(b.gaussian(0 + c).x(0) - a.gaussian(c).x(0), T * v(c), kLinAlgTol);
+  // AND the input applies once: the next step adds no further offset
+  a.update(21 * T);
+  b.update(21 * T);
+  for (int c = 0; c < 2; ++c) EXPECT_NEAR(b.gaussian(c).x(0) - a.gaussian(c).x(0), T * v(c), kLinAlgTol);
+}
+
+// ---------------------------------------------------------------------------------------------
+// E6 (paper 001 Table 2): noise study on the eq. 44 trajectory.
+
+struct E6Result {
+  Eigen::Vector3d mse_pos = Eigen::Vector3d::Zero();
+  Eigen::Vector3d mse_vel = Eigen::Vector3d::Zero();
+};
+
+// Mean over `seeds` runs of the per-run MSE of the filtered estimate X*(n|n) against the ideal
+// X(n) and the ideal target image velocity, over every frame of the 20 s run.
+E6Result runE6(const std::string& name, const Params& params, double sigma_n, int seeds) {
+  const paper::E6Trajectory traj = paper::e6Trajectory();
+  E6Result out;
+  for (int s = 0; s < seeds; ++s) {
+    std::mt19937 rng(1000u + static_cast<unsigned>(s));
+    auto f = makePredictor(name, 3, params);
+    for (size_t n = 0; n < traj.t_s.size(); ++n) {
+      f->update(traj.t_s[n], paper::e6Measure(traj.X_px[n], sigma_n, rng));
+      for (int c = 0; c < 3; ++c) {
+        const ChannelEstimate e = f->predict(c, traj.t_s[n]);
+        out.mse_pos(c) += std::pow(e.position() - traj.X_px[n](c), 2);
+        out.mse_vel(c) += std::pow(e.velocity() - traj.Xdot_px_s[n](c), 2);
+      }
+    }
+  }
+  const double count = static_cast<double>(seeds) * static_cast<double>(traj.t_s.size());
+  out.mse_pos /= count;
+  out.mse_vel /= count;
+  return out;
+}
+
+void printE6(const char* label, double sigma_n, const E6Result& r) {
+  std::printf("[ E6 ] %-34s sigma_n=%4.1f  MSE pos x,y,d = %7.3f %7.3f %7.3f   vel = %8.3f %8.3f %8.3f\n", label,
+              sigma_n, r.mse_pos(0), r.mse_pos(1), r.mse_pos(2), r.mse_vel(0), r.mse_vel(1), r.mse_vel(2));
+}
+
+TEST(StkfE6, SelfTuningBeatsFixedRFiltersAtSigma10) {
+  // GIVEN the E6 trajectory, 20 seeds, the paper's noise, T = 0.1 s
+  constexpr int kSeeds = 20;
+  // "paper KF": the paper's own KF, Q_0 and R_0 fixed (stkf with the self-tuning off).
+  // kf-cv with the paper's R_0 = 5 and q = 200 px^2/s^3, whose velocity noise per 0.1 s equals
+  // the paper's Q_0 velocity entry (20); its position noise is far smaller than Q_0's 5.
+  // kf-cv with r = 33.4, the true measurement variance at sigma_n = 10 (100/3 + 1/12 for the
+  // rounding), for reference: a fixed KF told the noise level in advance.
+  const Params paper_kf{{"window", 0}};
+  const Params kf{{"r", 5.0}, {"q", 200.0}};
+  const Params kf_oracle{{"r", 100.0 / 3.0 + 1.0 / 12.0}, {"q", 200.0}};
+  E6Result paper10, kf10, sq10, plain10;
+  for (double sigma : {0.0, 10.0}) {
+    const E6Result a = runE6("stkf", paper_kf, sigma, kSeeds);
+    const E6Result b = runE6("kf-cv", kf, sigma, kSeeds);
+    const E6Result c = runE6("stkf", {{"squared", 1}}, sigma, kSeeds);
+    const E6Result d = runE6("stkf", {{"squared", 0}}, sigma, kSeeds);
+    printE6("paper KF (stkf window=0)", sigma, a);
+    printE6("kf-cv r=5 q=200", sigma, b);
+    printE6("stkf squared (k=15)", sigma, c);
+    printE6("stkf plain (k=15)", sigma, d);
+    if (sigma > 0.0) paper10 = a, kf10 = b, sq10 = c, plain10 = d;
+  }
+  printE6("kf-cv r=33.4 q=200 (told the noise)", 10.0, runE6("kf-cv", kf_oracle, 10.0, kSeeds));
+  for (int k : {5, 10, 20}) {
+    char label[64];
+    std::snprintf(label, sizeof label, "stkf squared (k=%d)", k);
+    printE6(label, 10.0, runE6("stkf", {{"window", k}}, 10.0, kSeeds));
+  }
+  std::printf("[ E6 ] paper Table 2 at sigma_n=10: KF pos 16.77 16.62 16.54 vel 62.6 60.9 59.1; "
+              "STKF pos 8.87 6.92 6.39 vel 29.9 8.04 6.68\n");
+  for (int c = 0; c < 3; ++c) {
+    // THEN both STKF forms beat the paper's fixed-R KF in position and velocity on every channel
+    EXPECT_LT(sq10.mse_pos(c), paper10.mse_pos(c)) << "channel " << c;
+    EXPECT_LT(sq10.mse_vel(c), paper10.mse_vel(c)) << "channel " << c;
+    EXPECT_LT(plain10.mse_pos(c), paper10.mse_pos(c)) << "channel " << c;
+    EXPECT_LT(plain10.mse_vel(c), paper10.mse_vel(c)) << "channel " << c;
+    // AND the squared STKF estimates velocity far better than kf-cv (r = 5, q = 200)
+    EXPECT_LT(sq10.mse_vel(c), 0.5 * kf10.mse_vel(c)) << "channel " << c;
+  }
+  // AND on the slowly moving y and d channels the squared form (paper) also beats kf-cv in
+  // position; on x (the fastest channel) it only ties with it (measured 13.6 vs 13.5, not asserted).
+  for (int c = 1; c < 3; ++c) EXPECT_LT(sq10.mse_pos(c), kf10.mse_pos(c)) << "channel " << c;
+}
+
+}  // namespace
+}  // namespace predvs
