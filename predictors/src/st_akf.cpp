@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace predvs {
 
@@ -60,7 +62,10 @@ MonitorConfig monitorConfig(const Params& params) {
   MonitorConfig m;
   m.statistic = params.get("monitor", 0.0, 0.0, 1.0) != 0.0 ? MonitorConfig::Statistic::kChiSquare
                                                              : MonitorConfig::Statistic::kBand;
-  m.window = static_cast<int>(params.get("pm_window", 20.0, 2.0, 1000.0));
+  const double n = params.get("pm_window", 20.0, 2.0, 1000.0);
+  if (n != static_cast<int>(n))
+    throw std::invalid_argument("predictor parameter 'pm_window' must be an integer, got " + std::to_string(n));
+  m.window = static_cast<int>(n);
   m.band_factor = params.get("pm_band", 6.0, 1e-6, 1e6);
   m.band_floor = params.get("pm_floor", 1e-6, 0.0, 1e12);
   m.chi2_threshold = params.get("pm_chi2", 15.13, 1e-6, 1e12);

@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cmath>
 #include <random>
+#include <stdexcept>
 
 namespace predvs {
 namespace {
@@ -80,6 +82,36 @@ TEST(DiscontinuityMonitor, ChiSquareComparesNormalisedInnovation) {
   EXPECT_FALSE(m.observe(0.0, 2.9, 1.0));  // 8.41 < 9
   EXPECT_TRUE(m.observe(0.1, 6.1, 4.0));   // 9.30 >= 9
   EXPECT_EQ(m.alarms(), 1);
+}
+
+TEST(StrongTrackingAndSelfTuning, RegisteredResetReproducesARunAndBadParamsAreNamed) {
+  for (const char* name : {"stkf", "st-akf", "st-akf-pm"}) {
+    // GIVEN a registered predictor run on a noisy ramp with a step and a gap
+    auto f = makePredictor(name, 2, {});
+    auto run = [&f] {
+      std::mt19937 rng(9);
+      std::normal_distribution<double> noise(0.0, 2.0);
+      Eigen::VectorXd out(2);
+      for (int n = 0; n < 120; ++n) {
+        Eigen::VectorXd z(2);
+        z << 10.0 * n * 0.04 + (n > 60 ? 50.0 : 0.0) + noise(rng), n % 7 == 0 ? std::nan("") : noise(rng);
+        f->update(n * 0.04, z);
+      }
+      out << f->predict(0, 5.0).position(), f->predict(1, 5.0).position();
+      return out;
+    };
+    const Eigen::VectorXd first = run();
+    // WHEN it is reset and run again on the same data
+    f->reset();
+    const Eigen::VectorXd second = run();
+    // THEN the result is bit-identical (no adaptive state survives reset())
+    EXPECT_EQ(first, second) << name;
+    EXPECT_TRUE(first.allFinite()) << name;
+    // AND a misspelt parameter is reported by name
+    EXPECT_THROW(makePredictor(name, 1, {{"windw", 3.0}}), std::invalid_argument) << name;
+  }
+  EXPECT_THROW(makePredictor("st-akf-pm", 1, {{"pm_window", 2.5}}), std::invalid_argument);
+  EXPECT_THROW(makePredictor("stkf", 1, {{"window", 2}}), std::invalid_argument);
 }
 
 // ---------------------------------------------------------------------------------------------
