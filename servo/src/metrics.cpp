@@ -1,0 +1,94 @@
+#include "predvs/servo/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace predvs {
+namespace {
+
+void requireFraction(const char* key, double v) {
+  if (!(v > 0.0 && v < 1.0)) {
+    std::ostringstream msg;
+    msg << "metrics." << key << " must be in (0, 1), got " << v;
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+}  // namespace
+
+Metrics computeMetrics(const std::vector<double>& t_s, const std::vector<double>& error,
+                       const MetricsOptions& options, const std::vector<Eigen::Matrix<double, 6, 1>>* velocity) {
+  requireFraction("steady_start_fraction", options.steady_start_fraction);
+  requireFraction("final_fraction", options.final_fraction);
+  requireFraction("settling_band", options.settling_band);
+  if (t_s.size() != error.size())
+    throw std::invalid_argument("metrics: " + std::to_string(t_s.size()) + " times but " +
+                                std::to_string(error.size()) + " errors");
+  if (velocity && velocity->size() != t_s.size())
+    throw std::invalid_argument("metrics: " + std::to_string(velocity->size()) + " velocities for " +
+                                std::to_string(t_s.size()) + " samples");
+  Metrics m;
+  const size_t n = t_s.size();
+  if (n == 0) return m;
+  const double t0 = t_s.front();
+  const double t1 = t_s.back();
+  const double span = t1 - t0;
+  const double t_steady = t0 + options.steady_start_fraction * span;
+  const double t_final = t0 + (1.0 - options.final_fraction) * span;
+  // Step of sample i: to the next sample; the last one reuses the previous step.
+  auto step = [&](size_t i) {
+    if (n < 2) return 0.0;
+    return i + 1 < n ? t_s[i + 1] - t_s[i] : t_s[i] - t_s[i - 1];
+  };
+
+  double sum2 = 0.0, sum_final = 0.0, iae = 0.0, steady_max = 0.0, peak = 0.0;
+  int n_steady = 0, n_final = 0;
+  bool any = false;
+  for (size_t i = 0; i < n; ++i) {
+    const double e = error[i];
+    if (std::isnan(e)) continue;
+    any = true;
+    iae += std::abs(e) * step(i);
+    peak = std::max(peak, e);
+    if (t_s[i] >= t_steady) {
+      sum2 += e * e;
+      steady_max = std::max(steady_max, e);
+      ++n_steady;
+    }
+    if (t_s[i] >= t_final) {
+      sum_final += e;
+      ++n_final;
+    }
+  }
+  if (!any) return m;
+  m.iae = iae;
+  m.peak_error = peak;
+  m.steady_samples = n_steady;
+  if (n_steady > 0) {
+    m.rmse = std::sqrt(sum2 / n_steady);
+    m.max_error = steady_max;
+  }
+  if (n_final > 0) m.final_error = sum_final / n_final;
+  if (n_final > 0) {
+    const double band = m.final_error + options.settling_band * (peak - m.final_error);
+    // Walk back from the end: the settling time is the sample after the last one above the band.
+    m.settling_time_s = 0.0;
+    for (size_t i = n; i-- > 0;) {
+      if (std::isnan(error[i])) continue;
+      if (error[i] > band) {
+        m.settling_time_s = i + 1 < n ? t_s[i + 1] - t0 : std::nan("");
+        break;
+      }
+    }
+  }
+  if (velocity) {
+    double effort = 0.0;
+    for (size_t i = 0; i < n; ++i) effort += (*velocity)[i].squaredNorm() * step(i);
+    m.control_effort = effort;
+  }
+  return m;
+}
+
+}  // namespace predvs

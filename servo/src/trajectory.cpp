@@ -1,0 +1,195 @@
+#include "predvs/servo/trajectory.h"
+
+#include <cmath>
+#include <functional>
+#include <sstream>
+#include <stdexcept>
+
+namespace predvs {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+double getFinite(const Params& p, const std::string& traj, const std::string& key, double fallback) {
+  const double v = p.get(key, fallback);
+  if (!std::isfinite(v)) throw std::invalid_argument("trajectory '" + traj + "': parameter '" + key + "' is not finite");
+  return v;
+}
+
+double getPositive(const Params& p, const std::string& traj, const std::string& key, double fallback) {
+  const double v = getFinite(p, traj, key, fallback);
+  if (!(v > 0.0)) {
+    std::ostringstream msg;
+    msg << "trajectory '" << traj << "': parameter '" << key << "' must be > 0, got " << v;
+    throw std::invalid_argument(msg.str());
+  }
+  return v;
+}
+
+class StaticTrajectory : public Trajectory {
+ public:
+  explicit StaticTrajectory(const Params& p) : p0_(getFinite(p, "static", "x0", 0), getFinite(p, "static", "y0", 0)) {}
+  std::string name() const override { return "static"; }
+  Eigen::Vector2d position(double) const override { return p0_; }
+  Eigen::Vector2d velocity(double) const override { return Eigen::Vector2d::Zero(); }
+
+ private:
+  Eigen::Vector2d p0_;
+};
+
+class LineTrajectory : public Trajectory {
+ public:
+  explicit LineTrajectory(const Params& p)
+      : p0_(getFinite(p, "line", "x0", 0), getFinite(p, "line", "y0", 0)),
+        v_(getFinite(p, "line", "vx", 10), getFinite(p, "line", "vy", 10)) {}
+  std::string name() const override { return "line"; }
+  Eigen::Vector2d position(double t) const override { return p0_ + v_ * t; }
+  Eigen::Vector2d velocity(double) const override { return v_; }
+
+ private:
+  Eigen::Vector2d p0_, v_;
+};
+
+class AccelJumpTrajectory : public Trajectory {
+ public:
+  explicit AccelJumpTrajectory(const Params& p)
+      : p0_(getFinite(p, "accel-jump", "x0", 0), getFinite(p, "accel-jump", "y0", 0)),
+        v0_(getFinite(p, "accel-jump", "vx", 20), getFinite(p, "accel-jump", "vy", 20)),
+        a0_(getFinite(p, "accel-jump", "ax", 1), getFinite(p, "accel-jump", "ay", 1)),
+        t_jump_(getPositive(p, "accel-jump", "t_jump", 14)),
+        a1_(getFinite(p, "accel-jump", "ax_jump", 30), getFinite(p, "accel-jump", "ay_jump", 30)) {}
+  std::string name() const override { return "accel-jump"; }
+  Eigen::Vector2d position(double t) const override {
+    if (t < t_jump_) return p0_ + v0_ * t + 0.5 * a0_ * t * t;
+    const double s = t - t_jump_;
+    return position1() + velocity1() * s + 0.5 * a1_ * s * s;
+  }
+  Eigen::Vector2d velocity(double t) const override {
+    if (t < t_jump_) return v0_ + a0_ * t;
+    return velocity1() + a1_ * (t - t_jump_);
+  }
+
+ private:
+  Eigen::Vector2d position1() const { return p0_ + v0_ * t_jump_ + 0.5 * a0_ * t_jump_ * t_jump_; }
+  Eigen::Vector2d velocity1() const { return v0_ + a0_ * t_jump_; }
+  Eigen::Vector2d p0_, v0_, a0_;
+  double t_jump_;
+  Eigen::Vector2d a1_;
+};
+
+class ZigzagTrajectory : public Trajectory {
+ public:
+  explicit ZigzagTrajectory(const Params& p)
+      : p0_(getFinite(p, "zigzag", "x0", 0), getFinite(p, "zigzag", "y0", 0)),
+        vx_(getFinite(p, "zigzag", "vx", 1)),
+        vy_(getFinite(p, "zigzag", "vy", 10)),
+        t_switch_(getPositive(p, "zigzag", "t_switch", 9)),
+        periodic_(getFinite(p, "zigzag", "periodic", 0) != 0.0) {}
+  std::string name() const override { return "zigzag"; }
+  Eigen::Vector2d position(double t) const override { return {p0_.x() + vx_ * t, p0_.y() + yOffset(t)}; }
+  Eigen::Vector2d velocity(double t) const override { return {vx_, vy_ * sign(t)}; }
+
+ private:
+  // Sign of v_y on the segment containing t (right-continuous at the switches).
+  double sign(double t) const {
+    if (t < t_switch_) return 1.0;
+    if (!periodic_) return -1.0;
+    const long seg = static_cast<long>(std::floor(t / t_switch_));
+    return seg % 2 == 0 ? 1.0 : -1.0;
+  }
+  // Integral of v_y from 0 to t.
+  double yOffset(double t) const {
+    if (t <= t_switch_) return vy_ * t;
+    if (!periodic_) return vy_ * t_switch_ - vy_ * (t - t_switch_);
+    const long seg = static_cast<long>(std::floor(t / t_switch_));
+    const double base = (seg % 2 == 0) ? 0.0 : vy_ * t_switch_;  // triangle: 0 at even, peak at odd
+    return base + sign(t) * vy_ * (t - seg * t_switch_);
+  }
+  Eigen::Vector2d p0_;
+  double vx_, vy_, t_switch_;
+  bool periodic_;
+};
+
+class CircleTrajectory : public Trajectory {
+ public:
+  explicit CircleTrajectory(const Params& p)
+      : c_(getFinite(p, "circle", "cx", 0), getFinite(p, "circle", "cy", 0)),
+        r_(getFinite(p, "circle", "radius", 20)),
+        w_(getFinite(p, "circle", "omega", 0.15)),
+        phi_(getFinite(p, "circle", "phase", 0)) {
+    if (r_ < 0.0) throw std::invalid_argument("trajectory 'circle': parameter 'radius' must be >= 0, got " + std::to_string(r_));
+  }
+  std::string name() const override { return "circle"; }
+  Eigen::Vector2d position(double t) const override {
+    const double a = w_ * t + phi_;
+    return c_ + r_ * Eigen::Vector2d(std::cos(a), std::sin(a));
+  }
+  Eigen::Vector2d velocity(double t) const override {
+    const double a = w_ * t + phi_;
+    return r_ * w_ * Eigen::Vector2d(-std::sin(a), std::cos(a));
+  }
+
+ private:
+  Eigen::Vector2d c_;
+  double r_, w_, phi_;
+};
+
+class SinusoidTrajectory : public Trajectory {
+ public:
+  explicit SinusoidTrajectory(const Params& p)
+      : p0_(getFinite(p, "sinusoid", "x0", 0), getFinite(p, "sinusoid", "y0", 0)),
+        amp_(getFinite(p, "sinusoid", "amp_x", 20), getFinite(p, "sinusoid", "amp_y", 20)),
+        w_(kTwoPi * getFinite(p, "sinusoid", "freq_x", 0.1), kTwoPi * getFinite(p, "sinusoid", "freq_y", 0.15)),
+        phi_(getFinite(p, "sinusoid", "phase_x", 0), getFinite(p, "sinusoid", "phase_y", 0)) {}
+  std::string name() const override { return "sinusoid"; }
+  Eigen::Vector2d position(double t) const override {
+    return p0_ + Eigen::Vector2d(amp_.x() * std::sin(w_.x() * t + phi_.x()), amp_.y() * std::sin(w_.y() * t + phi_.y()));
+  }
+  Eigen::Vector2d velocity(double t) const override {
+    return {amp_.x() * w_.x() * std::cos(w_.x() * t + phi_.x()), amp_.y() * w_.y() * std::cos(w_.y() * t + phi_.y())};
+  }
+
+ private:
+  Eigen::Vector2d p0_, amp_, w_, phi_;
+};
+
+using Factory = std::function<std::unique_ptr<Trajectory>(const Params&)>;
+
+template <class T>
+Factory factory() {
+  return [](const Params& p) { return std::make_unique<T>(p); };
+}
+
+const std::vector<std::pair<std::string, Factory>>& entries() {
+  static const std::vector<std::pair<std::string, Factory>> table = {
+      {"static", factory<StaticTrajectory>()},     {"line", factory<LineTrajectory>()},
+      {"accel-jump", factory<AccelJumpTrajectory>()}, {"zigzag", factory<ZigzagTrajectory>()},
+      {"circle", factory<CircleTrajectory>()},     {"sinusoid", factory<SinusoidTrajectory>()},
+  };
+  return table;
+}
+
+}  // namespace
+
+const std::vector<std::string>& trajectoryNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const auto& e : entries()) out.push_back(e.first);
+    return out;
+  }();
+  return names;
+}
+
+std::unique_ptr<Trajectory> makeTrajectory(const std::string& name, const Params& params) {
+  for (const auto& e : entries()) {
+    if (e.first != name) continue;
+    auto t = e.second(params);
+    params.requireAllUsed("trajectory '" + name + "'");
+    return t;
+  }
+  std::string known;
+  for (const auto& e : entries()) known += (known.empty() ? "" : ", ") + e.first;
+  throw std::invalid_argument("unknown trajectory '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace predvs
