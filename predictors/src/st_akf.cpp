@@ -54,6 +54,23 @@ void StAkfPredictor::step(int c, double dt, double z) {
   s.innovation = measurementUpdate(s.g, z, R);  // Joseph form
 }
 
+SteadyStateCa steadyStateCa(double q, double r, double dt) {
+  const Mat<3> F = caTransition(dt);
+  const Mat<3> Q = caProcessNoise(q, dt);
+  Gaussian<3> g;
+  g.P.setZero();
+  SteadyStateCa out;
+  for (out.iterations = 1; out.iterations <= 100000; ++out.iterations) {
+    const Mat<3> P_prev = g.P;
+    timeUpdate(g, F, Q);
+    out.K = g.P.col(0) / (g.P(0, 0) + r);
+    measurementUpdate(g, 0.0, r);
+    if ((g.P - P_prev).cwiseAbs().maxCoeff() <= 1e-13 * g.P.cwiseAbs().maxCoeff()) break;
+  }
+  out.P_post = g.P;
+  return out;
+}
+
 // ---------------------------------------------------------------------------------------------
 
 namespace {
@@ -76,8 +93,19 @@ MonitorConfig monitorConfig(const Params& params) {
 
 StAkfPmPredictor::StAkfPmPredictor(int channels, const Params& params)
     : StAkfPredictor(channels, params),
+      on_alarm_steady_(params.get("pm_on_alarm", 0.0, 0.0, 1.0) != 0.0),
+      ss_frames_(static_cast<int>(params.get("pm_ss_frames", 25.0, 1.0, 1e6))),
       monitors_(static_cast<size_t>(channels), DiscontinuityMonitor(monitorConfig(params))),
-      history_(static_cast<size_t>(channels)) {}
+      history_(static_cast<size_t>(channels)),
+      ss_left_(static_cast<size_t>(channels), 0) {}
+
+const SteadyStateCa& StAkfPmPredictor::steadyState(double dt) {
+  if (!(std::abs(dt - ss_dt_) <= 1e-9 * dt)) {  // same period up to round-off: reuse
+    ss_ = steadyStateCa(q(), measurementNoise(0), dt);
+    ss_dt_ = dt;
+  }
+  return ss_;
+}
 
 int StAkfPmPredictor::monitorAlarms() const {
   int n = 0;
@@ -89,6 +117,7 @@ void StAkfPmPredictor::resetAdaptation() {
   StAkfPredictor::resetAdaptation();
   for (auto& m : monitors_) m.reset();
   for (auto& h : history_) h = History{};
+  for (auto& n : ss_left_) n = 0;
 }
 
 void StAkfPmPredictor::initialize(int c, double z) {
@@ -103,6 +132,22 @@ void StAkfPmPredictor::step(int c, double dt, double z) {
   History& h = history_[i];
   DiscontinuityMonitor& mon = monitors_[i];
   const double t_now = time();  // the clock was advanced before step()
+  if (ss_left_[i] > 0) {
+    // Steady-state phase after an alarm: fixed gain, no fading, no monitoring.
+    const SteadyStateCa& ss = steadyState(dt);
+    ChannelState& s = state_[i];
+    s.g.x = transition(c, dt) * s.g.x;
+    if (isMeasured(z)) {
+      const double eps = z - s.g.x(0);
+      s.g.x += ss.K * eps;
+      s.innovation = Innovation{eps, measurementNoise(c) / (1.0 - ss.K(0)), true};  // S = r / (1 - K_0)
+      --ss_left_[i];
+    }
+    s.g.P = ss.P_post;
+    h.push(s.g, t_now);
+    if (ss_left_[i] == 0) mon.restart();
+    return;
+  }
   double dxp = std::numeric_limits<double>::quiet_NaN();
   if (isMeasured(z) && h.count == 2) {
     // Two-step prediction x(k|k-2) from the estimate kept two updates ago.
@@ -118,6 +163,10 @@ void StAkfPmPredictor::step(int c, double dt, double z) {
     if (alarm) {
       restartChannel(c, z);  // calls initialize(): history restarts at this measurement
       mon.restart();
+      if (on_alarm_steady_) {
+        ss_left_[i] = ss_frames_;
+        state_[i].g.P = steadyState(dt).P_post;
+      }
       return;
     }
   }

@@ -56,9 +56,24 @@ class StAkfPredictor : public ChannelPredictor<3> {
     double s_unfaded = 0.0;
   };
   double q_, rho_, beta_;
+
+ protected:
+  double q() const { return q_; }
+
+ private:
   Vec<3> a_;
   std::vector<Extra> ext_;
 };
+
+/// Steady-state Kalman filter of the CA model (white-jerk density q, measurement variance r,
+/// step dt): the fixed point of the Riccati recursion, found by iterating it from P = 0 until
+/// it stops changing. K is the fixed gain, P_post the filtered covariance it leaves.
+struct SteadyStateCa {
+  Vec<3> K = Vec<3>::Zero();
+  Mat<3> P_post = Mat<3>::Zero();
+  int iterations = 0;
+};
+SteadyStateCa steadyStateCa(double q, double r, double dt);
 
 /// `st-akf-pm`: st-akf supervised by a DiscontinuityMonitor per channel.
 ///
@@ -67,12 +82,18 @@ class StAkfPredictor : public ChannelPredictor<3> {
 /// correct with irregular periods or after a predict-only frame). The band monitor watches dxp;
 /// the chi-square monitor watches the one-step innovation against its unfaded variance. On an
 /// alarm the channel is re-initialised at the measurement, x = [z, 0, 0], P = P_0, its fading
-/// memory and monitor history are cleared, as paper 004 does. (The paper's alternative, switching
-/// to a steady-state KF, is not implemented.)
+/// memory and monitor history are cleared, as paper 004 does.
+/// With pm_on_alarm = 1 the channel instead restarts at [z, 0, 0] and runs the steady-state CA
+/// filter (fixed gain of steadyStateCa(q, r, dt), no fading) for the next pm_ss_frames measured
+/// frames, then hands back to the strong-tracking filter with P = P_post of that steady state.
+/// The paper switches to "an appropriate steady-state KF" on a discontinuity without saying
+/// when it switches back; the fixed duration is our choice. The monitor is silent during the
+/// steady-state phase and restarts after it.
 ///
 /// Parameters: those of st-akf, plus monitor (0 = band, 1 = chi-square; default 0),
 /// pm_window (n, default 20), pm_band (lambda_b, default 6; see MonitorConfig), pm_floor (band floor, signal units,
-/// default 1e-6), pm_chi2 (threshold, default 15.13, false-alarm prob. 1e-4 per sample).
+/// default 1e-6), pm_chi2 (threshold, default 15.13, false-alarm prob. 1e-4 per sample),
+/// pm_on_alarm (0 = re-initialise, default; 1 = steady-state KF), pm_ss_frames (default 25).
 class StAkfPmPredictor : public StAkfPredictor {
  public:
   StAkfPmPredictor(int channels, const Params& params);
@@ -101,8 +122,15 @@ class StAkfPmPredictor : public StAkfPredictor {
       if (count < 2) ++count;
     }
   };
+  const SteadyStateCa& steadyState(double dt);
+
+  bool on_alarm_steady_;
+  int ss_frames_;
   std::vector<DiscontinuityMonitor> monitors_;
   std::vector<History> history_;
+  std::vector<int> ss_left_;  // measured frames left in the steady-state phase, per channel
+  SteadyStateCa ss_;          // cached for ss_dt_
+  double ss_dt_ = -1.0;
 };
 
 }  // namespace predvs
