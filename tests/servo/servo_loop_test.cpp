@@ -81,6 +81,40 @@ TEST(ServoLoop, ForecastModesAllTrack) {
   EXPECT_EQ(ServoConfig{}.forecast, ForecastMode::Feedforward);
 }
 
+TEST(ServoLoop, EgoMotionCompensationRemovesCameraInducedMotion) {
+  // GIVEN a static target and kf-cv fed with compensated features s_c = s - E
+  ServoConfig c;
+  c.target_trajectory = "static";
+  c.target_params = Params{};
+  auto p = makePredictor("kf-cv", 8);
+  const ServoResult r = runServoLoop(c, *p);
+  // WHEN the camera has moved the features by ~57 px (RMS) to the goal
+  const FeatureVector moved = r.trace.back().true_px - r.trace.front().true_px;
+  ASSERT_GT(moved.cwiseAbs().maxCoeff(), 50.0);
+  // THEN the compensated features stay where the first image put them: what is left is the
+  // first-order error of E (L evaluated at estimated features over a large motion), a few px
+  const Eigen::VectorXd s_c = p->predictPositions(p->time());
+  constexpr double kLinearisationTolPx = 4.0;
+  EXPECT_LT((s_c - r.trace.front().true_px).cwiseAbs().maxCoeff(), kLinearisationTolPx);
+  // and the predictor sees no target motion (velocity at the noise level of a 0.5 px, 25 Hz KF)
+  constexpr double kVelocityNoisePxPerS = 5.0;
+  EXPECT_LT(p->predictVelocities(p->time()).cwiseAbs().maxCoeff(), kVelocityNoisePxPerS);
+}
+
+TEST(ServoLoop, CommandLagAndDualRate) {
+  // GIVEN a 40 ms controller lag (horizon 0.12 s) and vision at half the control rate (N = 2)
+  ServoConfig c;
+  c.timing.controller_lag_s = 0.04;
+  c.timing.base_period_s = 0.02;
+  c.timing.frame_period_n = 2;
+  const double e_hold = run("hold", c).metrics.rmse;
+  const ServoResult r = run("kf-ca", c);
+  // THEN the loop stays stable and prediction still removes most of the lag error
+  EXPECT_LT(r.metrics.final_error, 3.0);
+  EXPECT_LT(r.metrics.rmse, e_hold / 2.0);
+  EXPECT_EQ(r.trace.size(), 1251u);  // 25 s at 20 ms, both ends included
+}
+
 TEST(ServoLoop, DeterministicForASeed) {
   const ServoResult a = run("kf-cv"), b = run("kf-cv");
   ASSERT_EQ(a.trace.size(), b.trace.size());
