@@ -140,10 +140,13 @@ TEST(ServoLoop, ValidatesConfig) {
 
 // ---- Golden trace -------------------------------------------------------------------------
 // data/golden/ibvs-moving-target.csv holds the trace of kf-cv on the default ServoConfig with
-// the columns servoTraceColumns() (extra columns are ignored). Regenerate it with
+// the columns servoTraceColumns() (extra columns are ignored; an empty cell or "nan" is NaN).
+// Two files are accepted: the CLI's log.csv (`make golden`: a leading `predictor` column, one
+// block of rows per predictor, of which the kf-cv rows are compared) or the test's own output,
+// regenerated with
 //   PREDVS_REGENERATE_GOLDEN=1 build/tests/servo_tests --gtest_filter='ServoGolden.*'
-// (or `make golden` once the CLI writes the same columns). A difference is a change indicator:
-// regenerate only when the change of behaviour is intended, and say so in the commit.
+// A difference is a change indicator: regenerate only when the change of behaviour is intended,
+// and say so in the commit.
 
 // Relative tolerance: same code and seed give identical numbers on one platform; this leaves
 // room for a different compiler or libm, not for a change of behaviour.
@@ -188,15 +191,24 @@ TEST(ServoGolden, DefaultScenarioMatchesGoldenTrace) {
     for (size_t h = 0; h < header.size(); ++h)
       if (header[h] == cols[c]) where[c] = static_cast<int>(h);
   for (size_t c = 0; c < cols.size(); ++c) ASSERT_GE(where[c], 0) << "golden lacks column " << cols[c];
+  int predictor_col = -1;
+  for (size_t h = 0; h < header.size(); ++h)
+    if (header[h] == "predictor") predictor_col = static_cast<int>(h);
 
   size_t row_index = 0;
   int mismatches = 0;
   while (std::getline(in, line) && !line.empty()) {
+    std::vector<std::string> cells;
+    {
+      std::stringstream ss(line);
+      std::string cell;
+      while (std::getline(ss, cell, ',')) cells.push_back(cell);
+      if (!line.empty() && line.back() == ',') cells.emplace_back();  // trailing empty cell
+    }
+    if (predictor_col >= 0 && cells.at(static_cast<size_t>(predictor_col)) != "kf-cv") continue;
     ASSERT_LT(row_index, r.trace.size()) << "golden has more rows than the run";
     std::vector<double> golden;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) golden.push_back(cell == "nan" || cell.empty() ? NAN : std::strtod(cell.c_str(), nullptr));
+    for (const auto& cell : cells) golden.push_back(cell == "nan" || cell.empty() ? NAN : std::strtod(cell.c_str(), nullptr));
     const auto fresh = servoTraceRow(r.trace[row_index]);
     for (size_t c = 0; c < cols.size(); ++c) {
       const double g = golden.at(static_cast<size_t>(where[c])), f = fresh[c];
