@@ -1,0 +1,278 @@
+#include "cli.h"
+
+#include "output_dir.h"
+#include "predict_command.h"
+#include "scenario_file.h"
+#include "servo_command.h"
+#include "track_csv.h"
+#include "app_error.h"
+#include "gnuplot.h"
+
+#include "predvs/predictors/predictor.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+namespace predvs {
+namespace {
+
+std::string oneLine(std::string s) {
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  std::replace(s.begin(), s.end(), '\r', ' ');
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+std::string knownPredictors() {
+  std::string known;
+  for (const auto& p : predictorRegistry()) known += (known.empty() ? "" : ", ") + p.name;
+  return known;
+}
+
+void requirePredictor(const std::string& option, const std::string& name) {
+  if (!isPredictor(name))
+    throw std::invalid_argument(option + ": unknown predictor '" + name + "' (known: " + knownPredictors() + ")");
+}
+
+/// A finite number from an argument; errors name the option.
+double parseNumberArg(const std::string& option, const std::string& text) {
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(begin, &end);
+  if (text.empty() || end == begin || *end != '\0')
+    throw std::invalid_argument(option + ": expected a number, got '" + text + "'");
+  if (!std::isfinite(v) || errno == ERANGE)
+    throw std::invalid_argument(option + ": expected a finite number, got '" + text + "'");
+  return v;
+}
+
+long parseIntegerArg(const std::string& option, const std::string& text, long lo, long hi) {
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(begin, &end, 10);
+  if (text.empty() || end == begin || *end != '\0' || errno == ERANGE || v < lo || v > hi)
+    throw std::invalid_argument(option + ": expected an integer in [" + std::to_string(lo) + ", " +
+                                std::to_string(hi) + "], got '" + text + "'");
+  return static_cast<long>(v);
+}
+
+std::vector<std::string> splitList(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+int runList(std::ostream& out) {
+  out << "Predictors (predvs predict --predictor NAME, scenario `predictors:` lists):\n";
+  size_t w = 4;
+  for (const auto& p : predictorRegistry()) w = std::max(w, p.name.size());
+  for (const auto& p : predictorRegistry())
+    out << "  " << std::left << std::setw(static_cast<int>(w)) << p.name << "  " << p.summary << "\n";
+  out << "\nScenarios (predvs servo --scenario NAME), in " << scenariosDir() << ":\n";
+  const auto scenarios = listScenarios();
+  w = 4;
+  for (const auto& s : scenarios) w = std::max(w, s.name.size());
+  for (const auto& s : scenarios)
+    out << "  " << std::left << std::setw(static_cast<int>(w)) << s.name << "  " << s.description << "\n";
+  if (scenarios.empty()) out << "  (none found)\n";
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+struct PredictArgs {
+  std::string input;
+  std::string predictor;
+  std::string horizon_s;
+  std::string delay_frames;
+  std::string out_dir;
+  std::vector<std::string> params;
+  bool no_plots = false;
+};
+
+int runPredict(const PredictArgs& a, const std::string& command_line, std::ostream& out) {
+  // Validate every argument before touching the file system.
+  std::vector<PredictorSpec> specs;
+  if (a.predictor == "all") {
+    for (const auto& p : predictorRegistry()) specs.push_back({p.name, {}});
+  } else {
+    requirePredictor("--predictor", a.predictor);
+    specs.push_back({a.predictor, {}});
+  }
+  for (const auto& kv : a.params) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw std::invalid_argument("--param: expected [PREDICTOR.]KEY=VALUE, got '" + kv + "'");
+    std::string key = kv.substr(0, eq);
+    const double value = parseNumberArg("--param " + key, kv.substr(eq + 1));
+    std::string scope;
+    const auto dot = key.find('.');
+    if (dot != std::string::npos) {
+      scope = key.substr(0, dot);
+      key = key.substr(dot + 1);
+      requirePredictor("--param " + kv.substr(0, eq), scope);
+    } else if (specs.size() > 1) {
+      throw std::invalid_argument("--param " + key + ": with --predictor all, scope each parameter as PREDICTOR." +
+                                  key + "=VALUE");
+    }
+    bool applied = false;
+    for (auto& s : specs)
+      if (scope.empty() || s.name == scope) {
+        s.params.set(key, value);
+        applied = true;
+      }
+    if (!applied)
+      throw std::invalid_argument("--param " + kv.substr(0, eq) + ": predictor '" + scope + "' is not being run");
+  }
+  // Build each predictor once to reject unknown parameter keys now, naming the option.
+  for (const auto& s : specs) {
+    try {
+      makePredictor(s.name, 2, s.params);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--param: ") + e.what());
+    }
+  }
+  if (a.horizon_s.empty() == a.delay_frames.empty())
+    throw std::invalid_argument("--horizon-s / --delay-frames: expected exactly one of them");
+  double horizon_s = 0.0;
+  int delay_frames = -1;
+  if (!a.horizon_s.empty()) {
+    horizon_s = parseNumberArg("--horizon-s", a.horizon_s);
+    if (horizon_s < 0.0) throw std::invalid_argument("--horizon-s: expected a number >= 0, got '" + a.horizon_s + "'");
+  } else {
+    delay_frames = static_cast<int>(parseIntegerArg("--delay-frames", a.delay_frames, 0, 1000000));
+  }
+  if (!a.no_plots) requireGnuplot();
+
+  const FeatureTrack track = readFeatureTrack(a.input);
+  if (delay_frames >= 0) {
+    if (track.size() < 2)
+      throw std::invalid_argument(fileLocation(a.input, 0, "--delay-frames needs at least two data rows to measure the frame period"));
+    horizon_s = delay_frames * medianPeriod(track.t_s);
+  }
+  const PredictionReport report = predictTrack(track, specs, horizon_s);
+
+  StagedOutputDir dir(a.out_dir);
+  writePredictionOutputs(track, report, delay_frames, command_line, !a.no_plots, dir);
+  dir.commit();
+
+  printPredictionTable(report, track.hasTruth(), out);
+  out << "horizon " << horizon_s << " s";
+  if (delay_frames >= 0) out << " (" << delay_frames << " frames of " << medianPeriod(track.t_s) << " s)";
+  out << "; wrote " << (dir.target() / "predictions.csv").string() << ", summary.json"
+      << (a.no_plots ? "" : ", predictions.png") << "\n";
+  return 0;
+}
+
+}  // namespace
+
+std::string commandLine(const std::vector<std::string>& args) {
+  std::string s = "predvs";
+  for (const auto& a : args) {
+    const bool plain = !a.empty() && a.find_first_of(" \t\"'\\$`!*?;&|<>()") == std::string::npos;
+    if (plain) {
+      s += " " + a;
+    } else {
+      std::string q = "'";
+      for (char c : a) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+      s += " " + q + "'";
+    }
+  }
+  return s;
+}
+
+int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) {
+  const std::string command_line = commandLine(args);
+  CLI::App app{"predvs: predictive visual servoing. Compare feature predictors that compensate "
+               "the vision delay, open-loop on recorded tracks and in closed-loop IBVS.", "predvs"};
+  app.require_subcommand(1);
+  app.footer("Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
+
+  app.add_subcommand("list", "List the registered predictors and the scenarios in data/scenarios.");
+
+  PredictArgs pa;
+  CLI::App* predict = app.add_subcommand(
+      "predict",
+      "Open-loop prediction of a recorded feature track. Each row's measurement is fed to the predictor "
+      "(an empty u or v cell means no measurement: predict-only) and the position at t + horizon is "
+      "predicted, then scored against the measurement at t + horizon (linearly interpolated between "
+      "measured rows) and against u_true/v_true when present. Writes DIR/predictions.csv, "
+      "DIR/summary.json and DIR/predictions.png.");
+  predict->add_option("--input", pa.input, "CSV with header t,u,v[,u_true,v_true]: t in s strictly increasing, u,v in px")
+      ->required();
+  predict->add_option("--predictor", pa.predictor, "predictor name (see `predvs list`), or 'all' to compare every one")
+      ->required();
+  auto* h = predict->add_option("--horizon-s", pa.horizon_s, "prediction horizon in seconds (>= 0)");
+  auto* d = predict->add_option("--delay-frames", pa.delay_frames,
+                                "prediction horizon in frames: H times the median frame period of the input");
+  h->excludes(d);
+  predict->add_option("--out", pa.out_dir, "output directory (replaced only when the run succeeds)")->required();
+  predict->add_option("--param", pa.params,
+                      "predictor parameter KEY=VALUE (repeatable); with --predictor all write PREDICTOR.KEY=VALUE");
+  predict->add_flag("--no-plots", pa.no_plots, "do not draw predictions.png (no gnuplot needed)");
+
+  ScenarioRunOptions so;
+  std::string predictors_csv, seed_text;
+  bool servo_no_plots = false;
+  CLI::App* servo = app.add_subcommand(
+      "servo",
+      "Run a scenario file and compare predictors on the same seed. A closed-loop scenario (kind: "
+      "closed-loop, e.g. the default ibvs-moving-target: IBVS on a moving 4-point target with a "
+      "2-frame vision delay) runs the servo loop once per predictor; an open-loop scenario (kind: "
+      "open-loop, E1-E4: e1-line, e2-accel-jump, e3-zigzag, e4-circle) runs the prediction experiment. "
+      "Writes DIR/log.csv, DIR/summary.json and PNG plots (error norm vs time, image-plane trajectories).");
+  servo->add_option("--scenario", so.scenario, "scenario name in data/scenarios, or a path to a .yaml file")
+      ->capture_default_str();
+  servo->add_option("--predictors", predictors_csv,
+                    "comma-separated predictor names, overriding the scenario's list (default: the scenario's)");
+  servo->add_option("--seed", seed_text, "random seed, overriding the scenario's (default: the scenario's)");
+  servo->add_option("--out", so.out_dir, "output directory (default: out/<scenario>)");
+  servo->add_flag("--no-plots", servo_no_plots, "do not draw PNG plots (no gnuplot needed)");
+
+  try {
+    if (!args.empty() && !args.front().empty() && args.front()[0] != '-' && args.front() != "list" &&
+        args.front() != "predict" && args.front() != "servo")
+      throw std::invalid_argument("unknown subcommand '" + args.front() + "' (expected list, predict or servo)");
+    std::vector<std::string> reversed(args.rbegin(), args.rend());
+    app.parse(reversed);
+    if (app.got_subcommand("list")) return runList(out);
+    if (app.got_subcommand("predict")) return runPredict(pa, command_line, out);
+    // servo
+    so.plots = !servo_no_plots;
+    for (const auto& name : splitList(predictors_csv)) requirePredictor("--predictors", name);
+    if (!predictors_csv.empty() && splitList(predictors_csv).empty())
+      throw std::invalid_argument("--predictors: expected a comma-separated list of predictor names");
+    so.predictors = splitList(predictors_csv);
+    if (!seed_text.empty()) {
+      so.seed_given = true;
+      so.seed = static_cast<unsigned long>(parseIntegerArg("--seed", seed_text, 0, 2147483647L));
+    }
+    so.command_line = command_line;
+    runScenarioCommand(so, out, err);
+    return 0;
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e, out, err);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e, out, err);
+  } catch (const CLI::ParseError& e) {
+    err << "predvs: error: " << oneLine(e.what()) << " (see predvs --help)\n";
+    return 2;
+  } catch (const std::exception& e) {
+    err << "predvs: error: " << oneLine(e.what()) << "\n";
+    return 2;
+  }
+}
+
+}  // namespace predvs

@@ -1,0 +1,28 @@
+// predvs app — the command line, callable in-process.
+//
+//   predvs list
+//   predvs predict --input FILE.csv --predictor NAME|all (--horizon-s S | --delay-frames H)
+//                  --out DIR [--param [NAME.]KEY=VALUE ...] [--no-plots]
+//   predvs servo   [--scenario NAME|FILE] [--predictors a,b,c] [--seed N] [--out DIR] [--no-plots]
+//
+// `predvs servo` runs any scenario file: closed-loop IBVS (`kind: closed-loop`, the default
+// scenario ibvs-moving-target) or an open-loop prediction experiment E1-E4 (`kind: open-loop`).
+// `predvs predict` is the open-loop prediction of a recorded CSV track.
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace predvs {
+
+/// Runs the command line `args` (WITHOUT the program name, e.g. {"servo", "--seed", "3"}).
+/// Normal output goes to `out`, progress and errors to `err`. Returns the exit status: 0 on
+/// success (and for --help), 2 for every bad argument, file or scenario, in which case exactly
+/// one line "predvs: error: ..." was written to `err` and no output directory was created.
+int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err);
+
+/// "predvs ARG ARG ..." with shell quoting where needed (recorded in summary.json).
+std::string commandLine(const std::vector<std::string>& args);
+
+}  // namespace predvs

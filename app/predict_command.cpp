@@ -1,0 +1,200 @@
+#include "predict_command.h"
+
+#include "gnuplot.h"
+#include "output_dir.h"
+
+#include "predvs/predictors/predictor.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <stdexcept>
+
+namespace predvs {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// A CSV cell: empty for NaN, else the number with enough digits to round-trip a float pixel.
+std::string cell(double x) {
+  if (!std::isfinite(x)) return "";
+  std::ostringstream s;
+  s << std::setprecision(10) << x;
+  return s.str();
+}
+
+nlohmann::json errorsJson(const PredictionErrors& e) {
+  nlohmann::json j;
+  j["rmse_px"] = e.n > 0 ? e.rmse_px : kNaN;
+  j["rmse_u_px"] = e.n > 0 ? e.rmse_u_px : kNaN;
+  j["rmse_v_px"] = e.n > 0 ? e.rmse_v_px : kNaN;
+  j["n"] = e.n;
+  return j;
+}
+
+std::string fixed(double x, int precision) {
+  if (!std::isfinite(x)) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(precision) << x;
+  return s.str();
+}
+
+}  // namespace
+
+PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vector<double>& u_pred,
+                                  const std::vector<double>& v_pred, double horizon_s,
+                                  const std::vector<double>& u_ref, const std::vector<double>& v_ref) {
+  PredictionErrors e;
+  double su = 0.0, sv = 0.0;
+  for (size_t i = 0; i < t_s.size(); ++i) {
+    if (!std::isfinite(u_pred[i]) || !std::isfinite(v_pred[i])) continue;
+    const double t = t_s[i] + horizon_s;
+    const double ur = interpolateAt(t_s, u_ref, t), vr = interpolateAt(t_s, v_ref, t);
+    if (!std::isfinite(ur) || !std::isfinite(vr)) continue;
+    su += (u_pred[i] - ur) * (u_pred[i] - ur);
+    sv += (v_pred[i] - vr) * (v_pred[i] - vr);
+    ++e.n;
+  }
+  if (e.n == 0) {
+    e.rmse_px = e.rmse_u_px = e.rmse_v_px = kNaN;
+    return e;
+  }
+  e.rmse_u_px = std::sqrt(su / e.n);
+  e.rmse_v_px = std::sqrt(sv / e.n);
+  e.rmse_px = std::sqrt((su + sv) / e.n);
+  return e;
+}
+
+PredictionReport predictTrack(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
+                              double horizon_s) {
+  if (!(horizon_s >= 0.0) || !std::isfinite(horizon_s))
+    throw std::invalid_argument("the prediction horizon must be a finite number >= 0 s");
+  PredictionReport report;
+  report.horizon_s = horizon_s;
+  for (const auto& spec : predictors) {
+    PredictionRun run;
+    run.spec = spec;
+    auto predictor = makePredictor(spec.name, 2, spec.params);
+    Eigen::Vector2d z;
+    for (size_t i = 0; i < track.size(); ++i) {
+      z << track.u_px[i], track.v_px[i];
+      predictor->update(track.t_s[i], z);
+      const Eigen::VectorXd p = predictor->predictPositions(track.t_s[i] + horizon_s);
+      run.u_pred_px.push_back(p(0));
+      run.v_pred_px.push_back(p(1));
+    }
+    run.vs_measurement = predictionErrors(track.t_s, run.u_pred_px, run.v_pred_px, horizon_s, track.u_px, track.v_px);
+    if (track.hasTruth())
+      run.vs_truth = predictionErrors(track.t_s, run.u_pred_px, run.v_pred_px, horizon_s, track.u_true_px,
+                                      track.v_true_px);
+    report.runs.push_back(std::move(run));
+  }
+  return report;
+}
+
+void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
+                            const std::string& command_line, bool plots, StagedOutputDir& dir) {
+  {
+    std::ofstream csv(dir.file("predictions.csv"));
+    csv << "t,u,v,t_target";
+    for (const auto& run : report.runs) csv << "," << run.spec.name << ".u_pred," << run.spec.name << ".v_pred";
+    csv << "\n";
+    for (size_t i = 0; i < track.size(); ++i) {
+      csv << cell(track.t_s[i]) << "," << cell(track.u_px[i]) << "," << cell(track.v_px[i]) << ","
+          << cell(track.t_s[i] + report.horizon_s);
+      for (const auto& run : report.runs) csv << "," << cell(run.u_pred_px[i]) << "," << cell(run.v_pred_px[i]);
+      csv << "\n";
+    }
+    if (!csv) throw std::runtime_error(dir.file("predictions.csv") + ": write failed");
+  }
+
+  nlohmann::json summary;
+  summary["command"] = command_line;
+  summary["input"] = track.path;
+  summary["rows"] = track.size();
+  summary["horizon_s"] = report.horizon_s;
+  summary["delay_frames"] = delay_frames >= 0 ? nlohmann::json(delay_frames) : nlohmann::json(nullptr);
+  summary["frame_period_s"] = track.size() >= 2 ? medianPeriod(track.t_s) : kNaN;
+  summary["error_reference"] =
+      "prediction made at t compared with the measurement (and truth) linearly interpolated at t + horizon_s";
+  summary["predictors"] = nlohmann::json::array();
+  for (const auto& run : report.runs) {
+    nlohmann::json p;
+    p["name"] = run.spec.name;
+    p["params"] = nlohmann::json::object();
+    for (const auto& kv : run.spec.params.values()) p["params"][kv.first] = kv.second;
+    p["vs_measurement"] = errorsJson(run.vs_measurement);
+    p["vs_truth"] = track.hasTruth() ? errorsJson(run.vs_truth) : nlohmann::json(nullptr);
+    summary["predictors"].push_back(p);
+  }
+  {
+    std::ofstream js(dir.file("summary.json"));
+    js << summary.dump(2) << "\n";
+    if (!js) throw std::runtime_error(dir.file("summary.json") + ": write failed");
+  }
+
+  if (!plots) return;
+  // Plot data: measured points at their time, predictions at the time they are made for.
+  {
+    std::ofstream dat(dir.file("predictions_plot.dat"));
+    dat << "# t_s u_px v_px t_target_s u_true_px v_true_px";
+    for (const auto& run : report.runs) dat << " " << run.spec.name << ".u_pred " << run.spec.name << ".v_pred";
+    dat << "\n" << std::setprecision(10);
+    auto num = [](double x) { return std::isfinite(x) ? std::to_string(x) : std::string("NaN"); };
+    for (size_t i = 0; i < track.size(); ++i) {
+      dat << num(track.t_s[i]) << " " << num(track.u_px[i]) << " " << num(track.v_px[i]) << " "
+          << num(track.t_s[i] + report.horizon_s) << " " << num(track.hasTruth() ? track.u_true_px[i] : kNaN)
+          << " " << num(track.hasTruth() ? track.v_true_px[i] : kNaN);
+      for (const auto& run : report.runs) dat << " " << num(run.u_pred_px[i]) << " " << num(run.v_pred_px[i]);
+      dat << "\n";
+    }
+  }
+  std::ofstream gp(dir.file("predictions.gp"));
+  std::ostringstream title;
+  title << "Prediction " << std::setprecision(4) << report.horizon_s << " s ahead";
+  if (delay_frames >= 0) title << " (" << delay_frames << " frames)";
+  gp << "# Regenerate with: gnuplot predictions.gp\n"
+     << "set terminal pngcairo size 1200,850 enhanced font 'Sans,10'\n"
+     << "set output 'predictions.png'\n"
+     << "set datafile missing 'NaN'\n"
+     << "set multiplot layout 2,1 title "
+     << gnuplotQuote(title.str() + ": each predictor's forecast is drawn at the time it is made for") << "\n"
+     << "set grid\nset autoscale xfix\nset xlabel 'time t [s]'\n"
+     << "set key outside right top vertical Left reverse samplen 2\n";
+  for (int axis = 0; axis < 2; ++axis) {
+    const char* name = axis == 0 ? "u" : "v";
+    gp << "set title " << gnuplotQuote(std::string("image coordinate ") + name + " (measured vs predicted)") << "\n"
+       << "set ylabel '" << name << " [px]'\n"
+       << "plot 'predictions_plot.dat' using 1:" << (2 + axis)
+       << " with points pt 7 ps 0.5 lc rgb 'black' title 'measured'";
+    for (size_t k = 0; k < report.runs.size(); ++k)
+      gp << ", '' using 4:" << (7 + 2 * k + static_cast<size_t>(axis)) << " with lines lw 1.5 lc rgb '"
+         << seriesColor(k) << "' title " << gnuplotQuote(report.runs[k].spec.name);
+    if (track.hasTruth())
+      gp << ", '' using 1:" << (5 + axis) << " with lines dt 2 lw 2 lc rgb 'black' title 'true'";
+    gp << "\n";
+  }
+  gp << "unset multiplot\n";
+  gp.close();
+  runGnuplot(dir.staging().string(), "predictions.gp");
+}
+
+void printPredictionTable(const PredictionReport& report, bool has_truth, std::ostream& out) {
+  size_t w = 9;
+  for (const auto& run : report.runs) w = std::max(w, run.spec.name.size());
+  out << std::left << std::setw(static_cast<int>(w)) << "predictor" << std::right << std::setw(20)
+      << "RMSE vs meas [px]";
+  if (has_truth) out << std::setw(20) << "RMSE vs truth [px]";
+  out << std::setw(7) << "n" << "\n";
+  for (const auto& run : report.runs) {
+    out << std::left << std::setw(static_cast<int>(w)) << run.spec.name << std::right << std::setw(20)
+        << fixed(run.vs_measurement.rmse_px, 3);
+    if (has_truth) out << std::setw(20) << fixed(run.vs_truth.rmse_px, 3);
+    out << std::setw(7) << run.vs_measurement.n << "\n";
+  }
+}
+
+}  // namespace predvs

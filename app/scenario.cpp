@@ -1,0 +1,304 @@
+#include "scenario.h"
+
+#include "app_error.h"
+#include "scenario_file.h"
+
+#include "predvs/predictors/predictor.h"
+#include "predvs/servo/trajectory.h"
+
+#include <map>
+#include <set>
+
+namespace predvs {
+namespace {
+
+/// (key, line) of YAML entries, in priority order, to point an error from a lower layer at the
+/// key it quotes (parameter keys first, then the name of the thing they belong to).
+using KeyLines = std::vector<std::pair<std::string, int>>;
+
+/// Runs f(); a std::invalid_argument from a lower layer is rethrown as "FILE:LINE: message",
+/// LINE being the line of the first key of `keys` quoted in the message, else `line`.
+template <class F>
+auto withLocation(const std::string& file, int line, const KeyLines& keys, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const std::invalid_argument& e) {
+    const std::string msg = e.what();
+    int where = line;
+    for (const auto& kv : keys)
+      if (msg.find("'" + kv.first + "'") != std::string::npos) {
+        where = kv.second;
+        break;
+      }
+    throwAt(file, where, msg);
+  }
+}
+
+/// Numeric parameters from a YAML mapping (every value must be a finite number).
+Params readParams(const YAML::Node& node, const std::string& file, const std::string& section, KeyLines* lines,
+                  const std::set<std::string>& skip = {}) {
+  Params params;
+  if (!node.IsDefined() || node.IsNull()) return params;
+  if (!node.IsMap()) throwAt(file, yamlLine(node), "'" + section + "': expected a mapping of parameter: number");
+  for (const auto& kv : node) {
+    const std::string key = kv.first.Scalar();
+    if (skip.count(key)) continue;
+    params.set(key, yamlNumber(kv.second, file, "'" + section + "." + key + "'"));
+    if (lines) lines->emplace_back(key, yamlLine(kv.first));
+  }
+  return params;
+}
+
+void readTiming(YamlSection& root, TimingConfig& t) {
+  if (!root.has("timing")) {
+    root.allow("timing");
+    return;
+  }
+  YamlSection s(root.node("timing"), root.file(), "timing");
+  t.base_period_s = s.number("base_period_s", t.base_period_s, 1e-6, 10.0);
+  t.frame_period_n = static_cast<int>(s.integer("frame_period_n", t.frame_period_n, 1, 10000));
+  if (s.has("delay_frames")) {
+    for (const char* k : {"acquisition_lag_s", "processing_lag_s"})
+      if (s.has(k)) s.fail(k, "give either timing.delay_frames or the lags acquisition_lag_s/processing_lag_s, not both");
+    const double h = s.number("delay_frames", 0.0, 0.0, 2.0);
+    const double frame_s = t.base_period_s * t.frame_period_n;
+    t.acquisition_lag_s = t.processing_lag_s = 0.5 * h * frame_s;
+  } else {
+    s.allow("delay_frames");
+    t.acquisition_lag_s = s.number("acquisition_lag_s", t.acquisition_lag_s, 0.0, 100.0);
+    t.processing_lag_s = s.number("processing_lag_s", t.processing_lag_s, 0.0, 100.0);
+  }
+  t.controller_lag_s = s.number("controller_lag_s", t.controller_lag_s, 0.0, 100.0);
+  t.servo_lag_s = s.number("servo_lag_s", t.servo_lag_s, 0.0, 100.0);
+  t.motion_lag_s = s.number("motion_lag_s", t.motion_lag_s, 0.0, 100.0);
+  t.model_motion_lag = s.boolean("model_motion_lag", t.model_motion_lag);
+  if (s.has("pipeline")) {
+    const std::string p = s.string("pipeline", "");
+    t.pipeline = withLocation(s.file(), yamlLine(s.node("pipeline")), {}, [&] { return parsePipeline(p); });
+  }
+  s.allow("pipeline");
+  s.finish();
+  withLocation(s.file(), s.line(), {}, [&] { return TimingModel(t); });
+}
+
+void readNoise(YamlSection& root, NoiseConfig& n) {
+  if (!root.has("noise")) {
+    root.allow("noise");
+    return;
+  }
+  YamlSection s(root.node("noise"), root.file(), "noise");
+  if (s.has("model")) {
+    const std::string m = s.string("model", "");
+    n.kind = withLocation(s.file(), yamlLine(s.node("model")), {}, [&] { return parseNoiseKind(m); });
+  }
+  s.allow("model");
+  n.sigma = s.number("sigma", n.sigma, 0.0, 1e6);
+  n.round_to_integer = s.boolean("round", n.round_to_integer);
+  s.finish();
+  withLocation(s.file(), s.line(), {}, [&] { return NoiseModel(n, 1).standardDeviation(); });
+}
+
+void readMetrics(YamlSection& root, MetricsOptions& m) {
+  if (!root.has("metrics")) {
+    root.allow("metrics");
+    return;
+  }
+  YamlSection s(root.node("metrics"), root.file(), "metrics");
+  m.steady_start_fraction = s.number("steady_start_fraction", m.steady_start_fraction, 0.0, 1.0);
+  m.final_fraction = s.number("final_fraction", m.final_fraction, 0.0, 1.0);
+  m.settling_band = s.number("settling_band", m.settling_band, 0.0, 1.0);
+  s.finish();
+}
+
+/// trajectory: {type: NAME, key: number, ...}; returns the type and fills params (validated).
+std::string readTrajectory(const YAML::Node& node, const std::string& file, const std::string& section,
+                           Params& params) {
+  if (!node.IsMap()) throwAt(file, yamlLine(node), "'" + section + "': expected a mapping {type: NAME, params...}");
+  const YAML::Node type = node["type"];
+  if (!type.IsDefined() || !type.IsScalar())
+    throwAt(file, yamlLine(node), "'" + section + ".type': missing (expected one of the trajectory names)");
+  const std::string name = type.Scalar();
+  KeyLines lines;
+  params = readParams(node, file, section, &lines, {"type"});
+  lines.emplace_back(name, yamlLine(type));
+  withLocation(file, yamlLine(node), lines, [&] { return makeTrajectory(name, params); });
+  return name;
+}
+
+std::vector<ScenarioPredictor> readPredictors(YamlSection& root, int channels) {
+  const YAML::Node list = root.node("predictors");
+  const std::string& file = root.file();
+  if (!list.IsDefined() || list.IsNull())
+    throwAt(file, root.line(), "missing required key 'predictors' (a list of predictor names or {name, params})");
+  if (!list.IsSequence() || list.size() == 0)
+    throwAt(file, yamlLine(list), "'predictors': expected a non-empty list of names or {name: NAME, params: {...}}");
+  std::vector<ScenarioPredictor> out;
+  std::set<std::string> seen;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node item = list[i];
+    ScenarioPredictor p;
+    p.line = yamlLine(item);
+    KeyLines lines;
+    if (item.IsScalar()) {
+      p.name = item.Scalar();
+    } else {
+      YamlSection s(item, file, "predictors[" + std::to_string(i) + "]");
+      p.name = s.requiredString("name");
+      p.params = readParams(s.node("params"), file, s.qualified("params"), &lines);
+      s.finish();
+    }
+    if (!seen.insert(p.name).second) throwAt(file, p.line, "'predictors': predictor '" + p.name + "' listed twice");
+    lines.emplace_back(p.name, p.line);
+    withLocation(file, p.line, lines, [&] { return makePredictor(p.name, channels, p.params); });
+    out.push_back(p);
+  }
+  return out;
+}
+
+void readOpenLoop(YamlSection& root, Scenario& sc) {
+  PredictionExperimentConfig& c = sc.open_loop;
+  c.duration_s = root.number("duration_s", c.duration_s, 1e-6, 1e6);
+  readTiming(root, c.timing);
+  readNoise(root, c.noise);
+  readMetrics(root, c.metrics);
+  if (!root.has("trajectory"))
+    throwAt(root.file(), root.line(), "missing required key 'trajectory' ({type: line|accel-jump|zigzag|circle|...})");
+  sc.trajectory = readTrajectory(root.node("trajectory"), root.file(), "trajectory", sc.trajectory_params);
+  const YAML::Node occ = root.node("occlusions");
+  if (occ.IsDefined() && !occ.IsNull()) {
+    if (!occ.IsSequence()) throwAt(root.file(), yamlLine(occ), "'occlusions': expected a list of {start_s, end_s}");
+    for (size_t i = 0; i < occ.size(); ++i) {
+      YamlSection s(occ[i], root.file(), "occlusions[" + std::to_string(i) + "]");
+      OcclusionInterval o;
+      o.start_s = s.requiredNumber("start_s", 0.0, 1e6);
+      o.end_s = s.requiredNumber("end_s", 0.0, 1e6);
+      if (!(o.end_s > o.start_s)) s.fail("end_s", "expected end_s > start_s");
+      s.finish();
+      c.occlusions.push_back(o);
+    }
+  }
+  sc.predictors = readPredictors(root, 2);
+}
+
+void readClosedLoop(YamlSection& root, Scenario& sc) {
+  ServoConfig& c = sc.closed_loop;
+  c.duration_s = root.number("duration_s", c.duration_s, 1e-6, 1e6);
+  readTiming(root, c.timing);
+  readNoise(root, c.noise);
+  readMetrics(root, c.metrics);
+  const std::string& file = root.file();
+  if (root.has("camera")) {
+    YamlSection s(root.node("camera"), file, "camera");
+    c.camera.px = s.number("px", c.camera.px, 1e-6, 1e7);
+    c.camera.py = s.number("py", c.camera.py, 1e-6, 1e7);
+    c.camera.u0 = s.number("u0", c.camera.u0, -1e7, 1e7);
+    c.camera.v0 = s.number("v0", c.camera.v0, -1e7, 1e7);
+    s.finish();
+  }
+  root.allow("camera");
+  if (root.has("target")) {
+    YamlSection s(root.node("target"), file, "target");
+    c.square_side_m = s.number("square_side_m", c.square_side_m, 1e-9, 1e3);
+    c.desired_depth_m = s.number("desired_depth_m", c.desired_depth_m, 1e-9, 1e3);
+    if (s.has("trajectory"))
+      c.target_trajectory = readTrajectory(s.node("trajectory"), file, "target.trajectory", c.target_params);
+    s.allow("trajectory");
+    s.finish();
+  }
+  root.allow("target");
+  if (root.has("initial_pose")) {
+    const auto pose = root.numbers("initial_pose", {}, 6);
+    for (int i = 0; i < 6; ++i) c.initial_pose(i) = pose[static_cast<size_t>(i)];
+  }
+  root.allow("initial_pose");
+  if (root.has("task")) {
+    YamlSection s(root.node("task"), file, "task");
+    c.task.lambda = s.number("lambda", c.task.lambda, 1e-9, 1e6);
+    if (s.has("interaction")) {
+      const std::string m = s.string("interaction", "");
+      c.task.interaction =
+          withLocation(file, yamlLine(s.node("interaction")), {}, [&] { return parseInteractionMatrixType(m); });
+    }
+    s.allow("interaction");
+    s.finish();
+  }
+  root.allow("task");
+  if (root.has("servo")) {
+    YamlSection s(root.node("servo"), file, "servo");
+    if (s.has("forecast")) {
+      const std::string m = s.string("forecast", "");
+      c.forecast = withLocation(file, yamlLine(s.node("forecast")), {}, [&] { return parseForecastMode(m); });
+    }
+    if (s.has("compensation")) {
+      const std::string m = s.string("compensation", "");
+      c.compensation = withLocation(file, yamlLine(s.node("compensation")), {}, [&] { return parseCompensation(m); });
+    }
+    s.allow("forecast");
+    s.allow("compensation");
+    s.finish();
+  }
+  root.allow("servo");
+  if (root.has("robot")) {
+    YamlSection s(root.node("robot"), file, "robot");
+    c.max_translation_mps = s.number("max_translation_mps", c.max_translation_mps, 1e-9, 1e3);
+    c.max_rotation_radps = s.number("max_rotation_radps", c.max_rotation_radps, 1e-9, 1e3);
+    s.finish();
+  }
+  root.allow("robot");
+  sc.predictors = readPredictors(root, 8);
+  // Whole-configuration check by the loop itself (it names the offending key).
+  auto hold = makePredictor("hold", 8);
+  withLocation(file, 0, {}, [&] { return ServoLoop(c, *hold).done(); });
+}
+
+}  // namespace
+
+std::string scenarioKindName(ScenarioKind kind) { return kind == ScenarioKind::OpenLoop ? "open-loop" : "closed-loop"; }
+
+void Scenario::setSeed(std::uint64_t seed) {
+  open_loop.seed = seed;
+  closed_loop.seed = seed;
+}
+
+Scenario loadScenario(const std::string& path) {
+  const YAML::Node doc = loadYamlFile(path);
+  if (!doc.IsDefined() || doc.IsNull()) throwAt(path, 0, "the file is empty (expected a scenario mapping with 'kind:')");
+  YamlSection root(doc, path, "");
+  Scenario sc;
+  sc.path = path;
+  sc.name = scenarioName(path);
+  sc.description = root.string("description", "");
+  const std::string kind = root.requiredString("kind");
+  if (kind == "open-loop") {
+    sc.kind = ScenarioKind::OpenLoop;
+  } else if (kind == "closed-loop") {
+    sc.kind = ScenarioKind::ClosedLoop;
+  } else {
+    root.fail("kind", "expected open-loop or closed-loop, got '" + kind + "'");
+  }
+  // Unknown top-level keys first (a misspelt 'trajectory' is reported as such, not as missing).
+  static const std::set<std::string> kCommon = {"description", "kind", "seed", "duration_s", "timing",
+                                                "noise", "metrics", "predictors"};
+  static const std::set<std::string> kOpen = {"trajectory", "occlusions"};
+  static const std::set<std::string> kClosed = {"camera", "target", "initial_pose", "task", "servo", "robot"};
+  const auto& own = sc.kind == ScenarioKind::OpenLoop ? kOpen : kClosed;
+  for (const auto& kv : doc) {
+    const std::string key = kv.first.Scalar();
+    if (kCommon.count(key) || own.count(key)) continue;
+    std::string expected;
+    for (const auto* set : {&kCommon, &own})
+      for (const auto& k : *set) expected += (expected.empty() ? "" : ", ") + k;
+    throwAt(path, yamlLine(kv.first), "unknown key '" + key + "' for a " + kind + " scenario (expected one of: " +
+                                          expected + ")");
+  }
+  const long seed = root.integer("seed", 1, 0, 2147483647L);
+  if (sc.kind == ScenarioKind::OpenLoop)
+    readOpenLoop(root, sc);
+  else
+    readClosedLoop(root, sc);
+  sc.setSeed(static_cast<std::uint64_t>(seed));
+  root.finish();
+  return sc;
+}
+
+}  // namespace predvs

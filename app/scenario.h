@@ -1,0 +1,78 @@
+// predvs app — a scenario file mapped onto the servo layer's configuration structs.
+//
+// YAML schema (every key optional unless marked; an unknown key anywhere is an error naming the
+// file, its line and the key; defaults are those of the servo layer's structs):
+//
+//   description: one line shown by `predvs list`                                   (string)
+//   kind: open-loop | closed-loop                                                  (REQUIRED)
+//   seed: 1                      integer >= 0, seeds the measurement noise
+//   duration_s: 20 (open) / 25 (closed)
+//   timing:                      TimingConfig (METHODS §0)
+//     base_period_s: 0.04        control period delta
+//     frame_period_n: 1          vision period T = N delta
+//     delay_frames: H            shorthand for the vision latency t_ac + t_p = H T, split evenly
+//                                (t_ac = t_p = H T / 2); 0 <= H <= 2 so that the parallel pipeline
+//                                can sustain it; excludes acquisition_lag_s / processing_lag_s
+//     acquisition_lag_s: 0.04, processing_lag_s: 0.04, controller_lag_s: 0, servo_lag_s: 0,
+//     motion_lag_s: 0, model_motion_lag: false, pipeline: parallel | serial
+//   noise: {model: gaussian | uniform | none, sigma: px, round: false}
+//   metrics: {steady_start_fraction: 0.5, final_fraction: 0.1, settling_band: 0.05}
+//   predictors:                  list of names or {name: NAME, params: {key: value}}
+//                                (REQUIRED, at least one; names from the predictor registry)
+//   -- open-loop only (prediction experiment E1-E4, units: px) --
+//   trajectory: {type: line | accel-jump | zigzag | circle | sinusoid | static, <its params>}
+//                                (REQUIRED; params as in servo/trajectory.h)
+//   occlusions: [{start_s: a, end_s: b}, ...]
+//   -- closed-loop only (IBVS on a moving 4-point target, servo/servo_loop.h) --
+//   camera: {px: 800, py: 800, u0: 320, v0: 240}
+//   target: {square_side_m: 0.1, desired_depth_m: 0.5,
+//            trajectory: {type: circle, <params in metres>}}   (type change replaces all params)
+//   initial_pose: [tx, ty, tz, thetaux, thetauy, thetauz]     m and rad, desired camera frame
+//   task: {lambda: 1.0, interaction: current | desired | mean}
+//   servo: {forecast: feature | feedforward | both, compensation: auto | on | off}
+//   robot: {max_translation_mps: 0.2, max_rotation_radps: 0.7}
+#pragma once
+
+#include "predvs/predictors/params.h"
+#include "predvs/servo/prediction_experiment.h"
+#include "predvs/servo/servo_loop.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace predvs {
+
+enum class ScenarioKind { OpenLoop, ClosedLoop };
+
+struct ScenarioPredictor {
+  std::string name;
+  Params params;
+  int line = 0;  ///< line in the scenario file (0 when given on the command line)
+};
+
+struct Scenario {
+  std::string path;         ///< file it was read from
+  std::string name;         ///< file stem
+  std::string description;
+  ScenarioKind kind = ScenarioKind::ClosedLoop;
+  std::vector<ScenarioPredictor> predictors;
+  // open loop
+  PredictionExperimentConfig open_loop;
+  std::string trajectory;   ///< trajectory type (open loop)
+  Params trajectory_params;
+  // closed loop
+  ServoConfig closed_loop;
+
+  std::uint64_t seed() const { return kind == ScenarioKind::OpenLoop ? open_loop.seed : closed_loop.seed; }
+  void setSeed(std::uint64_t seed);
+  double durationS() const { return kind == ScenarioKind::OpenLoop ? open_loop.duration_s : closed_loop.duration_s; }
+};
+
+/// Reads and validates a scenario file (every key, the timing model, the trajectory, every
+/// predictor and its parameters). Throws std::invalid_argument "FILE:LINE: ..." on any defect.
+Scenario loadScenario(const std::string& path);
+
+std::string scenarioKindName(ScenarioKind kind);
+
+}  // namespace predvs
