@@ -12,6 +12,13 @@ constexpr double kPi = 3.14159265358979323846;
 /// (4 - pi)/pi: variance of a Rayleigh variable per squared distance of its mean to the limit.
 constexpr double kRayleigh = (4.0 - kPi) / kPi;
 
+/// b^n for a small non-negative n (std::pow is several times slower on the hot path).
+inline double ipow(double b, int n) {
+  double r = 1.0;
+  for (int i = 0; i < n; ++i) r *= b;
+  return r;
+}
+
 /// Every Singer quantity has the form  N(x) / alpha^p  with x = alpha dt and
 ///   N(x) = A e^{-2x} + (B + C x) e^{-x} + (a polynomial of degree < k0),
 /// where the polynomial cancels the exponential series below x^k0, so that
@@ -37,8 +44,9 @@ class SingerSeries {
   double operator()(double x, double dt) const {
     double s = 0.0;
     for (int j = kTerms - 1; j >= 0; --j) s = s * x + coef_[static_cast<size_t>(j)];
-    return std::pow(dt, p_) * std::pow(x, k0_ - p_) * s;
+    return ipow(dt, p_) * ipow(x, k0_ - p_) * s;
   }
+  double coef(int j) const { return coef_[static_cast<size_t>(j)]; }
 
  private:
   int p_, k0_;
@@ -63,6 +71,36 @@ struct SingerSeriesTable {
 const SingerSeriesTable& series() {
   static const SingerSeriesTable table;
   return table;
+}
+
+/// The six q_ij series summed together (hot path: every time update and every horizon query).
+/// Coefficients interleaved as [term][entry] so the six Horner chains run in parallel; each q_ij
+/// has k0 = p, so q_ij = 0.5 dt^p_ij sum_j n_j x^j.
+struct SingerQSeries {
+  std::array<std::array<double, 6>, SingerSeries::kTerms> coef{};
+  SingerQSeries() {
+    const auto& s = series();
+    const SingerSeries* q[6] = {&s.q11, &s.q12, &s.q13, &s.q22, &s.q23, &s.q33};
+    for (int j = 0; j < SingerSeries::kTerms; ++j)
+      for (int i = 0; i < 6; ++i) coef[static_cast<size_t>(j)][static_cast<size_t>(i)] = q[i]->coef(j);
+  }
+};
+
+/// q11, q12, q13, q22, q23, q33 by their series (x = alpha dt < kSingerSeriesThreshold).
+void singerQSeries(double x, double dt, double out[6]) {
+  static const SingerQSeries table;
+  double acc[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  for (int j = SingerSeries::kTerms - 1; j >= 0; --j) {
+    const auto& c = table.coef[static_cast<size_t>(j)];
+    for (int i = 0; i < 6; ++i) acc[i] = acc[i] * x + c[static_cast<size_t>(i)];
+  }
+  const double dt2 = dt * dt, dt3 = dt2 * dt;
+  out[0] = 0.5 * dt3 * dt2 * acc[0];  // p = 5
+  out[1] = 0.5 * dt2 * dt2 * acc[1];  // p = 4
+  out[2] = 0.5 * dt3 * acc[2];        // p = 3
+  out[3] = 0.5 * dt3 * acc[3];        // p = 3
+  out[4] = 0.5 * dt2 * acc[4];        // p = 2
+  out[5] = 0.5 * dt * acc[5];         // p = 1
 }
 
 }  // namespace
@@ -101,13 +139,14 @@ Mat<3> singerProcessNoise(double alpha, double sigma2, double dt) {
   const double x = alpha * dt;
   double q11, q12, q13, q22, q23, q33;
   if (x < kSingerSeriesThreshold) {
-    const auto& s = series();
-    q11 = 0.5 * s.q11(x, dt);
-    q12 = 0.5 * s.q12(x, dt);
-    q13 = 0.5 * s.q13(x, dt);
-    q22 = 0.5 * s.q22(x, dt);
-    q23 = 0.5 * s.q23(x, dt);
-    q33 = 0.5 * s.q33(x, dt);
+    double q[6];
+    singerQSeries(x, dt, q);
+    q11 = q[0];
+    q12 = q[1];
+    q13 = q[2];
+    q22 = q[3];
+    q23 = q[4];
+    q33 = q[5];
   } else {
     const double e = std::exp(-x), e2 = e * e;
     const double a2 = alpha * alpha, a3 = a2 * alpha, a4 = a3 * alpha, a5 = a4 * alpha;
