@@ -45,10 +45,12 @@
 // 5.7 / 1.1 px for kf-cv / kf-ca. `feedforward` is the default. Why: on a moving target a
 // P-controller's steady error is the lag (image speed) / lambda, which the delay hardly changes,
 // so forecasting the features to the effect time alone buys ~1 %; only the target-rate
-// feed-forward removes the lag. `both` was a little worse than `feedforward` in every set-up
-// tried (lambda 0.5-4, command lag 0-80 ms, N = 1-2). The price is control effort: the
-// feed-forward passes the filter's velocity noise to the camera (effort 0.72 / 1.36 vs 0.10
-// for hold over 25 s).
+// feed-forward removes the lag. `both` was a little worse than `feedforward` for lambda 0.5-4
+// (command lag 0-80 ms, N = 1-2); at high gain, where the delay matters to the loop dynamics,
+// `both` wins (lambda = 8: hold 5.4 px, kf-ca feature 4.9, feedforward 1.3, both 0.7 px), so
+// choose `both` when raising lambda. The price of the feed-forward is control effort: it passes
+// the filter's velocity noise to the camera (lambda = 1: effort 0.72 / 1.36 vs 0.10 for hold
+// over 25 s); the `feature` mode alone lowers the effort (it filters the measurement noise).
 //
 // Error per step: RMS over the 4 points of the pixel distance between the true features s(t) and
 // the desired features s* (the tracking error), see metrics.h for the metric definitions.
