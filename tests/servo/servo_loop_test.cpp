@@ -115,6 +115,24 @@ TEST(ServoLoop, CommandLagAndDualRate) {
   EXPECT_EQ(r.trace.size(), 1251u);  // 25 s at 20 ms, both ends included
 }
 
+TEST(ServoLoop, CompensationSwitch) {
+  // GIVEN compensation off: kf-cv on raw features, forecast used as the current feature only
+  ServoConfig c;
+  c.compensation = Compensation::Off;
+  const ServoResult off = run("kf-cv", c);
+  const double e_hold = run("hold").metrics.rmse;
+  // THEN the raw-feature predictor sees an almost still image and cannot remove the lag
+  EXPECT_FALSE(off.prediction_used);
+  EXPECT_GT(off.metrics.rmse, 0.9 * e_hold);
+  // GIVEN compensation on with hold (a Smith predictor with a still-target model)
+  c.compensation = Compensation::On;
+  c.forecast = ForecastMode::Feature;
+  const ServoResult smith = run("hold", c);
+  // THEN the path is active and the loop still tracks (a still-target model has no feed-forward)
+  EXPECT_TRUE(smith.prediction_used);
+  EXPECT_LT(smith.metrics.rmse, 1.1 * e_hold);
+}
+
 TEST(ServoLoop, DeterministicForASeed) {
   const ServoResult a = run("kf-cv"), b = run("kf-cv");
   ASSERT_EQ(a.trace.size(), b.trace.size());
