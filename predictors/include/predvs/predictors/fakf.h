@@ -111,7 +111,17 @@ class FakfClassicPredictor : public ChannelPredictor<2> {
 /// sigma_max_sq): window (N_w, 10), inflation_period (10 frames), e_range (0.5 px),
 /// dp_range (10 px^2), beta_min (0.8), beta_max (1.2), de_min (2 px), de_max (50 px),
 /// gamma_min (100), gamma_max (1000), r_min (r/100 px^2), r_max (100 r px^2),
-/// inflate_below_de_min (0).
+/// inflate_below_de_min (0). The CS parameters default to cs-akf-adaptive's, so `fakf` is exactly
+/// that filter plus the fuzzy layer; its CS variance floor sigma_min_sq decides the smooth-motion
+/// error (tests/predictors/fakf_test.cpp reports the figures).
+///
+/// Measured behaviour worth knowing (1 px noise, T = 0.1 s, tests/predictors/fakf_test.cpp):
+///   * with the paper's universes R settles below the true variance when the noise matches
+///     (0.55 .. 0.8 px^2 for a true 1 px^2): E' is a 10-sample mean of unit noise, so it crosses
+///     +-0.5 often and beta does a multiplicative random walk whose log drifts down, while dP'
+///     on a +-10 px^2 universe pulls back only weakly at this noise scale;
+///   * the improvement over kf-cv / fakf-classic comes from the CS model; on E1-E4 the fuzzy layer
+///     itself is within about +-15 % of cs-akf-adaptive alone, not consistently better.
 class FakfPredictor : public CsAkfAdaptivePredictor {
  public:
   FakfPredictor(int channels, const Params& params);
