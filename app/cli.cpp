@@ -203,42 +203,61 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   app.add_subcommand("list", "List the registered predictors and the scenarios in data/scenarios.");
 
   PredictArgs pa;
-  CLI::App* predict = app.add_subcommand(
-      "predict",
-      "Open-loop prediction of a recorded feature track. Each row's measurement is fed to the predictor "
-      "(an empty u or v cell means no measurement: predict-only) and the position at t + horizon is "
-      "predicted, then scored against the measurement at t + horizon (linearly interpolated between "
-      "measured rows) and against u_true/v_true when present. Writes DIR/predictions.csv, "
-      "DIR/summary.json and DIR/predictions.png.");
+  CLI::App* predict = app.add_subcommand("predict", "Open-loop prediction of a recorded feature track (CSV)");
+  predict->footer(
+      "Each row's measurement is fed to the predictor (an empty u or v cell means no measurement: "
+      "predict-only), then the position at t + horizon is predicted without changing the filter. "
+      "With --delay-frames H the horizon is H times the median frame period (median of t differences) "
+      "of the input. Scoring: the prediction made at t is compared with the measurement at t + horizon, "
+      "linearly interpolated between the nearest measured rows (exact when t + horizon is a row time), "
+      "and with u_true/v_true when present; rows outside the measured span are not scored. "
+      "Writes DIR/predictions.csv (t,u,v,t_target,NAME.u_pred,NAME.v_pred per predictor), "
+      "DIR/summary.json (RMSE per predictor) and DIR/predictions.png. "
+      "The simulated open-loop experiments E1-E4 run with `predvs servo --scenario e1-line` etc.\n"
+      "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
   predict->add_option("--input", pa.input, "CSV with header t,u,v[,u_true,v_true]: t in s strictly increasing, u,v in px")
-      ->required();
+      ->required()
+      ->type_name("FILE");
   predict->add_option("--predictor", pa.predictor, "predictor name (see `predvs list`), or 'all' to compare every one")
-      ->required();
-  auto* h = predict->add_option("--horizon-s", pa.horizon_s, "prediction horizon in seconds (>= 0)");
+      ->required()
+      ->type_name("NAME");
+  auto* h = predict->add_option("--horizon-s", pa.horizon_s, "prediction horizon in seconds (>= 0)")->type_name("S");
   auto* d = predict->add_option("--delay-frames", pa.delay_frames,
-                                "prediction horizon in frames: H times the median frame period of the input");
+                                "prediction horizon in frames: H times the median frame period of the input")
+                ->type_name("H");
   h->excludes(d);
-  predict->add_option("--out", pa.out_dir, "output directory (replaced only when the run succeeds)")->required();
+  predict->add_option("--out", pa.out_dir, "output directory (replaced only when the run succeeds)")
+      ->required()
+      ->type_name("DIR");
   predict->add_option("--param", pa.params,
-                      "predictor parameter KEY=VALUE (repeatable); with --predictor all write PREDICTOR.KEY=VALUE");
+                      "predictor parameter KEY=VALUE (repeatable); with --predictor all write PREDICTOR.KEY=VALUE")
+      ->type_name("KEY=VALUE");
   predict->add_flag("--no-plots", pa.no_plots, "do not draw predictions.png (no gnuplot needed)");
 
   ScenarioRunOptions so;
   std::string predictors_csv, seed_text;
   bool servo_no_plots = false;
-  CLI::App* servo = app.add_subcommand(
-      "servo",
-      "Run a scenario file and compare predictors on the same seed. A closed-loop scenario (kind: "
-      "closed-loop, e.g. the default ibvs-moving-target: IBVS on a moving 4-point target with a "
-      "2-frame vision delay) runs the servo loop once per predictor; an open-loop scenario (kind: "
-      "open-loop, E1-E4: e1-line, e2-accel-jump, e3-zigzag, e4-circle) runs the prediction experiment. "
-      "Writes DIR/log.csv, DIR/summary.json and PNG plots (error norm vs time, image-plane trajectories).");
+  CLI::App* servo =
+      app.add_subcommand("servo", "Run a scenario (closed-loop IBVS or open-loop E1-E4) comparing predictors");
+  servo->footer(
+      "Runs every predictor of the scenario on the same seed. A closed-loop scenario (kind: closed-loop; "
+      "the default ibvs-moving-target is IBVS on a moving 4-point target with a 2-frame vision delay, "
+      "comparing hold, kf-cv and cs-akf-adaptive) runs the servo loop once per predictor; an open-loop "
+      "scenario (kind: open-loop: e1-line, e2-accel-jump, e3-zigzag, e4-circle) runs the prediction "
+      "experiment. `predvs list` shows the scenarios. Writes DIR/log.csv (one row per predictor and "
+      "control tick), DIR/summary.json (metrics per predictor, scenario, seed, command line), "
+      "DIR/error.png and DIR/trajectories.png (with their gnuplot scripts and data).\n"
+      "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
   servo->add_option("--scenario", so.scenario, "scenario name in data/scenarios, or a path to a .yaml file")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->type_name("NAME|FILE");
   servo->add_option("--predictors", predictors_csv,
-                    "comma-separated predictor names, overriding the scenario's list (default: the scenario's)");
-  servo->add_option("--seed", seed_text, "random seed, overriding the scenario's (default: the scenario's)");
-  servo->add_option("--out", so.out_dir, "output directory (default: out/<scenario>)");
+                    "comma-separated predictor names, overriding the scenario's list (default: the scenario's)")
+      ->type_name("A,B,C");
+  servo->add_option("--seed", seed_text, "random seed, overriding the scenario's (default: the scenario's)")
+      ->type_name("N");
+  servo->add_option("--out", so.out_dir, "output directory, replaced only when the run succeeds (default: out/<scenario>)")
+      ->type_name("DIR");
   servo->add_flag("--no-plots", servo_no_plots, "do not draw PNG plots (no gnuplot needed)");
 
   try {
