@@ -121,28 +121,39 @@ double MamdaniSystem::evaluate(std::initializer_list<double> x) const {
   return evaluate(x.begin());
 }
 
-double clippedCentroid(const MembershipFunction* sets, const double* w, int n, double lo, double hi) {
+double clippedCentroid(const MembershipFunction* all_sets, const double* all_w, int n_sets, double lo, double hi) {
+  if (n_sets > kMaxSets) throw std::invalid_argument("fuzzy centroid: more than kMaxSets sets");
+  // Only the sets that fire take part (a zero clip level contributes nothing to the max).
+  std::array<MembershipFunction, kMaxSets> sets;
+  std::array<double, kMaxSets> w{};
+  int n = 0;
+  for (int i = 0; i < n_sets; ++i) {
+    const double wi = std::min(std::max(all_w[i], 0.0), 1.0);
+    if (!(wi > 0.0)) continue;
+    sets[static_cast<size_t>(n)] = all_sets[i];
+    w[static_cast<size_t>(n)] = wi;
+    ++n;
+  }
+  if (n == 0) return std::numeric_limits<double>::quiet_NaN();
   // Breakpoints of every clipped set inside [lo, hi]: its feet and shoulders and the points where
   // its edges meet the clip level.
   std::array<double, 2 + 6 * kMaxSets> pts{};
   int np = 0;
   pts[static_cast<size_t>(np++)] = lo;
   pts[static_cast<size_t>(np++)] = hi;
-  int active = 0;
   for (int i = 0; i < n; ++i) {
-    const double wi = std::min(std::max(w[i], 0.0), 1.0);
-    if (!(wi > 0.0)) continue;
-    ++active;
-    const MembershipFunction& m = sets[i];
+    const double wi = w[static_cast<size_t>(i)];
+    const MembershipFunction& m = sets[static_cast<size_t>(i)];
     const double cand[6] = {m.a(), m.b(), m.c(), m.d(), m.a() + wi * (m.b() - m.a()), m.d() - wi * (m.d() - m.c())};
     for (double p : cand)
       if (p > lo && p < hi) pts[static_cast<size_t>(np++)] = p;
   }
-  if (active == 0) return std::numeric_limits<double>::quiet_NaN();
   std::sort(pts.begin(), pts.begin() + np);
   np = static_cast<int>(std::unique(pts.begin(), pts.begin() + np) - pts.begin());
 
-  auto clipped = [&](int i, double y) { return std::min(std::min(std::max(w[i], 0.0), 1.0), sets[i](y)); };
+  auto clipped = [&](int i, double y) {
+    return std::min(w[static_cast<size_t>(i)], sets[static_cast<size_t>(i)](y));
+  };
 
   double area = 0.0, moment = 0.0;
   std::array<double, kMaxSets> gp{}, gq{};
