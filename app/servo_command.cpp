@@ -10,7 +10,10 @@
 //                  command). Empty cell = not available (NaN).
 //   summary.json   scenario, kind, file, description, seed, duration, command line, metric
 //                  definitions and, per predictor, its parameters and metrics (servo/metrics.h).
-//   error.png      error norm versus time, every predictor in one plot (error.gp + trace_*.dat)
+//   error.png      error norm versus time, every predictor in one plot (error.gp + trace_*.dat,
+//                  whose last column is a trailing running RMS of the error over max(1 s, 5 % of
+//                  the run)); open loop adds a second panel with that running RMS, because the
+//                  per-tick prediction error is dominated by measurement noise
 //   trajectories.png  image-plane trajectories: closed loop, one panel per predictor with the 4
 //                  true feature tracks, the features the task used and the desired points; open
 //                  loop, the true path, the measurements and each predictor's forecasts
@@ -198,38 +201,68 @@ std::string traceFile(const Run& run) { return "trace_" + safeName(run.predictor
 void writePlots(const Report& r, const StagedOutputDir& dir) {
   const Scenario& sc = *r.scenario;
   const bool open = sc.kind == ScenarioKind::OpenLoop;
+  const size_t t_col = columnIndex(r, "t_s") + 1;
+  const size_t e_col = columnIndex(r, open ? "error" : "error_px") + 1;
+  // Plot data: the trace columns plus a trailing running RMS of the error over the last
+  // `window_s` seconds (the open-loop error is dominated by frame-to-frame noise; its running RMS
+  // shows which predictor is better where).
+  const double window_s = std::max(1.0, 0.05 * sc.durationS());
   for (const auto& run : r.runs) {
     std::ofstream dat(dir.file(traceFile(run)));
     dat << "#";
     for (const auto& c : r.columns) dat << " " << c;
-    dat << "\n";
-    for (const auto& row : run.rows) {
+    dat << " running_rms_error_" << window_s << "s\n";
+    size_t first = 0;
+    double sum_sq = 0.0;
+    size_t count = 0;
+    for (size_t k = 0; k < run.rows.size(); ++k) {
+      const auto& row = run.rows[k];
+      const double e = row[e_col - 1], t = row[t_col - 1];
+      if (std::isfinite(e)) sum_sq += e * e, ++count;
+      while (first < k && run.rows[first][t_col - 1] <= t - window_s) {
+        const double old = run.rows[first][e_col - 1];
+        if (std::isfinite(old)) sum_sq -= old * old, --count;
+        ++first;
+      }
       for (size_t i = 0; i < row.size(); ++i) dat << (i ? " " : "") << datCell(row[i]);
-      dat << "\n";
+      dat << " " << datCell(count > 0 ? std::sqrt(std::max(0.0, sum_sq) / static_cast<double>(count)) : kNaN) << "\n";
     }
   }
-  const size_t t_col = columnIndex(r, "t_s") + 1;
-  const size_t e_col = columnIndex(r, open ? "error" : "error_px") + 1;
+  const size_t rms_col = r.columns.size() + 1;
 
   // Error norm versus time.
   {
     std::ofstream gp(dir.file("error.gp"));
+    const std::string what = open ? "prediction error at the effect time" : "image tracking error";
+    const std::string ylabel = open ? "||predicted - true|| [px]" : "RMS over 4 points of ||s - s*|| [px]";
+    std::ostringstream window;
+    window << std::setprecision(3) << window_s;
+    auto plotAll = [&](size_t col, const char* style) {
+      gp << "plot ";
+      for (size_t k = 0; k < r.runs.size(); ++k)
+        gp << (k ? ", \\\n     " : "") << "'" << traceFile(r.runs[k]) << "' using " << t_col << ":" << col << " with lines "
+           << style << " lc rgb '" << seriesColor(k) << "' title " << gnuplotQuote(r.runs[k].predictor);
+      gp << "\n";
+    };
     gp << "# Regenerate with: gnuplot error.gp\n"
-       << "set terminal pngcairo size 1100,650 enhanced font 'Sans,11'\n"
-       << "set output 'error.png'\n"
        << "set datafile missing 'NaN'\n"
-       << "set title " << gnuplotQuote(sc.name + " (seed " + std::to_string(sc.seed()) + "): " +
-                                       (open ? "prediction error at the effect time" : "image tracking error"))
-       << "\n"
-       << "set xlabel 'time t [s]'\n"
-       << "set ylabel " << gnuplotQuote(open ? "||predicted - true|| [px]" : "RMS over 4 points of ||s - s*|| [px]") << "\n"
-       << "set grid\nset autoscale xfix\nset key top right box opaque\n";
-    if (!open) gp << "set logscale y\nset format y '%g'\n";
-    gp << "plot ";
-    for (size_t k = 0; k < r.runs.size(); ++k)
-      gp << (k ? ", \\\n     " : "") << "'" << traceFile(r.runs[k]) << "' using " << t_col << ":" << e_col
-         << " with lines lw 1.5 lc rgb '" << seriesColor(k) << "' title " << gnuplotQuote(r.runs[k].predictor);
-    gp << "\n";
+       << "set xlabel 'time t [s]'\nset grid\nset autoscale xfix\nset key top right box opaque\n";
+    if (open) {
+      gp << "set terminal pngcairo size 1100,900 enhanced font 'Sans,11'\nset output 'error.png'\n"
+         << "set multiplot layout 2,1 title "
+         << gnuplotQuote(sc.name + " (seed " + std::to_string(sc.seed()) + "): " + what) << "\n"
+         << "set title 'per control tick'\nset ylabel " << gnuplotQuote(ylabel) << "\n";
+      plotAll(e_col, "lw 1");
+      gp << "set title " << gnuplotQuote("running RMS over the last " + window.str() + " s") << "\n"
+         << "set ylabel " << gnuplotQuote("RMS of the error [px]") << "\n";
+      plotAll(rms_col, "lw 2");
+      gp << "unset multiplot\n";
+    } else {
+      gp << "set terminal pngcairo size 1100,650 enhanced font 'Sans,11'\nset output 'error.png'\n"
+         << "set title " << gnuplotQuote(sc.name + " (seed " + std::to_string(sc.seed()) + "): " + what) << "\n"
+         << "set ylabel " << gnuplotQuote(ylabel) << "\nset logscale y\nset format y '%g'\n";
+      plotAll(e_col, "lw 1.5");
+    }
   }
   runGnuplot(dir.staging().string(), "error.gp");
 
