@@ -288,7 +288,7 @@ Scenario loadScenario(const std::string& path) {
     std::string expected;
     for (const auto* set : {&kCommon, &own})
       for (const auto& k : *set) expected += (expected.empty() ? "" : ", ") + k;
-    throwAt(path, yamlLine(kv.first), "unknown key '" + key + "' for a " + kind + " scenario (expected one of: " +
+    throwAt(path, yamlLine(kv.first), "unknown key '" + key + "' for " + (sc.kind == ScenarioKind::OpenLoop ? "an " : "a ") + kind + " scenario (expected one of: " +
                                           expected + ")");
   }
   const long seed = root.integer("seed", 1, 0, 2147483647L);
