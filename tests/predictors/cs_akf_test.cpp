@@ -275,5 +275,19 @@ TEST(CsAdaptive, FloorDecidesSmoothMotionError) {
   EXPECT_LT(rmse[3], 1.0);
 }
 
+TEST(CsAdaptive, LowPassedReferenceSoftensATooLowFloor) {
+  // GIVEN the 200 px circle and the lowest floor of the sweep (1e-3, which over-smooths)
+  auto rmse = [](double tau_s) {
+    CsAkfAdaptivePredictor f(2, {{"sigma_min_sq", 1e-3}, {"adapt_tau_s", tau_s}});
+    return predictionRmse(f, circle200, 60.0, 10.0, 60.0, 3);
+  };
+  const double one_step = rmse(0.0), low_passed = rmse(3.0);
+  std::printf("  circle r=200, floor 1e-3: adapt_tau_s=0 rmse=%.3f px, adapt_tau_s=3 rmse=%.3f px\n", one_step,
+              low_passed);
+  // THEN measuring the acceleration change over ~3 s instead of one frame keeps sigma^2 off the
+  // floor on the turning target (measured 3.0 -> 0.6 px)
+  EXPECT_LT(low_passed, 0.5 * one_step);
+}
+
 }  // namespace
 }  // namespace predvs
