@@ -8,6 +8,10 @@
 namespace predvs {
 namespace {
 
+// Noise floor of the settling band, in standard deviations of e over the final window: a noisy
+// error whose excursion is small would otherwise "leave" a narrow band at its last sample.
+constexpr double kSettlingNoiseSigmas = 3.0;
+
 void requireFraction(const char* key, double v) {
   if (!(v > 0.0 && v < 1.0)) {
     std::ostringstream msg;
@@ -23,6 +27,11 @@ Metrics computeMetrics(const std::vector<double>& t_s, const std::vector<double>
   requireFraction("steady_start_fraction", options.steady_start_fraction);
   requireFraction("final_fraction", options.final_fraction);
   requireFraction("settling_band", options.settling_band);
+  if (!(options.settling_smoothing_s >= 0.0)) {
+    std::ostringstream msg;
+    msg << "metrics.settling_smoothing_s must be >= 0, got " << options.settling_smoothing_s;
+    throw std::invalid_argument(msg.str());
+  }
   if (t_s.size() != error.size())
     throw std::invalid_argument("metrics: " + std::to_string(t_s.size()) + " times but " +
                                 std::to_string(error.size()) + " errors");
@@ -72,17 +81,54 @@ Metrics computeMetrics(const std::vector<double>& t_s, const std::vector<double>
   }
   if (n_final > 0) m.final_error = sum_final / n_final;
   if (n_final > 0) {
-    const double band = m.final_error + options.settling_band * (peak - m.final_error);
+    // Settling is judged on a trailing mean of e over settling_smoothing_s (0: raw e), so that
+    // measurement noise does not decide it.
+    std::vector<double> smooth(n, std::nan(""));
+    {
+      double sum = 0.0;
+      int count = 0;
+      size_t first = 0;
+      for (size_t i = 0; i < n; ++i) {
+        if (!std::isnan(error[i])) {
+          sum += error[i];
+          ++count;
+        }
+        while (first < i && t_s[first] <= t_s[i] - options.settling_smoothing_s) {
+          if (!std::isnan(error[first])) {
+            sum -= error[first];
+            --count;
+          }
+          ++first;
+        }
+        if (count > 0 && !std::isnan(error[i])) smooth[i] = sum / count;
+      }
+    }
+    double peak_s = 0.0, mean_final = 0.0, var_final = 0.0;
+    int n_sf = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if (std::isnan(smooth[i])) continue;
+      peak_s = std::max(peak_s, smooth[i]);
+      if (t_s[i] >= t_final) {
+        mean_final += smooth[i];
+        ++n_sf;
+      }
+    }
+    mean_final /= std::max(n_sf, 1);
+    for (size_t i = 0; i < n; ++i)
+      if (!std::isnan(smooth[i]) && t_s[i] >= t_final) var_final += (smooth[i] - mean_final) * (smooth[i] - mean_final);
+    const double sd_final = std::sqrt(var_final / std::max(n_sf, 1));
+    const double band = mean_final + std::max(options.settling_band * (peak_s - mean_final), kSettlingNoiseSigmas * sd_final);
     // Walk back from the end: the settling time is the sample after the last one above the band.
     m.settling_time_s = 0.0;
     for (size_t i = n; i-- > 0;) {
-      if (std::isnan(error[i])) continue;
-      if (error[i] > band) {
+      if (std::isnan(smooth[i])) continue;
+      if (smooth[i] > band) {
         m.settling_time_s = i + 1 < n ? t_s[i + 1] - t0 : std::nan("");
         break;
       }
     }
   }
+
   if (velocity) {
     double effort = 0.0;
     for (size_t i = 0; i < n; ++i) effort += (*velocity)[i].squaredNorm() * step(i);

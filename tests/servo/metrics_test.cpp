@@ -18,7 +18,9 @@ TEST(Metrics, ExponentialDecayToAConstant) {
     t.push_back(0.01 * i);
     e.push_back(1.0 + 9.0 * std::exp(-t.back()));
   }
-  const Metrics m = computeMetrics(t, e);
+  MetricsOptions raw;
+  raw.settling_smoothing_s = 0.0;
+  const Metrics m = computeMetrics(t, e, raw);
   // THEN the steady figures see ~1, the peak is 10, and e enters the 5 % band when 9 e^-t = 0.45
   EXPECT_NEAR(m.final_error, 1.0, 1e-6);
   EXPECT_NEAR(m.rmse, 1.0, 1e-3);
@@ -28,6 +30,24 @@ TEST(Metrics, ExponentialDecayToAConstant) {
   EXPECT_NEAR(m.iae, 20.0 + 9.0 * (1 - std::exp(-20.0)), 0.06);
   EXPECT_TRUE(std::isnan(m.control_effort));
   EXPECT_EQ(m.steady_samples, 1001);
+}
+
+TEST(Metrics, SettlingIgnoresNoiseAfterTheTransient) {
+  // GIVEN a step response 5 exp(-2 t) + 1 with seeded uniform noise of +-0.5 on top, 10 ms steps
+  std::vector<double> t, e;
+  unsigned state = 12345u;
+  for (int i = 0; i <= 3000; ++i) {
+    state = state * 1664525u + 1013904223u;  // LCG: deterministic, platform independent
+    const double w = (state >> 8) / double(1u << 24);
+    t.push_back(0.01 * i);
+    e.push_back(1.0 + 5.0 * std::exp(-2.0 * t.back()) + (w - 0.5));
+  }
+  const Metrics m = computeMetrics(t, e);
+  // THEN the settling time is a transient time (the smoothed curve enters the band within ~2 s),
+  // not a late noise spike
+  ASSERT_FALSE(std::isnan(m.settling_time_s));
+  EXPECT_LT(m.settling_time_s, 3.0);
+  EXPECT_GT(m.settling_time_s, 0.5);
 }
 
 TEST(Metrics, ControlEffortAndNaNSkipping) {

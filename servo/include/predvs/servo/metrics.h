@@ -13,11 +13,13 @@
 //    not enter the steady-state figures. rmse_px and max_error_px are over this window.
 //  * final_error: mean of e over the last 10 % of the run (t >= t_0 + 0.9 (t_end - t_0)).
 //  * iae: integral of e dt over the whole run (rectangle rule with the step to the next sample).
-//  * settling_time_s: the first time after which e stays at or below
-//        e_final + settling_band * (e_peak - e_final),  settling_band = 0.05 by default,
-//    measured from t_0, where e_peak is the maximum of e over the run; NaN if e ends above it.
-//    (A band relative to the excursion, because the tracking error of a moving target does not
-//    go to zero.)
+//  * settling_time_s: on the trailing mean m(t) of e over settling_smoothing_s (0.5 s by default;
+//    0 = raw e), the first time after which m stays at or below
+//        m_final + max(settling_band * (m_peak - m_final), 3 sd_final),  settling_band = 0.05,
+//    measured from t_0, where m_peak is the maximum of m over the run, m_final and sd_final the
+//    mean and standard deviation of m over the final window; NaN if m ends above it. (A band
+//    relative to the excursion, because the tracking error of a moving target does not go to
+//    zero; the smoothing and the 3-sigma floor keep measurement noise from deciding it.)
 //  * control_effort: sum of ||v||^2 dt over the whole run ((m/s)^2 s + (rad/s)^2 s mixed as
 //    ViSP's 6-vector); NaN when no command is given (open loop).
 #pragma once
@@ -33,6 +35,7 @@ struct MetricsOptions {
   double steady_start_fraction = 0.5;  ///< start of the steady window, fraction of the run (metrics.steady_start_fraction)
   double final_fraction = 0.1;         ///< length of the final window, fraction of the run (metrics.final_fraction)
   double settling_band = 0.05;         ///< settling band, fraction of (e_peak - e_final) (metrics.settling_band)
+  double settling_smoothing_s = 0.5;   ///< trailing-mean window for the settling time, s (metrics.settling_smoothing_s)
 };
 
 struct Metrics {
