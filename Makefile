@@ -18,7 +18,7 @@ build: configure
 # The main job: the default scenario (IBVS on a moving target, 2-frame vision delay),
 # comparing no prediction (hold) with kf-cv and cs-akf-adaptive.
 run: build
-	$(PREDVS) servo --out out/default
+	$(PREDVS) servo
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
