@@ -1,5 +1,6 @@
 #include "cli.h"
 
+#include "compare_command.h"
 #include "output_dir.h"
 #include "predict_command.h"
 #include "scenario_file.h"
@@ -18,7 +19,9 @@
 #include <cstdlib>
 #include <iomanip>
 #include <limits>
+#include <iostream>
 #include <sstream>
+#include <unistd.h>
 
 namespace predvs {
 namespace {
@@ -260,14 +263,65 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->type_name("DIR");
   servo->add_flag("--no-plots", servo_no_plots, "do not draw PNG plots (no gnuplot needed)");
 
+  CompareOptions co;
+  std::string cmp_scenarios = "all", cmp_predictors, cmp_runs, cmp_seed, cmp_jobs;
+  bool cmp_no_plots = false;
+  CLI::App* compare = app.add_subcommand(
+      "compare", "Leaderboard: every predictor on every scenario, many seeded runs in parallel");
+  compare->footer(
+      "Runs each chosen predictor on each chosen scenario (open and closed loop; a scenario with "
+      "`sweep: {noise.sigma: [...]}`, e.g. e6-noise-study, once per value) N times, run r with seed S + r for "
+      "every predictor, on a pool of threads; every run builds its own predictor and noise generator, so the "
+      "numbers do not depend on --jobs. Without --runs a scenario runs as often as its `runs:` key says "
+      "(default 10). Predictors take the parameters their scenario gives them, their defaults otherwise. "
+      "Writes DIR/leaderboard.csv, leaderboard.json, leaderboard.md (mean, std, min, max over runs of each "
+      "metric), error_<scenario>.png (mean error versus time) and, for sweeps, mse_vs_sigma_<scenario>.png. "
+      "Metric definitions: app/compare_command.h.\n"
+      "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
+  compare->add_option("--scenarios", cmp_scenarios, "comma-separated scenario names or .yaml paths, or 'all'")
+      ->capture_default_str()
+      ->type_name("A,B|all");
+  compare->add_option("--predictors", cmp_predictors,
+                      "comma-separated predictor names or 'all' (default: each scenario's own list)")
+      ->type_name("A,B|all");
+  compare->add_option("--runs", cmp_runs, "runs per predictor and scenario, overriding the scenarios' runs: keys")
+      ->type_name("N");
+  compare->add_option("--seed", cmp_seed, "base seed S (run r uses S + r; default: each scenario's seed)")
+      ->type_name("S");
+  compare->add_option("--jobs", cmp_jobs, "worker threads (default: every core)")->type_name("J");
+  compare->add_option("--out", co.out_dir, "output directory, replaced only when the run succeeds")
+      ->capture_default_str()
+      ->type_name("DIR");
+  compare->add_flag("--no-plots", cmp_no_plots, "do not draw PNG plots (no gnuplot needed)");
+
   try {
     if (!args.empty() && !args.front().empty() && args.front()[0] != '-' && args.front() != "list" &&
-        args.front() != "predict" && args.front() != "servo")
-      throw std::invalid_argument("unknown subcommand '" + args.front() + "' (expected list, predict or servo)");
+        args.front() != "predict" && args.front() != "servo" && args.front() != "compare")
+      throw std::invalid_argument("unknown subcommand '" + args.front() + "' (expected list, predict, servo or compare)");
     std::vector<std::string> reversed(args.rbegin(), args.rend());
     app.parse(reversed);
     if (app.got_subcommand("list")) return runList(out);
     if (app.got_subcommand("predict")) return runPredict(pa, command_line, out);
+    if (app.got_subcommand("compare")) {
+      co.scenarios = splitList(cmp_scenarios);
+      if (co.scenarios.empty()) throw std::invalid_argument("--scenarios: expected a comma-separated list of scenarios or 'all'");
+      if (compare->count("--predictors")) {
+        co.predictors = splitList(cmp_predictors);
+        if (co.predictors.empty())
+          throw std::invalid_argument("--predictors: expected a comma-separated list of predictor names or 'all'");
+      }
+      if (!cmp_runs.empty()) co.runs = static_cast<int>(parseIntegerArg("--runs", cmp_runs, 1, 100000));
+      if (!cmp_seed.empty()) {
+        co.seed_given = true;
+        co.seed = static_cast<unsigned long>(parseIntegerArg("--seed", cmp_seed, 0, 2147483647L));
+      }
+      if (!cmp_jobs.empty()) co.jobs = static_cast<int>(parseIntegerArg("--jobs", cmp_jobs, 1, 1024));
+      co.plots = !cmp_no_plots;
+      co.progress_bar = &err == &std::cerr && ::isatty(STDERR_FILENO);
+      co.command_line = command_line;
+      runCompareCommand(co, out, err);
+      return 0;
+    }
     // servo
     so.plots = !servo_no_plots;
     for (const auto& name : splitList(predictors_csv)) requirePredictor("--predictors", name);

@@ -4,6 +4,8 @@
 //   predvs predict --input FILE.csv --predictor NAME|all (--horizon-s S | --delay-frames H)
 //                  --out DIR [--param [NAME.]KEY=VALUE ...] [--no-plots]
 //   predvs servo   [--scenario NAME|FILE] [--predictors a,b,c] [--seed N] [--out DIR] [--no-plots]
+//   predvs compare [--scenarios a,b|all] [--predictors x,y|all] [--runs N] [--seed S] [--jobs J]
+//                  [--out DIR=out/compare] [--no-plots]          (compare_command.h)
 //
 // `predvs servo` runs any scenario file: closed-loop IBVS (`kind: closed-loop`, the default
 // scenario ibvs-moving-target) or an open-loop prediction experiment E1-E4 (`kind: open-loop`).

@@ -4,6 +4,7 @@
 #include "scenario_file.h"
 
 #include "predvs/predictors/predictor.h"
+#include "predvs/servo/paper_trajectories.h"
 #include "predvs/servo/trajectory.h"
 
 #include <map>
@@ -108,11 +109,12 @@ void readMetrics(YamlSection& root, MetricsOptions& m) {
   m.final_fraction = s.number("final_fraction", m.final_fraction, 0.0, 1.0);
   m.settling_band = s.number("settling_band", m.settling_band, 0.0, 1.0);
   s.finish();
+  withLocation(s.file(), s.line(), {}, [&] { return computeMetrics({}, {}, m); });  // the layer's own range checks
 }
 
 /// trajectory: {type: NAME, key: number, ...}; returns the type and fills params (validated).
 std::string readTrajectory(const YAML::Node& node, const std::string& file, const std::string& section,
-                           Params& params) {
+                           Params& params, int* channels = nullptr) {
   if (!node.IsMap()) throwAt(file, yamlLine(node), "'" + section + "': expected a mapping {type: NAME, params...}");
   const YAML::Node type = node["type"];
   if (!type.IsDefined() || !type.IsScalar())
@@ -121,7 +123,10 @@ std::string readTrajectory(const YAML::Node& node, const std::string& file, cons
   KeyLines lines;
   params = readParams(node, file, section, &lines, {"type"});
   lines.emplace_back(name, yamlLine(type));
-  withLocation(file, yamlLine(node), lines, [&] { return makeTrajectory(name, params); });
+  if (channels)  // open loop: any N-channel trajectory
+    *channels = withLocation(file, yamlLine(node), lines, [&] { return makeChannelTrajectory(name, params)->channels(); });
+  else
+    withLocation(file, yamlLine(node), lines, [&] { return makeTrajectory(name, params); });
   return name;
 }
 
@@ -163,7 +168,7 @@ void readOpenLoop(YamlSection& root, Scenario& sc) {
   readMetrics(root, c.metrics);
   if (!root.has("trajectory"))
     throwAt(root.file(), root.line(), "missing required key 'trajectory' ({type: line|accel-jump|zigzag|circle|...})");
-  sc.trajectory = readTrajectory(root.node("trajectory"), root.file(), "trajectory", sc.trajectory_params);
+  sc.trajectory = readTrajectory(root.node("trajectory"), root.file(), "trajectory", sc.trajectory_params, &sc.channels);
   const YAML::Node occ = root.node("occlusions");
   if (occ.IsDefined() && !occ.IsNull()) {
     if (!occ.IsSequence()) throwAt(root.file(), yamlLine(occ), "'occlusions': expected a list of {start_s, end_s}");
@@ -177,7 +182,15 @@ void readOpenLoop(YamlSection& root, Scenario& sc) {
       c.occlusions.push_back(o);
     }
   }
-  sc.predictors = readPredictors(root, 2);
+  if (root.has("sweep")) {
+    YamlSection s(root.node("sweep"), root.file(), "sweep");
+    sc.sigma_sweep = s.numbers("noise.sigma", {}, 0);
+    for (double v : sc.sigma_sweep)
+      if (v < 0.0) s.fail("noise.sigma", "expected values >= 0");
+    s.finish();
+  }
+  root.allow("sweep");
+  sc.predictors = readPredictors(root, sc.channels);
 }
 
 void readClosedLoop(YamlSection& root, Scenario& sc) {
@@ -278,8 +291,8 @@ Scenario loadScenario(const std::string& path) {
   }
   // Unknown top-level keys first (a misspelt 'trajectory' is reported as such, not as missing).
   static const std::set<std::string> kCommon = {"description", "kind", "seed", "duration_s", "timing",
-                                                "noise", "metrics", "predictors"};
-  static const std::set<std::string> kOpen = {"trajectory", "occlusions"};
+                                                "noise", "metrics", "predictors", "runs"};
+  static const std::set<std::string> kOpen = {"trajectory", "occlusions", "sweep"};
   static const std::set<std::string> kClosed = {"camera", "target", "initial_pose", "task", "servo", "robot"};
   const auto& own = sc.kind == ScenarioKind::OpenLoop ? kOpen : kClosed;
   for (const auto& kv : doc) {
@@ -292,6 +305,7 @@ Scenario loadScenario(const std::string& path) {
                                           expected + ")");
   }
   const long seed = root.integer("seed", 1, 0, 2147483647L);
+  sc.runs = static_cast<int>(root.integer("runs", 0, 1, 100000));
   if (sc.kind == ScenarioKind::OpenLoop)
     readOpenLoop(root, sc);
   else

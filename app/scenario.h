@@ -19,10 +19,17 @@
 //   metrics: {steady_start_fraction: 0.5, final_fraction: 0.1, settling_band: 0.05}
 //   predictors:                  list of names or {name: NAME, params: {key: value}}
 //                                (REQUIRED, at least one; names from the predictor registry)
+//   runs: N                      integer >= 1, runs per predictor in `predvs compare` (run r uses
+//                                seed + r); absent: compare's default (ignored by `predvs servo`)
 //   -- open-loop only (prediction experiment E1-E4, units: px) --
-//   trajectory: {type: line | accel-jump | zigzag | circle | sinusoid | static, <its params>}
-//                                (REQUIRED; params as in servo/trajectory.h)
+//   trajectory: {type: line | accel-jump | zigzag | circle | sinusoid | static | e6-target |
+//                onset-sinusoid, <its params>}
+//                                (REQUIRED; params as in servo/trajectory.h and
+//                                servo/paper_trajectories.h; the type fixes the number of channels:
+//                                2 for the planar ones, 3 for e6-target, 1 for onset-sinusoid)
 //   occlusions: [{start_s: a, end_s: b}, ...]
+//   sweep: {noise.sigma: [s1, s2, ...]}   `predvs compare` runs the scenario once per value (E6);
+//                                `predvs servo` uses noise.sigma
 //   -- closed-loop only (IBVS on a moving 4-point target, servo/servo_loop.h) --
 //   camera: {px: 800, py: 800, u0: 320, v0: 240}
 //   target: {square_side_m: 0.1, desired_depth_m: 0.5,
@@ -61,6 +68,9 @@ struct Scenario {
   PredictionExperimentConfig open_loop;
   std::string trajectory;   ///< trajectory type (open loop)
   Params trajectory_params;
+  int channels = 8;         ///< predictor channels: the trajectory's (open loop), 8 (closed loop)
+  std::vector<double> sigma_sweep;  ///< sweep.noise.sigma values (open loop; empty: no sweep)
+  int runs = 0;             ///< `runs:` (0 when absent)
   // closed loop
   ServoConfig closed_loop;
 

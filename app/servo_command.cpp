@@ -391,13 +391,17 @@ void printTable(const Report& r, std::ostream& out) {
 void runScenarioCommand(const ScenarioRunOptions& o, std::ostream& out, std::ostream& err) {
   const std::string path = resolveScenario(o.scenario);
   Scenario sc = loadScenario(path);
+  if (sc.kind == ScenarioKind::OpenLoop && sc.channels != 2)
+    throw std::invalid_argument(path + ": trajectory '" + sc.trajectory + "' has " + std::to_string(sc.channels) +
+                                " channels; `predvs servo` runs 2-channel (x, y) open-loop scenarios only, run this one "
+                                "with `predvs compare --scenarios " + sc.name + "`");
   if (o.seed_given) sc.setSeed(o.seed);
   if (!o.predictors.empty()) {
     std::set<std::string> seen;
     sc.predictors.clear();
     for (const auto& name : o.predictors) {
       if (!seen.insert(name).second) throw std::invalid_argument("--predictors: '" + name + "' listed twice");
-      makePredictor(name, sc.kind == ScenarioKind::OpenLoop ? 2 : 8);  // throws naming an unknown predictor
+      makePredictor(name, sc.channels);  // throws naming an unknown predictor
       sc.predictors.push_back({name, {}, 0});
     }
   }
