@@ -1,5 +1,7 @@
 // predvs tests — reference trajectories of the papers' simulation studies (header only, Eigen).
-// Candidates to move to servo/ once the scenario layer exists.
+// The servo layer has these as trajectory types (servo/paper_trajectories.h: e6-target,
+// onset-sinusoid); tests/predictors cannot include servo, so this copy stays, and
+// tests/servo/paper_trajectories_test.cpp checks that both give the same E6 samples.
 #pragma once
 
 #include <Eigen/Core>
