@@ -273,7 +273,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       "`sweep: {noise.sigma: [...]}`, e.g. e6-noise-study, once per value) N times, run r with seed S + r for "
       "every predictor, on a pool of threads; every run builds its own predictor and noise generator, so the "
       "numbers do not depend on --jobs. Without --runs a scenario runs as often as its `runs:` key says "
-      "(default 10). Predictors take the parameters their scenario gives them, their defaults otherwise. "
+      "(default 20). Predictors take the parameters their scenario gives them, their defaults otherwise. "
       "Writes DIR/leaderboard.csv, leaderboard.json, leaderboard.md (mean, std, min, max over runs of each "
       "metric), error_<scenario>.png (mean error versus time) and, for sweeps, mse_vs_sigma_<scenario>.png. "
       "Metric definitions: app/compare_command.h.\n"

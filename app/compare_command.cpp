@@ -75,6 +75,9 @@ Stats stats(const std::vector<double>& xs) {
   for (double x : xs)
     if (std::isfinite(x)) ss += (x - s.mean) * (x - s.mean);
   s.std = s.n > 1 ? std::sqrt(ss / (s.n - 1)) : 0.0;
+  // Identical runs (no noise) differ only by the round-off of the sum: report a spread of 0.
+  constexpr double kRoundOffSpread = 1e-9;
+  if (s.std <= kRoundOffSpread * std::fabs(s.mean)) s.std = 0.0;
   return s;
 }
 
@@ -528,7 +531,7 @@ std::string markdown(const Plan& plan, const Results& res, const CompareOptions&
     md << "\n## " << var.id << "\n\n"
        << sc.description << "  \n"
        << scenarioKindName(sc.kind) << ", " << plan.runs[i] << " runs, seeds " << plan.seeds[i] << ".."
-       << plan.seeds[i] + static_cast<std::uint64_t>(plan.runs[i]) - 1 << ", noise sigma " << var.sigma
+       << plan.seeds[i] + static_cast<std::uint64_t>(plan.runs[i]) - 1 << ", noise sigma " << sigmaText(var.sigma)
        << ", error in " << errorUnits(sc) << (var.swept ? " (every sigma in leaderboard.csv)" : "") << "\n\n";
     const auto shown = shownMetrics(var);
     md << "| # | predictor |";

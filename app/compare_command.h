@@ -63,7 +63,7 @@ struct CompareOptions {
 };
 
 /// Runs without a `runs:` key and without --runs.
-constexpr int kDefaultRuns = 10;
+constexpr int kDefaultRuns = 20;
 /// An alarm counts as detecting the onset when it comes from a frame acquired within this long
 /// after the onset (s).
 constexpr double kDetectWindowS = 0.5;
