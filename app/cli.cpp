@@ -84,7 +84,7 @@ int runList(std::ostream& out) {
   for (const auto& p : predictorRegistry()) w = std::max(w, p.name.size());
   for (const auto& p : predictorRegistry())
     out << "  " << std::left << std::setw(static_cast<int>(w)) << p.name << "  " << p.summary << "\n";
-  out << "\nScenarios (predvs servo --scenario NAME), in " << scenariosDir() << ":\n";
+  out << "\nScenarios (predvs servo --scenario NAME, predvs compare --scenarios A,B), in " << scenariosDir() << ":\n";
   const auto scenarios = listScenarios();
   w = 4;
   for (const auto& s : scenarios) w = std::max(w, s.name.size());
