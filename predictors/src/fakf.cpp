@@ -39,6 +39,20 @@ double InnovationWindow::meanSquare() const {
   return s / count_;
 }
 
+InnovationWindow::Moments InnovationWindow::moments() const {
+  Moments m;
+  if (count_ == 0) return m;
+  double s = 0.0, s2 = 0.0;
+  for (int i = 0; i < count_; ++i) {
+    const double e = buf_[static_cast<size_t>(i)];
+    s += e;
+    s2 += e * e;
+  }
+  m.mean = s / count_;
+  m.mean_square = s2 / count_;
+  return m;
+}
+
 namespace {
 
 fuzzy::DomSystemConfig domConfig(const Params& p) {
@@ -145,8 +159,9 @@ void FakfPredictor::inflatePrior(int c, double dt) {
   if (!ch.window.full()) return;
 
   // R(k) = beta(E', dP') R(k-1)
-  const double e_mean = ch.window.mean();
-  const double x[2] = {e_mean, ch.window.meanSquare() - S};
+  const InnovationWindow::Moments m = ch.window.moments();
+  const double e_mean = m.mean;
+  const double x[2] = {e_mean, m.mean_square - S};
   ch.r = std::clamp(beta_.evaluate(x) * ch.r, r_min_, r_max_);
 
   // P(k|k-1) <- gamma P(k|k-1), decided every inflation_period measured frames.

@@ -21,13 +21,6 @@ MembershipFunction MembershipFunction::trapezoid(double a, double b, double c, d
 
 MembershipFunction MembershipFunction::triangle(double a, double b, double c) { return trapezoid(a, b, b, c); }
 
-double MembershipFunction::operator()(double x) const {
-  if (x < a_ || x > d_) return 0.0;
-  if (x < b_) return (x - a_) / (b_ - a_);  // x < b implies b > a
-  if (x <= c_) return 1.0;
-  return (d_ - x) / (d_ - c_);  // c < x <= d implies d > c
-}
-
 Variable::Variable(std::string name, double lo, double hi) : name_(std::move(name)), lo_(lo), hi_(hi) {
   if (!(lo < hi) || !std::isfinite(lo) || !std::isfinite(hi))
     throw std::invalid_argument("fuzzy variable '" + name_ + "': universe needs finite lo < hi");
@@ -56,6 +49,18 @@ MamdaniSystem::MamdaniSystem(std::vector<Variable> input_vars, Variable output_v
   for (const auto& v : inputs_)
     if (v.size() == 0) throw std::invalid_argument("fuzzy system: input '" + v.name() + "' has no sets");
   if (output_.size() == 0) throw std::invalid_argument("fuzzy system: output '" + output_.name() + "' has no sets");
+  n_inputs_ = inputs();
+  for (int i = 0; i < n_inputs_; ++i) {
+    const Variable& v = inputs_[static_cast<size_t>(i)];
+    FlatInput& f = flat_inputs_[static_cast<size_t>(i)];
+    f.lo = v.lo();
+    f.hi = v.hi();
+    f.n_sets = v.size();
+    for (int s = 0; s < v.size(); ++s) f.sets[static_cast<size_t>(s)] = v.set(s);
+  }
+  std::array<MembershipFunction, kMaxSets> out;
+  for (int s = 0; s < output_.size(); ++s) out[static_cast<size_t>(s)] = output_.set(s);
+  centroid_ = CentroidTable(out.data(), output_.size(), output_.lo(), output_.hi());
 }
 
 void MamdaniSystem::addRule(const std::vector<int>& antecedent, int consequent) {
@@ -88,16 +93,19 @@ void MamdaniSystem::addRule(const std::vector<std::string>& antecedent, const st
 }
 
 std::array<double, kMaxSets> MamdaniSystem::activation(const double* x) const {
-  std::array<std::array<double, kMaxSets>, kMaxInputs> mu{};
-  for (int i = 0; i < inputs(); ++i) {
-    const Variable& v = inputs_[static_cast<size_t>(i)];
-    const double xi = v.clamp(x[i]);
-    for (int s = 0; s < v.size(); ++s) mu[static_cast<size_t>(i)][static_cast<size_t>(s)] = v.set(s)(xi);
+  // Memberships of every (clamped) input in each of its sets, from the fixed-size copies made at
+  // construction (no bounds-checked look-ups on this path).
+  std::array<std::array<double, kMaxSets>, kMaxInputs> mu;
+  for (int i = 0; i < n_inputs_; ++i) {
+    const FlatInput& v = flat_inputs_[static_cast<size_t>(i)];
+    const double xi = std::min(std::max(x[i], v.lo), v.hi);
+    for (int s = 0; s < v.n_sets; ++s)
+      mu[static_cast<size_t>(i)][static_cast<size_t>(s)] = v.sets[static_cast<size_t>(s)](xi);
   }
   std::array<double, kMaxSets> w{};
   for (const Rule& r : rules_) {
     double strength = 1.0;  // AND = min
-    for (int i = 0; i < inputs(); ++i) {
+    for (int i = 0; i < n_inputs_; ++i) {
       const int a = r.antecedent[static_cast<size_t>(i)];
       if (a != kAny) strength = std::min(strength, mu[static_cast<size_t>(i)][static_cast<size_t>(a)]);
     }
@@ -109,9 +117,7 @@ std::array<double, kMaxSets> MamdaniSystem::activation(const double* x) const {
 
 double MamdaniSystem::evaluate(const double* x) const {
   const std::array<double, kMaxSets> w = activation(x);
-  std::array<MembershipFunction, kMaxSets> sets;
-  for (int s = 0; s < output_.size(); ++s) sets[static_cast<size_t>(s)] = output_.set(s);
-  const double y = clippedCentroid(sets.data(), w.data(), output_.size(), output_.lo(), output_.hi());
+  const double y = centroid_.centroid(w.data());
   return std::isfinite(y) ? y : fallback_;
 }
 
@@ -121,85 +127,204 @@ double MamdaniSystem::evaluate(std::initializer_list<double> x) const {
   return evaluate(x.begin());
 }
 
-double clippedCentroid(const MembershipFunction* all_sets, const double* all_w, int n_sets, double lo, double hi) {
-  if (n_sets > kMaxSets) throw std::invalid_argument("fuzzy centroid: more than kMaxSets sets");
-  // Only the sets that fire take part (a zero clip level contributes nothing to the max).
-  std::array<MembershipFunction, kMaxSets> sets;
-  std::array<double, kMaxSets> w{};
-  int n = 0;
-  for (int i = 0; i < n_sets; ++i) {
-    const double wi = std::min(std::max(all_w[i], 0.0), 1.0);
+// ---------------------------------------------------------------------------------------------
+// Analytic centroid.
+
+namespace {
+
+/// In-place ascending sort of a short array (a handful of entries here, where insertion sort
+/// beats std::sort and needs no extra memory).
+void sortShort(double* v, int n) {
+  for (int i = 1; i < n; ++i) {
+    const double key = v[i];
+    int j = i - 1;
+    for (; j >= 0 && v[j] > key; --j) v[j + 1] = v[j];
+    v[j + 1] = key;
+  }
+}
+
+inline double clampUnit(double t) { return std::min(std::max(t, 0.0), 1.0); }
+
+/// Exact integrals of a linear f, f0 at x0 and f1 at x1, over [x0, x1], kept as twice the area and
+/// six times the first moment (the constant factors are applied once, in the centroid).
+struct Integral {
+  double area2 = 0.0, moment6 = 0.0;
+  Integral& operator+=(const Integral& o) {
+    area2 += o.area2;
+    moment6 += o.moment6;
+    return *this;
+  }
+};
+inline Integral linearIntegral(double x0, double x1, double f0, double f1) {
+  const double dx = x1 - x0;
+  return {(f0 + f1) * dx, dx * (x0 * (2.0 * f0 + f1) + x1 * (f0 + 2.0 * f1))};
+}
+inline Integral operator+(Integral a, const Integral& b) { return a += b; }
+
+using Piece = CentroidTable::Piece;
+using Interval = CentroidTable::Interval;
+
+// The two fast paths below have no data-dependent branches: a kink that falls outside [0, 1] is
+// clamped onto an end, which only creates a piece of zero width, and that adds exactly 0.
+
+/// One set on the interval (the common case). g(t) = min(w, u + t (v - u)) has at most one kink,
+/// where the line meets w, at t_k = (w - u)/(v - u). Clamped to [0, 1] it also covers a line
+/// entirely below or above w, and du_inv = 0 (a constant line) gives t_k = 0. A set that does not
+/// fire (w = 0) adds 0.
+inline Integral integrateOne(const Interval& iv, const Piece& pc, double w) {
+  const double tk = clampUnit((w - pc.u) * pc.du_inv);
+  const double yk = iv.p + tk * (iv.q - iv.p);
+  const double gk = std::min(w, pc.u + tk * (pc.v - pc.u));
+  return linearIntegral(iv.p, yk, std::min(w, pc.u), gk) + linearIntegral(yk, iv.q, gk, std::min(w, pc.v));
+}
+
+/// Two sets on the interval (where neighbours overlap): max(min(wa, a), min(wb, b)). The clip
+/// kinks of a and b cut [0, 1] into three parts on which both clipped sets are linear; on each part
+/// their max has at most one more kink, where they cross.
+inline Integral integrateTwo(const Interval& iv, const Piece& a, double wa, const Piece& b, double wb) {
+  const double ka = clampUnit((wa - a.u) * a.du_inv), kb = clampUnit((wb - b.u) * b.du_inv);
+  const double cuts[4] = {0.0, std::min(ka, kb), std::max(ka, kb), 1.0};
+  const double h = iv.q - iv.p;
+  auto ga = [&](double t) { return std::min(wa, a.u + t * (a.v - a.u)); };
+  auto gb = [&](double t) { return std::min(wb, b.u + t * (b.v - b.u)); };
+  Integral sum;
+  for (int k = 0; k < 3; ++k) {
+    const double t0 = cuts[k], t1 = cuts[k + 1];
+    const double a0 = ga(t0), a1 = ga(t1), b0 = gb(t0), b1 = gb(t1);
+    const double d0 = a0 - b0, d1 = a1 - b1;
+    // Crossing at the fraction tau of the part; tau = 1 (no crossing) makes the second piece empty.
+    const double tau = (d0 * d1 < 0.0) ? d0 / (d0 - d1) : 1.0;
+    const double fc = std::max(a0 + tau * (a1 - a0), b0 + tau * (b1 - b0));
+    const double y0 = iv.p + t0 * h, y1 = iv.p + t1 * h, yc = y0 + tau * (y1 - y0);
+    sum += linearIntegral(y0, yc, std::max(a0, b0), fc) + linearIntegral(yc, y1, fc, std::max(a1, b1));
+  }
+  return sum;
+}
+
+/// Any number of sets on the interval (only when three or more sets overlap): the clip kinks cut
+/// [0, 1] into parts where every clipped set is linear, and on each part the max has kinks where
+/// two of them cross.
+Integral integrateMax(const Interval& iv, const Piece* all, int count, const double* w) {
+  // The pieces of the sets that fire, and their clip kinks inside (0, 1).
+  std::array<Piece, kMaxSets> pc;
+  std::array<double, kMaxSets + 2> kinks;
+  int n = 0, nk = 0;
+  kinks[static_cast<size_t>(nk++)] = 0.0;
+  for (int i = 0; i < count; ++i) {
+    const double wi = w[static_cast<size_t>(all[i].set)];
     if (!(wi > 0.0)) continue;
-    sets[static_cast<size_t>(n)] = all_sets[i];
-    w[static_cast<size_t>(n)] = wi;
-    ++n;
+    pc[static_cast<size_t>(n++)] = all[i];
+    const double tk = (wi - all[i].u) * all[i].du_inv;
+    if (tk > 0.0 && tk < 1.0) kinks[static_cast<size_t>(nk++)] = tk;
   }
-  if (n == 0) return std::numeric_limits<double>::quiet_NaN();
-  // Breakpoints of every clipped set inside [lo, hi]: its feet and shoulders and the points where
-  // its edges meet the clip level.
-  std::array<double, 2 + 6 * kMaxSets> pts{};
-  int np = 0;
-  pts[static_cast<size_t>(np++)] = lo;
-  pts[static_cast<size_t>(np++)] = hi;
-  for (int i = 0; i < n; ++i) {
-    const double wi = w[static_cast<size_t>(i)];
-    const MembershipFunction& m = sets[static_cast<size_t>(i)];
-    const double cand[6] = {m.a(), m.b(), m.c(), m.d(), m.a() + wi * (m.b() - m.a()), m.d() - wi * (m.d() - m.c())};
-    for (double p : cand)
-      if (p > lo && p < hi) pts[static_cast<size_t>(np++)] = p;
-  }
-  std::sort(pts.begin(), pts.begin() + np);
-  np = static_cast<int>(std::unique(pts.begin(), pts.begin() + np) - pts.begin());
+  Integral sum;
+  if (n == 0) return sum;
+  kinks[static_cast<size_t>(nk++)] = 1.0;
+  sortShort(kinks.data(), nk);
 
-  auto clipped = [&](int i, double y) {
-    return std::min(w[static_cast<size_t>(i)], sets[static_cast<size_t>(i)](y));
+  const double h = iv.q - iv.p;
+  auto clipped = [&](int i, double t) {
+    const Piece& s = pc[static_cast<size_t>(i)];
+    return std::min(w[static_cast<size_t>(s.set)], s.u + t * (s.v - s.u));
   };
-
-  double area = 0.0, moment = 0.0;
-  std::array<double, kMaxSets> gp{}, gq{};
-  std::array<double, kMaxSets * (kMaxSets - 1) / 2 + 2> ts{};
-  for (int k = 0; k + 1 < np; ++k) {
-    const double p = pts[static_cast<size_t>(k)], q = pts[static_cast<size_t>(k + 1)], h = q - p;
-    if (!(h > 0.0)) continue;
-    // Each clipped set is linear on the open interval (p, q). Its one-sided limits at p and q come
-    // from two interior samples, which stays exact at discontinuities (vertical shoulders).
+  std::array<double, kMaxSets> g0, g1;
+  std::array<double, kMaxSets * (kMaxSets - 1) / 2 + 2> ts;
+  for (int k = 0; k + 1 < nk; ++k) {
+    const double s0 = kinks[static_cast<size_t>(k)], s1 = kinks[static_cast<size_t>(k + 1)];
+    if (!(s1 > s0)) continue;
     for (int i = 0; i < n; ++i) {
-      const double g1 = clipped(i, p + 0.25 * h), g2 = clipped(i, p + 0.75 * h);
-      gp[static_cast<size_t>(i)] = 1.5 * g1 - 0.5 * g2;
-      gq[static_cast<size_t>(i)] = 1.5 * g2 - 0.5 * g1;
+      g0[static_cast<size_t>(i)] = clipped(i, s0);
+      g1[static_cast<size_t>(i)] = clipped(i, s1);
     }
-    // The max of linear functions is piecewise linear, with kinks where two of them cross.
     int nt = 0;
-    ts[static_cast<size_t>(nt++)] = 0.0;
+    ts[static_cast<size_t>(nt++)] = 0.0;  // tau in [0, 1] across [s0, s1]
     for (int i = 0; i < n; ++i)
       for (int j = i + 1; j < n; ++j) {
-        const double dp = gp[static_cast<size_t>(i)] - gp[static_cast<size_t>(j)];
-        const double dq = gq[static_cast<size_t>(i)] - gq[static_cast<size_t>(j)];
-        if ((dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0)) {
-          const double t = dp / (dp - dq);
-          if (t > 0.0 && t < 1.0) ts[static_cast<size_t>(nt++)] = t;
+        const double d0 = g0[static_cast<size_t>(i)] - g0[static_cast<size_t>(j)];
+        const double d1 = g1[static_cast<size_t>(i)] - g1[static_cast<size_t>(j)];
+        if ((d0 > 0.0 && d1 < 0.0) || (d0 < 0.0 && d1 > 0.0)) {
+          const double tau = d0 / (d0 - d1);
+          if (tau > 0.0 && tau < 1.0) ts[static_cast<size_t>(nt++)] = tau;
         }
       }
     ts[static_cast<size_t>(nt++)] = 1.0;
-    std::sort(ts.begin(), ts.begin() + nt);
-    auto aggregated = [&](double t) {
+    sortShort(ts.data(), nt);
+    auto aggregated = [&](double tau) {
       double f = 0.0;
       for (int i = 0; i < n; ++i)
-        f = std::max(f, (1.0 - t) * gp[static_cast<size_t>(i)] + t * gq[static_cast<size_t>(i)]);
+        f = std::max(f, (1.0 - tau) * g0[static_cast<size_t>(i)] + tau * g1[static_cast<size_t>(i)]);
       return f;
     };
+    const double y0 = iv.p + s0 * h, dy = (s1 - s0) * h;
     for (int s = 0; s + 1 < nt; ++s) {
-      const double t0 = ts[static_cast<size_t>(s)], t1 = ts[static_cast<size_t>(s + 1)];
-      if (!(t1 > t0)) continue;
-      const double x0 = p + t0 * h, x1 = p + t1 * h, dx = x1 - x0;
-      const double f0 = aggregated(t0), f1 = aggregated(t1);
-      // Exact integrals of a linear f over [x0, x1].
-      area += 0.5 * (f0 + f1) * dx;
-      moment += dx * (x0 * (2.0 * f0 + f1) + x1 * (f0 + 2.0 * f1)) / 6.0;
+      const double a = ts[static_cast<size_t>(s)], b = ts[static_cast<size_t>(s + 1)];
+      if (!(b > a)) continue;
+      sum += linearIntegral(y0 + a * dy, y0 + b * dy, aggregated(a), aggregated(b));
     }
   }
-  if (!(area > 0.0)) return std::numeric_limits<double>::quiet_NaN();
-  return moment / area;
+  return sum;
+}
+
+}  // namespace
+
+CentroidTable::CentroidTable(const MembershipFunction* sets, int n, double lo, double hi) : n_sets_(n) {
+  if (n < 0 || n > kMaxSets) throw std::invalid_argument("fuzzy centroid: 0 to kMaxSets sets");
+  if (!(lo < hi)) throw std::invalid_argument("fuzzy centroid: need lo < hi");
+  // Interval ends: lo, hi and every set vertex strictly inside.
+  std::array<double, 2 + 4 * kMaxSets> pts;
+  int np = 0;
+  pts[static_cast<size_t>(np++)] = lo;
+  pts[static_cast<size_t>(np++)] = hi;
+  for (int i = 0; i < n; ++i)
+    for (double x : {sets[i].a(), sets[i].b(), sets[i].c(), sets[i].d()})
+      if (x > lo && x < hi) pts[static_cast<size_t>(np++)] = x;
+  std::sort(pts.begin(), pts.begin() + np);
+  np = static_cast<int>(std::unique(pts.begin(), pts.begin() + np) - pts.begin());
+
+  for (int k = 0; k + 1 < np; ++k) {
+    const double p = pts[static_cast<size_t>(k)], q = pts[static_cast<size_t>(k + 1)];
+    Interval iv{p, q, static_cast<int>(pieces_.size()), 0};
+    // No vertex lies inside (p, q), so each set is on one piece of its trapezoid there; the
+    // midpoint tells which.
+    const double m = 0.5 * (p + q);
+    for (int i = 0; i < n; ++i) {
+      const MembershipFunction& f = sets[i];
+      Piece pc{i, 1.0, 1.0, 0.0};
+      if (m <= f.a() || m >= f.d()) continue;  // 0 on the whole interval
+      if (m < f.b()) {                           // rising edge (b > a here)
+        pc.u = (p - f.a()) / (f.b() - f.a());
+        pc.v = (q - f.a()) / (f.b() - f.a());
+      } else if (m > f.c()) {  // falling edge (d > c here)
+        pc.u = (f.d() - p) / (f.d() - f.c());
+        pc.v = (f.d() - q) / (f.d() - f.c());
+      }  // else the plateau: u = v = 1
+      if (pc.v != pc.u) pc.du_inv = 1.0 / (pc.v - pc.u);
+      pieces_.push_back(pc);
+      ++iv.count;
+    }
+    if (iv.count > 0) intervals_.push_back(iv);  // intervals where every set is 0 add nothing
+  }
+}
+
+double CentroidTable::centroid(const double* w_in) const {
+  std::array<double, kMaxSets> w;
+  for (int i = 0; i < n_sets_; ++i) w[static_cast<size_t>(i)] = w_in[i] > 0.0 ? std::min(w_in[i], 1.0) : 0.0;
+  Integral sum;  // twice the area, six times the first moment
+  for (const Interval& iv : intervals_) {
+    const Piece* pc = &pieces_[static_cast<size_t>(iv.first)];
+    if (iv.count == 1)
+      sum += integrateOne(iv, pc[0], w[static_cast<size_t>(pc[0].set)]);
+    else if (iv.count == 2)
+      sum += integrateTwo(iv, pc[0], w[static_cast<size_t>(pc[0].set)], pc[1], w[static_cast<size_t>(pc[1].set)]);
+    else
+      sum += integrateMax(iv, pc, iv.count, w.data());
+  }
+  if (!(sum.area2 > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  return sum.moment6 / (3.0 * sum.area2);  // (moment / area) = (moment6 / 6) / (area2 / 2)
+}
+
+double clippedCentroid(const MembershipFunction* sets, const double* w, int n, double lo, double hi) {
+  return CentroidTable(sets, n, lo, hi).centroid(w);
 }
 
 // ---------------------------------------------------------------------------------------------

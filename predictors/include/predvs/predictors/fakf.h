@@ -40,6 +40,12 @@ class InnovationWindow {
   double mean() const;
   /// C = mean of the squared stored innovations (0 when empty).
   double meanSquare() const;
+  /// E' and C from one pass over the window (same sums, same order, so bit-identical to mean()
+  /// and meanSquare(); half the loop overhead on the filter's hot path).
+  struct Moments {
+    double mean = 0.0, mean_square = 0.0;
+  };
+  Moments moments() const;
 
  private:
   std::vector<double> buf_;

@@ -12,8 +12,15 @@
 // piecewise linear, so their max is piecewise linear with breakpoints at the set vertices, at the
 // points where an edge meets its clip level, and where two clipped sets cross. Between consecutive
 // breakpoints both integrals are exact closed forms, so the result has no grid error (tests can
-// compare against hand-computed values to 1e-12), and the cost is a few hundred flops per call,
-// which matters because the filters call it once per channel per frame.
+// compare against hand-computed values to 1e-12).
+//
+// Cost: the filters call evaluate() once per channel per frame, so it is on the hot path. The
+// vertices of the output sets do not change, so a system splits its output universe once, at
+// construction, into the intervals between consecutive vertices and records which sets are
+// non-zero on each and their (linear) memberships there (CentroidTable). An evaluation then walks
+// those intervals and only has to place the clip points and crossings of the few sets present on
+// each one (usually one, two where neighbours overlap): no sorting of all breakpoints, no heap
+// allocation. About 150 ns for the 3-set beta system (it was 520 ns with a sort of all breakpoints).
 #pragma once
 
 #include <array>
@@ -41,7 +48,12 @@ class MembershipFunction {
   /// Triangle with feet a, c and peak b: trapezoid(a, b, b, c).
   static MembershipFunction triangle(double a, double b, double c);
 
-  double operator()(double x) const;
+  double operator()(double x) const {
+    if (x < a_ || x > d_) return 0.0;
+    if (x < b_) return (x - a_) / (b_ - a_);  // x < b implies b > a
+    if (x <= c_) return 1.0;
+    return (d_ - x) / (d_ - c_);  // c < x <= d implies d > c
+  }
   double a() const { return a_; }
   double b() const { return b_; }
   double c() const { return c_; }
@@ -78,6 +90,47 @@ class Variable {
   double lo_, hi_;
   std::vector<MembershipFunction> sets_;
   std::vector<std::string> set_names_;
+};
+
+/// The output universe [lo, hi] of a fixed list of sets, cut once into the intervals between
+/// consecutive set vertices, for fast exact centroids of max_i min(w_i, mu_i(y)) for any levels w.
+///
+/// On each interval (p, q) every set is 0, or linear: mu_i = u_i at p+ and v_i at q- (one-sided
+/// limits, so a vertical shoulder at p or q is taken from inside the interval). With t = (y - p)/(q - p),
+/// a clipped set is min(w_i, u_i + t (v_i - u_i)), with one kink where the line meets w_i, and the
+/// max over the sets present has further kinks where two clipped sets cross. centroid() integrates
+/// that max exactly between the kinks: for a linear f from f0 at x0 to f1 at x1,
+///   area += (f0 + f1) dx / 2,   moment += dx (x0 (2 f0 + f1) + x1 (f0 + 2 f1)) / 6,   dx = x1 - x0,
+/// and returns moment / area. Built from the same sets, it gives the same result as integrating
+/// over all breakpoints at once, to rounding.
+class CentroidTable {
+ public:
+  /// Membership of one set on one interval: u at p+, v at q-; du_inv = 1/(v - u), 0 when u == v.
+  struct Piece {
+    int set;
+    double u, v, du_inv;
+  };
+  /// One interval [p, q] and the sets that are non-zero on it: pieces()[first .. first + count).
+  struct Interval {
+    double p, q;
+    int first, count;
+  };
+
+  CentroidTable() = default;
+  /// Throws std::invalid_argument if n > kMaxSets or not lo < hi.
+  CentroidTable(const MembershipFunction* sets, int n, double lo, double hi);
+  /// Centroid for clip levels w[0 .. n-1] (clamped to [0, 1], NaN as 0); NaN when the area is 0.
+  /// No allocation; the cost grows with the number of intervals and of sets present on each.
+  double centroid(const double* w) const;
+
+  /// Intervals of [lo, hi] where at least one set is non-zero, in increasing order (tests).
+  const std::vector<Interval>& intervals() const { return intervals_; }
+  const std::vector<Piece>& pieces() const { return pieces_; }
+
+ private:
+  int n_sets_ = 0;
+  std::vector<Interval> intervals_;
+  std::vector<Piece> pieces_;
 };
 
 /// Mamdani system with n inputs and one output.
@@ -119,14 +172,28 @@ class MamdaniSystem {
     std::array<int, kMaxInputs> antecedent;
     int consequent;
   };
+  /// Universe and sets of an input in fixed-size storage, for activation(). The variables cannot
+  /// change once they are in the system (only const access), so the copies made by the
+  /// constructor, like the centroid table, stay valid.
+  struct FlatInput {
+    double lo = 0.0, hi = 1.0;
+    int n_sets = 0;
+    std::array<MembershipFunction, kMaxSets> sets{};
+  };
+
   std::vector<Variable> inputs_;
   Variable output_;
   std::vector<Rule> rules_;
   double fallback_;
+  int n_inputs_ = 0;
+  std::array<FlatInput, kMaxInputs> flat_inputs_{};
+  CentroidTable centroid_;  ///< the output universe, cut at the vertices of its sets
 };
 
-/// Analytic centroid of max_i min(w_i, mu_i(y)) over [lo, hi]; `n` sets, `w` their clip levels.
-/// Returns NaN when the aggregated area is zero. Exposed for tests and reuse.
+/// Analytic centroid of max_i min(w_i, mu_i(y)) over [lo, hi]; `n` sets, `w` their clip levels
+/// (clamped to [0, 1]; NaN counts as 0). Returns NaN when the aggregated area is zero. Builds a
+/// CentroidTable for the call (so it allocates); a MamdaniSystem keeps its table instead.
+/// Exposed for tests and reuse.
 double clippedCentroid(const MembershipFunction* sets, const double* w, int n, double lo, double hi);
 
 // ---------------------------------------------------------------------------------------------
