@@ -94,20 +94,22 @@ void MamdaniSystem::addRule(const std::vector<std::string>& antecedent, const st
 
 std::array<double, kMaxSets> MamdaniSystem::activation(const double* x) const {
   // Memberships of every (clamped) input in each of its sets, from the fixed-size copies made at
-  // construction (no bounds-checked look-ups on this path).
-  std::array<std::array<double, kMaxSets>, kMaxInputs> mu;
+  // construction (no bounds-checked look-ups on this path). Slot kMaxSets holds 1, the neutral
+  // element of the AND, and stands for kAny.
+  std::array<std::array<double, kMaxSets + 1>, kMaxInputs> mu;
   for (int i = 0; i < n_inputs_; ++i) {
     const FlatInput& v = flat_inputs_[static_cast<size_t>(i)];
+    auto& mu_i = mu[static_cast<size_t>(i)];
     const double xi = std::min(std::max(x[i], v.lo), v.hi);
-    for (int s = 0; s < v.n_sets; ++s)
-      mu[static_cast<size_t>(i)][static_cast<size_t>(s)] = v.sets[static_cast<size_t>(s)](xi);
+    for (int s = 0; s < v.n_sets; ++s) mu_i[static_cast<size_t>(s)] = v.sets[static_cast<size_t>(s)](xi);
+    mu_i[kMaxSets] = 1.0;
   }
   std::array<double, kMaxSets> w{};
   for (const Rule& r : rules_) {
     double strength = 1.0;  // AND = min
     for (int i = 0; i < n_inputs_; ++i) {
       const int a = r.antecedent[static_cast<size_t>(i)];
-      if (a != kAny) strength = std::min(strength, mu[static_cast<size_t>(i)][static_cast<size_t>(a)]);
+      strength = std::min(strength, mu[static_cast<size_t>(i)][static_cast<size_t>(a == kAny ? kMaxSets : a)]);
     }
     double& wc = w[static_cast<size_t>(r.consequent)];
     wc = std::max(wc, strength);  // aggregation = max
@@ -167,18 +169,48 @@ using Interval = CentroidTable::Interval;
 // The two fast paths below have no data-dependent branches: a kink that falls outside [0, 1] is
 // clamped onto an end, which only creates a piece of zero width, and that adds exactly 0.
 
-/// One set on the interval (the common case). g(t) = min(w, u + t (v - u)) has at most one kink,
-/// where the line meets w, at t_k = (w - u)/(v - u). Clamped to [0, 1] it also covers a line
-/// entirely below or above w, and du_inv = 0 (a constant line) gives t_k = 0. A set that does not
-/// fire (w = 0) adds 0.
-inline Integral integrateOne(const Interval& iv, const Piece& pc, double w) {
-  const double tk = clampUnit((w - pc.u) * pc.du_inv);
-  const double yk = iv.p + tk * (iv.q - iv.p);
-  const double gk = std::min(w, pc.u + tk * (pc.v - pc.u));
-  return linearIntegral(iv.p, yk, std::min(w, pc.u), gk) + linearIntegral(yk, iv.q, gk, std::min(w, pc.v));
+/// Integral of the clipped line g(t) = min(w, u + t (v - u)) over the part [t0, t1] of the interval.
+/// g has at most one kink, where the line meets w, at t_k = (w - u)/(v - u). Clamped to [t0, t1]
+/// it also covers a line entirely below or above w there, and du_inv = 0 (a constant line) gives
+/// a kink at t0. A set that does not fire (w = 0) adds 0.
+inline Integral clippedLine(const Interval& iv, const Piece& pc, double w, double t0, double t1) {
+  const double tk = std::min(std::max((w - pc.u) * pc.du_inv, t0), t1);
+  const double h = iv.q - iv.p;
+  const double y0 = iv.p + t0 * h, yk = iv.p + tk * h, y1 = iv.p + t1 * h;
+  const double dv = pc.v - pc.u;
+  const double g0 = std::min(w, pc.u + t0 * dv), gk = std::min(w, pc.u + tk * dv), g1 = std::min(w, pc.u + t1 * dv);
+  return linearIntegral(y0, yk, g0, gk) + linearIntegral(yk, y1, gk, g1);
 }
 
-/// Two sets on the interval (where neighbours overlap): max(min(wa, a), min(wb, b)). The clip
+/// One set on the interval (the common case).
+inline Integral integrateOne(const Interval& iv, const Piece& pc, double w) {
+  return clippedLine(iv, pc, w, 0.0, 1.0);
+}
+
+/// sup { t : t * den <= num } for den >= 0, as used below: num / den, or +-inf when den = 0
+/// (every t or none).
+inline double upTo(double num, double den) {
+  if (den > 0.0) return num / den;
+  return num >= 0.0 ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity();
+}
+
+/// Two sets on the interval where the first, l, is non-increasing and the second, r, non-decreasing:
+/// how neighbouring sets of a partition overlap (l's falling edge or plateau, r's rising edge or
+/// plateau). Then g_l - g_r is non-increasing, so the max is g_l up to one crossing t_c and g_r
+/// after it:  integral = int_0^t_c g_l + int_t_c^1 g_r.
+/// t_c = sup { t : g_l(t) >= g_r(t) }, with g_l >= g_r  <=>  w_l >= g_r  and  line_l >= g_r, i.e.
+///   (w_l >= w_r  or  line_r(t) <= w_l)  and  (line_l(t) >= w_r  or  line_l(t) >= line_r(t)),
+/// each condition holding on an interval [0, t_i] because of the monotonicity.
+inline Integral integrateOpposite(const Interval& iv, const Piece& l, double wl, const Piece& r, double wr) {
+  const double fall_l = l.u - l.v, rise_r = r.v - r.u;  // both >= 0
+  const double t_cap = wl >= wr ? std::numeric_limits<double>::infinity() : upTo(wl - r.u, rise_r);
+  const double t_lines = std::max(upTo(l.u - wr, fall_l), upTo(l.u - r.u, fall_l + rise_r));
+  const double tc = clampUnit(std::min(t_cap, t_lines));
+  return clippedLine(iv, l, wl, 0.0, tc) + clippedLine(iv, r, wr, tc, 1.0);
+}
+
+/// Two sets on the interval in any other combination (both rising or both falling; not in a
+/// partition, but allowed): max(min(wa, a), min(wb, b)). The clip
 /// kinks of a and b cut [0, 1] into three parts on which both clipped sets are linear; on each part
 /// their max has at most one more kink, where they cross.
 inline Integral integrateTwo(const Interval& iv, const Piece& a, double wa, const Piece& b, double wb) {
@@ -283,7 +315,7 @@ CentroidTable::CentroidTable(const MembershipFunction* sets, int n, double lo, d
 
   for (int k = 0; k + 1 < np; ++k) {
     const double p = pts[static_cast<size_t>(k)], q = pts[static_cast<size_t>(k + 1)];
-    Interval iv{p, q, static_cast<int>(pieces_.size()), 0};
+    Interval iv{p, q, static_cast<int>(pieces_.size()), 0, false};
     // No vertex lies inside (p, q), so each set is on one piece of its trapezoid there; the
     // midpoint tells which.
     const double m = 0.5 * (p + q);
@@ -302,6 +334,17 @@ CentroidTable::CentroidTable(const MembershipFunction* sets, int n, double lo, d
       pieces_.push_back(pc);
       ++iv.count;
     }
+    if (iv.count == 2) {
+      // Put a non-increasing piece first and a non-decreasing one second when possible.
+      Piece& p0 = pieces_[pieces_.size() - 2];
+      Piece& p1 = pieces_[pieces_.size() - 1];
+      if (p0.v <= p0.u && p1.v >= p1.u) {
+        iv.opposite = true;
+      } else if (p1.v <= p1.u && p0.v >= p0.u) {
+        std::swap(p0, p1);
+        iv.opposite = true;
+      }
+    }
     if (iv.count > 0) intervals_.push_back(iv);  // intervals where every set is 0 add nothing
   }
 }
@@ -314,6 +357,8 @@ double CentroidTable::centroid(const double* w_in) const {
     const Piece* pc = &pieces_[static_cast<size_t>(iv.first)];
     if (iv.count == 1)
       sum += integrateOne(iv, pc[0], w[static_cast<size_t>(pc[0].set)]);
+    else if (iv.count == 2 && iv.opposite)
+      sum += integrateOpposite(iv, pc[0], w[static_cast<size_t>(pc[0].set)], pc[1], w[static_cast<size_t>(pc[1].set)]);
     else if (iv.count == 2)
       sum += integrateTwo(iv, pc[0], w[static_cast<size_t>(pc[0].set)], pc[1], w[static_cast<size_t>(pc[1].set)]);
     else

@@ -19,8 +19,11 @@
 // construction, into the intervals between consecutive vertices and records which sets are
 // non-zero on each and their (linear) memberships there (CentroidTable). An evaluation then walks
 // those intervals and only has to place the clip points and crossings of the few sets present on
-// each one (usually one, two where neighbours overlap): no sorting of all breakpoints, no heap
-// allocation. About 150 ns for the 3-set beta system (it was 520 ns with a sort of all breakpoints).
+// each one: one set (one clip kink), or two neighbours of opposite slopes (a single crossing, found
+// in closed form); more only for unusual set layouts. No sorting, no heap allocation, no
+// data-dependent branch on the usual paths. Measured (Release, this machine): the 3-set beta
+// system ~140 ns per evaluation, the dR system ~70 ns (520 and 270 ns with the previous
+// implementation, which sorted all breakpoints at every call).
 #pragma once
 
 #include <array>
@@ -111,9 +114,12 @@ class CentroidTable {
     double u, v, du_inv;
   };
   /// One interval [p, q] and the sets that are non-zero on it: pieces()[first .. first + count).
+  /// `opposite`: two sets, the first non-increasing and the second non-decreasing on [p, q] (how
+  /// neighbours in a partition overlap); their max then has a single crossing.
   struct Interval {
     double p, q;
     int first, count;
+    bool opposite;
   };
 
   CentroidTable() = default;
