@@ -166,8 +166,9 @@ inline Integral operator+(Integral a, const Integral& b) { return a += b; }
 using Piece = CentroidTable::Piece;
 using Interval = CentroidTable::Interval;
 
-// The two fast paths below have no data-dependent branches: a kink that falls outside [0, 1] is
-// clamped onto an end, which only creates a piece of zero width, and that adds exactly 0.
+// The fast paths below (one set, two sets of opposite slopes) use min / max and selects instead of
+// data-dependent branches: a kink that falls outside its range is clamped onto an end, which only
+// creates a piece of zero width, and that adds exactly 0.
 
 /// Integral of the clipped line g(t) = min(w, u + t (v - u)) over the part [t0, t1] of the interval.
 /// g has at most one kink, where the line meets w, at t_k = (w - u)/(v - u). Clamped to [t0, t1]
