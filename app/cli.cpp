@@ -4,6 +4,7 @@
 #include "output_dir.h"
 #include "predict_command.h"
 #include "scenario_file.h"
+#include "scenario_override.h"
 #include "servo_command.h"
 #include "track_csv.h"
 #include "app_error.h"
@@ -239,6 +240,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
 
   ScenarioRunOptions so;
   std::string predictors_csv, seed_text;
+  std::vector<std::string> servo_sets;
   bool servo_no_plots = false;
   CLI::App* servo =
       app.add_subcommand("servo", "Run a scenario (closed-loop IBVS or open-loop E1-E4) comparing predictors");
@@ -249,14 +251,23 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       "scenario (kind: open-loop: e1-line, e2-accel-jump, e3-zigzag, e4-circle) runs the prediction "
       "experiment. `predvs list` shows the scenarios. Writes DIR/log.csv (one row per predictor and "
       "control tick), DIR/summary.json (metrics per predictor, scenario, seed, command line), "
-      "DIR/error.png and DIR/trajectories.png (with their gnuplot scripts and data).\n"
+      "DIR/error.png and DIR/trajectories.png (with their gnuplot scripts and data). "
+      "--set PATH=VALUE changes one value of the scenario file before it is validated, e.g. "
+      "--set servo.forecast=feature, --set task.lambda=6, --set duration_s=6, "
+      "--set predictors.kf-cv.params.q=50 (a list element is chosen by index or by name; a name "
+      "the list lacks is added); the overrides are recorded in summary.json.\n"
       "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
   servo->add_option("--scenario", so.scenario, "scenario name in data/scenarios, or a path to a .yaml file")
       ->capture_default_str()
       ->type_name("NAME|FILE");
   servo->add_option("--predictors", predictors_csv,
-                    "comma-separated predictor names, overriding the scenario's list (default: the scenario's)")
+                    "comma-separated predictor names replacing the scenario's list (one the scenario lists "
+                    "keeps its params; default: the scenario's list)")
       ->type_name("A,B,C");
+  servo->add_option("--set", servo_sets,
+                    "override a scenario value (repeatable): PATH is a dotted YAML path, VALUE is YAML; "
+                    "unknown keys and bad values are errors as in the file")
+      ->type_name("PATH=VALUE");
   servo->add_option("--seed", seed_text, "random seed, overriding the scenario's (default: the scenario's)")
       ->type_name("N");
   servo->add_option("--out", so.out_dir, "output directory, replaced only when the run succeeds (default: out/<scenario>)")
@@ -265,6 +276,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
 
   CompareOptions co;
   std::string cmp_scenarios = "all", cmp_predictors, cmp_runs, cmp_seed, cmp_jobs;
+  std::vector<std::string> cmp_sets;
   bool cmp_no_plots = false;
   CLI::App* compare = app.add_subcommand(
       "compare", "Leaderboard: every predictor on every scenario, many seeded runs in parallel");
@@ -276,7 +288,10 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       "(default 20). Predictors take the parameters their scenario gives them, their defaults otherwise. "
       "Writes DIR/leaderboard.csv, leaderboard.json, leaderboard.md (mean, std, min, max over runs of each "
       "metric), error_<scenario>.png (mean error versus time) and, for sweeps, mse_vs_sigma_<scenario>.png. "
-      "Metric definitions: app/compare_command.h.\n"
+      "--set PATH=VALUE changes one value of every chosen scenario file before it is validated (so a key "
+      "that a scenario kind does not have is an error for that scenario), e.g. "
+      "--scenarios e2-accel-jump --predictors cs-akf --set predictors.cs-akf.params.a_max=100; the overrides "
+      "are recorded in leaderboard.json. Metric definitions: app/compare_command.h.\n"
       "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
   compare->add_option("--scenarios", cmp_scenarios, "comma-separated scenario names or .yaml paths, or 'all'")
       ->capture_default_str()
@@ -289,6 +304,10 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   compare->add_option("--seed", cmp_seed, "base seed S (run r uses S + r; default: each scenario's seed)")
       ->type_name("S");
   compare->add_option("--jobs", cmp_jobs, "worker threads (default: every core)")->type_name("J");
+  compare->add_option("--set", cmp_sets,
+                      "override a value in every chosen scenario (repeatable): PATH is a dotted YAML path, "
+                      "VALUE is YAML")
+      ->type_name("PATH=VALUE");
   compare->add_option("--out", co.out_dir, "output directory, replaced only when the run succeeds")
       ->capture_default_str()
       ->type_name("DIR");
@@ -315,6 +334,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
         co.seed_given = true;
         co.seed = static_cast<unsigned long>(parseIntegerArg("--seed", cmp_seed, 0, 2147483647L));
       }
+      for (const auto& text : cmp_sets) co.overrides.push_back(parseScenarioOverride(text));
       if (!cmp_jobs.empty()) co.jobs = static_cast<int>(parseIntegerArg("--jobs", cmp_jobs, 1, 1024));
       co.plots = !cmp_no_plots;
       co.progress_bar = &err == &std::cerr && ::isatty(STDERR_FILENO);
@@ -332,6 +352,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       so.seed_given = true;
       so.seed = static_cast<unsigned long>(parseIntegerArg("--seed", seed_text, 0, 2147483647L));
     }
+    for (const auto& text : servo_sets) so.overrides.push_back(parseScenarioOverride(text));
     so.command_line = command_line;
     runScenarioCommand(so, out, err);
     return 0;

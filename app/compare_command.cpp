@@ -313,7 +313,7 @@ Plan makePlan(const CompareOptions& o) {
   }
   std::set<std::string> names;
   for (const auto& path : paths) {
-    Scenario sc = loadScenario(path);
+    Scenario sc = loadScenario(path, o.overrides);
     if (!names.insert(sc.name).second)
       throw std::invalid_argument("--scenarios: two scenarios named '" + sc.name + "'");
     if (!chosen.empty()) {
@@ -451,6 +451,7 @@ nlohmann::json jsonNumber(double x) { return std::isfinite(x) ? nlohmann::json(x
 void writeJson(const Plan& plan, const Results& res, const CompareOptions& o, const StagedOutputDir& dir) {
   nlohmann::json j;
   j["command"] = o.command_line;
+  j["overrides"] = overrideTexts(o.overrides);
   j["error_definition"] = {
       {"open-loop", "||predicted - true|| over the channels at the effect time, in the scenario's units"},
       {"closed-loop", "RMS over the 4 points of ||s - s*|| (px)"}};

@@ -35,13 +35,16 @@
 //
 // Output directory (default out/compare), created only when everything succeeded:
 //   leaderboard.csv   scenario,variant,predictor,metric,n,mean,std,min,max (one row per metric)
-//   leaderboard.json  the same, nested, with each scenario's runs, seeds and units
+//   leaderboard.json  the same, nested, with each scenario's runs, seeds and units, and the --set
+//                     overrides (applied to every scenario)
 //   leaderboard.md    one table per variant, predictors ranked by mean rmse, mean ± std
 //   error_<variant>.png  mean over runs of the error versus time, one line per predictor (for a
 //                     sweep: its first and last value), with error_<variant>.gp / .dat
 //   mse_vs_sigma_<scenario>.png  sweep scenarios: position and velocity MSE per channel versus
 //                     sigma_n, one line per predictor (paper 001 Fig. 8 analogue)
 #pragma once
+
+#include "scenario_override.h"
 
 #include <ostream>
 #include <string>
@@ -55,6 +58,7 @@ struct CompareOptions {
   int runs = 0;                         ///< > 0 overrides every scenario's runs
   bool seed_given = false;
   unsigned long seed = 0;               ///< base seed S when seed_given
+  std::vector<ScenarioOverride> overrides;  ///< --set PATH=VALUE, applied to every scenario
   int jobs = 0;                         ///< worker threads; 0 = std::thread::hardware_concurrency()
   std::string out_dir = "out/compare";
   bool plots = true;

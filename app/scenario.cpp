@@ -2,6 +2,7 @@
 
 #include "app_error.h"
 #include "scenario_file.h"
+#include "scenario_override.h"
 
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/paper_trajectories.h"
@@ -33,6 +34,17 @@ auto withLocation(const std::string& file, int line, const KeyLines& keys, F&& f
       }
     throwAt(file, where, msg);
   }
+}
+
+/// The optional mapping `key` of `parent`, read by `read(section)` and then checked for unknown
+/// keys; absent or null, nothing is read and the defaults stay.
+template <class F>
+void readSection(YamlSection& parent, const std::string& key, F&& read) {
+  parent.allow(key);
+  if (!parent.has(key)) return;
+  YamlSection s(parent.node(key), parent.file(), parent.qualified(key));
+  read(s);
+  s.finish();
 }
 
 /// Numeric parameters from a YAML mapping (every value must be a finite number).
@@ -73,11 +85,7 @@ void readTiming(YamlSection& root, TimingConfig& t) {
   t.servo_lag_s = s.number("servo_lag_s", t.servo_lag_s, 0.0, 100.0);
   t.motion_lag_s = s.number("motion_lag_s", t.motion_lag_s, 0.0, 100.0);
   t.model_motion_lag = s.boolean("model_motion_lag", t.model_motion_lag);
-  if (s.has("pipeline")) {
-    const std::string p = s.string("pipeline", "");
-    t.pipeline = withLocation(s.file(), yamlLine(s.node("pipeline")), {}, [&] { return parsePipeline(p); });
-  }
-  s.allow("pipeline");
+  t.pipeline = s.enumValue("pipeline", t.pipeline, parsePipeline);
   s.finish();
   withLocation(s.file(), s.line(), {}, [&] { return TimingModel(t); });
 }
@@ -88,11 +96,7 @@ void readNoise(YamlSection& root, NoiseConfig& n) {
     return;
   }
   YamlSection s(root.node("noise"), root.file(), "noise");
-  if (s.has("model")) {
-    const std::string m = s.string("model", "");
-    n.kind = withLocation(s.file(), yamlLine(s.node("model")), {}, [&] { return parseNoiseKind(m); });
-  }
-  s.allow("model");
+  n.kind = s.enumValue("model", n.kind, parseNoiseKind);
   n.sigma = s.number("sigma", n.sigma, 0.0, 1e6);
   n.round_to_integer = s.boolean("round", n.round_to_integer);
   s.finish();
@@ -160,12 +164,18 @@ std::vector<ScenarioPredictor> readPredictors(YamlSection& root, int channels) {
   return out;
 }
 
-void readOpenLoop(YamlSection& root, Scenario& sc) {
-  PredictionExperimentConfig& c = sc.open_loop;
+/// The keys both kinds share, into PredictionExperimentConfig or ServoConfig (same field names).
+template <class Config>
+void readCommon(YamlSection& root, Config& c) {
   c.duration_s = root.number("duration_s", c.duration_s, 1e-6, 1e6);
   readTiming(root, c.timing);
   readNoise(root, c.noise);
   readMetrics(root, c.metrics);
+}
+
+void readOpenLoop(YamlSection& root, Scenario& sc) {
+  PredictionExperimentConfig& c = sc.open_loop;
+  readCommon(root, c);
   if (!root.has("trajectory"))
     throwAt(root.file(), root.line(), "missing required key 'trajectory' ({type: line|accel-jump|zigzag|circle|...})");
   sc.trajectory = readTrajectory(root.node("trajectory"), root.file(), "trajectory", sc.trajectory_params, &sc.channels);
@@ -182,99 +192,56 @@ void readOpenLoop(YamlSection& root, Scenario& sc) {
       c.occlusions.push_back(o);
     }
   }
-  if (root.has("sweep")) {
-    YamlSection s(root.node("sweep"), root.file(), "sweep");
+  readSection(root, "sweep", [&](YamlSection& s) {
     sc.sigma_sweep = s.numbers("noise.sigma", {}, 0);
     for (double v : sc.sigma_sweep)
       if (v < 0.0) s.fail("noise.sigma", "expected values >= 0");
-    s.finish();
-  }
-  root.allow("sweep");
+  });
   sc.predictors = readPredictors(root, sc.channels);
 }
 
 void readClosedLoop(YamlSection& root, Scenario& sc) {
   ServoConfig& c = sc.closed_loop;
-  c.duration_s = root.number("duration_s", c.duration_s, 1e-6, 1e6);
-  readTiming(root, c.timing);
-  readNoise(root, c.noise);
-  readMetrics(root, c.metrics);
+  readCommon(root, c);
   const std::string& file = root.file();
-  if (root.has("camera")) {
-    YamlSection s(root.node("camera"), file, "camera");
+  readSection(root, "camera", [&](YamlSection& s) {
     c.camera.px = s.number("px", c.camera.px, 1e-6, 1e7);
     c.camera.py = s.number("py", c.camera.py, 1e-6, 1e7);
     c.camera.u0 = s.number("u0", c.camera.u0, -1e7, 1e7);
     c.camera.v0 = s.number("v0", c.camera.v0, -1e7, 1e7);
-    s.finish();
-  }
-  root.allow("camera");
-  if (root.has("target")) {
-    YamlSection s(root.node("target"), file, "target");
+  });
+  readSection(root, "target", [&](YamlSection& s) {
     c.square_side_m = s.number("square_side_m", c.square_side_m, 1e-9, 1e3);
     c.desired_depth_m = s.number("desired_depth_m", c.desired_depth_m, 1e-9, 1e3);
     if (s.has("trajectory"))
       c.target_trajectory = readTrajectory(s.node("trajectory"), file, "target.trajectory", c.target_params);
     s.allow("trajectory");
-    s.finish();
-  }
-  root.allow("target");
+  });
   if (root.has("initial_pose")) {
     const auto pose = root.numbers("initial_pose", {}, 6);
     for (int i = 0; i < 6; ++i) c.initial_pose(i) = pose[static_cast<size_t>(i)];
   }
   root.allow("initial_pose");
-  if (root.has("task")) {
-    YamlSection s(root.node("task"), file, "task");
+  readSection(root, "task", [&](YamlSection& s) {
     c.task.lambda = s.number("lambda", c.task.lambda, 1e-9, 1e6);
-    if (s.has("interaction")) {
-      const std::string m = s.string("interaction", "");
-      c.task.interaction =
-          withLocation(file, yamlLine(s.node("interaction")), {}, [&] { return parseInteractionMatrixType(m); });
-    }
-    s.allow("interaction");
-    s.finish();
-  }
-  root.allow("task");
-  if (root.has("servo")) {
-    YamlSection s(root.node("servo"), file, "servo");
-    if (s.has("forecast")) {
-      const std::string m = s.string("forecast", "");
-      c.forecast = withLocation(file, yamlLine(s.node("forecast")), {}, [&] { return parseForecastMode(m); });
-    }
-    if (s.has("compensation")) {
-      const std::string m = s.string("compensation", "");
-      c.compensation = withLocation(file, yamlLine(s.node("compensation")), {}, [&] { return parseCompensation(m); });
-    }
-    s.allow("forecast");
-    s.allow("compensation");
-    s.finish();
-  }
-  root.allow("servo");
-  if (root.has("robot")) {
-    YamlSection s(root.node("robot"), file, "robot");
+    c.task.interaction = s.enumValue("interaction", c.task.interaction, parseInteractionMatrixType);
+  });
+  readSection(root, "servo", [&](YamlSection& s) {
+    c.forecast = s.enumValue("forecast", c.forecast, parseForecastMode);
+    c.compensation = s.enumValue("compensation", c.compensation, parseCompensation);
+  });
+  readSection(root, "robot", [&](YamlSection& s) {
     c.max_translation_mps = s.number("max_translation_mps", c.max_translation_mps, 1e-9, 1e3);
     c.max_rotation_radps = s.number("max_rotation_radps", c.max_rotation_radps, 1e-9, 1e3);
-    s.finish();
-  }
-  root.allow("robot");
+  });
   sc.predictors = readPredictors(root, 8);
   // Whole-configuration check by the loop itself (it names the offending key).
   auto hold = makePredictor("hold", 8);
   withLocation(file, 0, {}, [&] { return ServoLoop(c, *hold).done(); });
 }
 
-}  // namespace
-
-std::string scenarioKindName(ScenarioKind kind) { return kind == ScenarioKind::OpenLoop ? "open-loop" : "closed-loop"; }
-
-void Scenario::setSeed(std::uint64_t seed) {
-  open_loop.seed = seed;
-  closed_loop.seed = seed;
-}
-
-Scenario loadScenario(const std::string& path) {
-  const YAML::Node doc = loadYamlFile(path);
+/// The strict parse of a scenario document read from `path`.
+Scenario parseScenario(const YAML::Node& doc, const std::string& path) {
   if (!doc.IsDefined() || doc.IsNull()) throwAt(path, 0, "the file is empty (expected a scenario mapping with 'kind:')");
   YamlSection root(doc, path, "");
   Scenario sc;
@@ -313,6 +280,43 @@ Scenario loadScenario(const std::string& path) {
   sc.setSeed(static_cast<std::uint64_t>(seed));
   root.finish();
   return sc;
+}
+
+}  // namespace
+
+std::string scenarioKindName(ScenarioKind kind) { return kind == ScenarioKind::OpenLoop ? "open-loop" : "closed-loop"; }
+
+void Scenario::setSeed(std::uint64_t seed) {
+  open_loop.seed = seed;
+  closed_loop.seed = seed;
+}
+
+Scenario loadScenario(const std::string& path, const std::vector<ScenarioOverride>& overrides) {
+  // The document with the first n overrides applied, parsed strictly (the file is read again for
+  // each attempt: a node copy would lose the line marks the errors quote).
+  auto attempt = [&](size_t n) {
+    YAML::Node doc = loadYamlFile(path);
+    if (doc.IsMap())  // anything else is the file's own defect, reported by the parse
+      for (size_t i = 0; i < n; ++i) applyScenarioOverride(doc, overrides[i]);
+    return parseScenario(doc, path);
+  };
+  try {
+    return attempt(overrides.size());
+  } catch (const OverrideError&) {
+    throw;
+  } catch (const std::invalid_argument& e) {
+    if (overrides.empty()) throw;
+    // Blame the first override whose addition makes the parse fail (none: the file's own error).
+    for (size_t n = 0; n < overrides.size(); ++n) {
+      try {
+        attempt(n);
+      } catch (const std::invalid_argument& prefix_error) {
+        if (n == 0) throw;
+        throw std::invalid_argument(overrideErrorMessage(overrides[n - 1], path, prefix_error.what()));
+      }
+    }
+    throw std::invalid_argument(overrideErrorMessage(overrides.back(), path, e.what()));
+  }
 }
 
 }  // namespace predvs

@@ -40,6 +40,8 @@
 //   robot: {max_translation_mps: 0.2, max_rotation_radps: 0.7}
 #pragma once
 
+#include "scenario_override.h"
+
 #include "predvs/predictors/params.h"
 #include "predvs/servo/prediction_experiment.h"
 #include "predvs/servo/servo_loop.h"
@@ -81,7 +83,10 @@ struct Scenario {
 
 /// Reads and validates a scenario file (every key, the timing model, the trajectory, every
 /// predictor and its parameters). Throws std::invalid_argument "FILE:LINE: ..." on any defect.
-Scenario loadScenario(const std::string& path);
+/// `overrides` (`--set PATH=VALUE`, scenario_override.h) are applied in order to the document
+/// before the validation; a defect they cause is reported as "--set PATH=VALUE (scenario NAME):
+/// ...", naming the first override whose addition makes the parse fail.
+Scenario loadScenario(const std::string& path, const std::vector<ScenarioOverride>& overrides = {});
 
 std::string scenarioKindName(ScenarioKind kind);
 

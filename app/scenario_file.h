@@ -5,9 +5,12 @@
 // (expected one of: ...)", with LINE from yaml-cpp's Mark (1-based here).
 #pragma once
 
+#include "app_error.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -54,6 +57,21 @@ class YamlSection {
   bool boolean(const std::string& key, bool fallback);
   std::string string(const std::string& key, const std::string& fallback);
   std::string requiredString(const std::string& key);
+  /// An enum-valued string key: `parse(text)` maps the name to the value and throws
+  /// std::invalid_argument for an unknown one, which is reported at the key's line.
+  template <class E, class Parse>
+  E enumValue(const std::string& key, E fallback, Parse&& parse) {
+    if (!has(key)) {
+      allow(key);
+      return fallback;
+    }
+    const std::string text = string(key, "");
+    try {
+      return parse(text);
+    } catch (const std::invalid_argument& e) {
+      throwAt(file_, yamlLine(get(key)), e.what());
+    }
+  }
   /// A list of exactly `n` numbers (n = 0: any length >= 1).
   std::vector<double> numbers(const std::string& key, const std::vector<double>& fallback, size_t n);
   /// Marks `key` known without reading it.

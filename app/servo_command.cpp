@@ -8,7 +8,7 @@
 //                  (applied camera twist, m/s and rad/s). Open loop: t_s, t_acq_s, t_pred_s,
 //                  horizon_s, meas_x, meas_y, pred_x, pred_y, true_x, true_y, error (px; no
 //                  command). Empty cell = not available (NaN).
-//   summary.json   scenario, kind, file, description, seed, duration, command line, metric
+//   summary.json   scenario, kind, file, description, seed, duration, command line, --set overrides, metric
 //                  definitions and, per predictor, its parameters and metrics (servo/metrics.h).
 //   error.png      error norm versus time, every predictor in one plot (error.gp + trace_*.dat,
 //                  whose last column is a trailing running RMS of the error over max(1 s, 5 % of
@@ -168,6 +168,7 @@ void writeSummary(const Report& r, const ScenarioRunOptions& o, const StagedOutp
   j["seed"] = sc.seed();
   j["duration_s"] = sc.durationS();
   j["command"] = o.command_line;
+  j["overrides"] = overrideTexts(o.overrides);
   j["error_definition"] =
       sc.kind == ScenarioKind::OpenLoop
           ? "open loop: ||predicted - true|| of the target position at the time the command would take effect (px)"
@@ -390,7 +391,7 @@ void printTable(const Report& r, std::ostream& out) {
 
 void runScenarioCommand(const ScenarioRunOptions& o, std::ostream& out, std::ostream& err) {
   const std::string path = resolveScenario(o.scenario);
-  Scenario sc = loadScenario(path);
+  Scenario sc = loadScenario(path, o.overrides);
   if (sc.kind == ScenarioKind::OpenLoop && sc.channels != 2)
     throw std::invalid_argument(path + ": trajectory '" + sc.trajectory + "' has " + std::to_string(sc.channels) +
                                 " channels; `predvs servo` runs 2-channel (x, y) open-loop scenarios only, run this one "
@@ -398,11 +399,15 @@ void runScenarioCommand(const ScenarioRunOptions& o, std::ostream& out, std::ost
   if (o.seed_given) sc.setSeed(o.seed);
   if (!o.predictors.empty()) {
     std::set<std::string> seen;
+    const std::vector<ScenarioPredictor> scenario_predictors = sc.predictors;
     sc.predictors.clear();
     for (const auto& name : o.predictors) {
       if (!seen.insert(name).second) throw std::invalid_argument("--predictors: '" + name + "' listed twice");
-      makePredictor(name, sc.channels);  // throws naming an unknown predictor
-      sc.predictors.push_back({name, {}, 0});
+      ScenarioPredictor p{name, {}, 0};  // the scenario's own entry (its params) when it lists the name
+      for (const auto& own : scenario_predictors)
+        if (own.name == name) p = own;
+      makePredictor(name, sc.channels, p.params);  // throws naming an unknown predictor
+      sc.predictors.push_back(p);
     }
   }
   if (o.plots) requireGnuplot();

@@ -1,6 +1,8 @@
 // predvs app — `predvs servo`: run a scenario file and write log.csv, summary.json and plots.
 #pragma once
 
+#include "scenario_override.h"
+
 #include <ostream>
 #include <string>
 #include <vector>
@@ -12,6 +14,7 @@ struct ScenarioRunOptions {
   std::vector<std::string> predictors;           ///< overrides the scenario's list when not empty
   bool seed_given = false;
   unsigned long seed = 0;                        ///< overrides the scenario's seed when seed_given
+  std::vector<ScenarioOverride> overrides;       ///< --set PATH=VALUE, applied before validation
   std::string out_dir;                           ///< empty: out/<scenario name>
   bool plots = true;
   std::string command_line;                      ///< recorded in summary.json
