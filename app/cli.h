@@ -3,9 +3,11 @@
 //   predvs list
 //   predvs predict --input FILE.csv --predictor NAME|all (--horizon-s S | --delay-frames H)
 //                  --out DIR [--param [NAME.]KEY=VALUE ...] [--no-plots]
-//   predvs servo   [--scenario NAME|FILE] [--predictors a,b,c] [--seed N] [--out DIR] [--no-plots]
+//   predvs servo   [--scenario NAME|FILE] [--predictors a,b,c] [--seed N] [--set PATH=VALUE]...
+//                  [--out DIR] [--no-plots]
 //   predvs compare [--scenarios a,b|all] [--predictors x,y|all] [--runs N] [--seed S] [--jobs J]
-//                  [--out DIR=out/compare] [--no-plots]          (compare_command.h)
+//                  [--set PATH=VALUE]... [--out DIR=out/compare] [--no-plots]   (compare_command.h)
+//   --set overrides any scenario key before the strict parse (scenario_override.h).
 //
 // `predvs servo` runs any scenario file: closed-loop IBVS (`kind: closed-loop`, the default
 // scenario ibvs-moving-target) or an open-loop prediction experiment E1-E4 (`kind: open-loop`).

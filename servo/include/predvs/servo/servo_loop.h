@@ -47,8 +47,10 @@
 // so forecasting the features to the effect time alone buys ~1 %; only the target-rate
 // feed-forward removes the lag. `both` was a little worse than `feedforward` for lambda 0.5-4
 // (command lag 0-80 ms, N = 1-2); at high gain, where the delay matters to the loop dynamics,
-// `both` wins (lambda = 8: hold 5.4 px, kf-ca feature 4.9, feedforward 1.3, both 0.7 px), so
-// choose `both` when raising lambda. The price of the feed-forward is control effort: it passes
+// `both` can win for the CA filter (lambda = 8: hold 5.4 px, kf-ca feature 4.9, feedforward
+// 1.3, both 0.7 px) but not for kf-cv (lambda = 6: feedforward 1.26, both 1.67 px), so try
+// `both` when raising lambda with kf-ca. Reproduce with
+// `predvs servo --predictors hold,kf-cv,kf-ca --set servo.forecast=MODE --set task.lambda=L`. The price of the feed-forward is control effort: it passes
 // the filter's velocity noise to the camera (lambda = 1: effort 0.72 / 1.36 vs 0.10 for hold
 // over 25 s); the `feature` mode alone lowers the effort (it filters the measurement noise).
 //
