@@ -20,6 +20,30 @@ void requireFraction(const char* key, double v) {
   }
 }
 
+/// Trailing mean of x over `window_s` (0: x itself); NaN where x is NaN.
+std::vector<double> trailingMean(const std::vector<double>& t_s, const std::vector<double>& x, double window_s) {
+  const size_t n = t_s.size();
+  std::vector<double> smooth(n, std::nan(""));
+  double sum = 0.0;
+  int count = 0;
+  size_t first = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (!std::isnan(x[i])) {
+      sum += x[i];
+      ++count;
+    }
+    while (first < i && t_s[first] <= t_s[i] - window_s) {
+      if (!std::isnan(x[first])) {
+        sum -= x[first];
+        --count;
+      }
+      ++first;
+    }
+    if (count > 0 && !std::isnan(x[i])) smooth[i] = sum / count;
+  }
+  return smooth;
+}
+
 }  // namespace
 
 Metrics computeMetrics(const std::vector<double>& t_s, const std::vector<double>& error,
@@ -83,26 +107,7 @@ Metrics computeMetrics(const std::vector<double>& t_s, const std::vector<double>
   if (n_final > 0) {
     // Settling is judged on a trailing mean of e over settling_smoothing_s (0: raw e), so that
     // measurement noise does not decide it.
-    std::vector<double> smooth(n, std::nan(""));
-    {
-      double sum = 0.0;
-      int count = 0;
-      size_t first = 0;
-      for (size_t i = 0; i < n; ++i) {
-        if (!std::isnan(error[i])) {
-          sum += error[i];
-          ++count;
-        }
-        while (first < i && t_s[first] <= t_s[i] - options.settling_smoothing_s) {
-          if (!std::isnan(error[first])) {
-            sum -= error[first];
-            --count;
-          }
-          ++first;
-        }
-        if (count > 0 && !std::isnan(error[i])) smooth[i] = sum / count;
-      }
-    }
+    const std::vector<double> smooth = trailingMean(t_s, error, options.settling_smoothing_s);
     double peak_s = 0.0, mean_final = 0.0, var_final = 0.0;
     int n_sf = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -135,6 +140,45 @@ Metrics computeMetrics(const std::vector<double>& t_s, const std::vector<double>
     m.control_effort = effort;
   }
   return m;
+}
+
+ResponseMetrics computeResponse(const std::vector<double>& t_s, const std::vector<double>& error,
+                                const std::vector<double>& signed_error, double t_change_s,
+                                const MetricsOptions& options, double window_s) {
+  if (t_s.size() != error.size() || t_s.size() != signed_error.size())
+    throw std::invalid_argument("response metrics: " + std::to_string(t_s.size()) + " times, " +
+                                std::to_string(error.size()) + " errors, " + std::to_string(signed_error.size()) +
+                                " signed errors");
+  if (!(window_s > 0.0)) throw std::invalid_argument("response metrics: window must be > 0 s");
+  ResponseMetrics r;
+  // From the change on only: the samples before it belong to another regime.
+  const auto begin = std::lower_bound(t_s.begin(), t_s.end(), t_change_s);
+  const size_t i0 = static_cast<size_t>(begin - t_s.begin());
+  const std::vector<double> t(t_s.begin() + i0, t_s.end());
+  const std::vector<double> e(error.begin() + i0, error.end());
+  const std::vector<double> s(signed_error.begin() + i0, signed_error.end());
+  const std::vector<double> ms = trailingMean(t, s, options.settling_smoothing_s);
+  double lag = 0.0, over = 0.0, sum_after = 0.0;
+  int n_after = 0;
+  bool any = false;
+  for (size_t i = 0; i < t.size(); ++i) {
+    if (std::isnan(e[i]) || std::isnan(ms[i])) continue;
+    any = true;
+    lag = std::max(lag, -ms[i]);
+    over = std::max(over, ms[i]);
+    if (t[i] <= t_change_s + window_s) {
+      sum_after += e[i];
+      ++n_after;
+    }
+  }
+  if (!any) return r;
+  r.max_lag = lag;
+  r.overshoot = over;
+  r.mean_after = n_after > 0 ? sum_after / n_after : std::nan("");
+  // Settling of |e| on the part of the run after the change, measured from the change.
+  const Metrics after = computeMetrics(t, e, options);
+  r.response_s = after.settling_time_s + (t.front() - t_change_s);
+  return r;
 }
 
 }  // namespace predvs

@@ -64,5 +64,54 @@ TEST(Metrics, ControlEffortAndNaNSkipping) {
   EXPECT_THROW(computeMetrics(t, e, bad), std::invalid_argument);
 }
 
+/// A piecewise-constant signed error along the change direction, sampled every 10 ms: `before`
+/// until t = 5 s (the change), then a lag of 2 for 1 s, an overshoot of 1 for 1 s, then 0.
+void responseCurve(double before, std::vector<double>& t, std::vector<double>& e, std::vector<double>& s) {
+  for (int i = 0; i <= 1000; ++i) {
+    const double ti = 0.01 * i;
+    const double si = ti < 5.0 ? before : ti < 6.0 ? -2.0 : ti < 7.0 ? 1.0 : 0.0;
+    t.push_back(ti);
+    s.push_back(si);
+    e.push_back(std::abs(si));
+  }
+}
+
+TEST(Response, LagOvershootMeanAndResponseTime) {
+  // GIVEN a lag of 2 for 1 s after the change at 5 s, then an overshoot of 1 for 1 s, then 0
+  std::vector<double> t, e, s;
+  responseCurve(0.0, t, e, s);
+  MetricsOptions raw;
+  raw.settling_smoothing_s = 0.0;  // judge the raw curve: exact expected values
+  // WHEN the response to the change at 5 s is computed
+  const ResponseMetrics r = computeResponse(t, e, s, 5.0, raw);
+  // THEN lag and overshoot are the plateaus, the mean over 3 s is (2 + 1 + 0) / 3 and the error
+  // is back to 0 from t = 7 s, 2 s after the change
+  EXPECT_NEAR(r.max_lag, 2.0, kTol);
+  EXPECT_NEAR(r.overshoot, 1.0, kTol);
+  EXPECT_NEAR(r.mean_after, 3.0 / 3.0, 0.01);  // one sample of quantisation over 301 samples
+  EXPECT_NEAR(r.response_s, 2.0, 0.011);
+  // AND with the default 0.5 s trailing mean the plateaus (longer than the window) are still
+  // reached, and the response ends up to one window later
+  const ResponseMetrics smooth = computeResponse(t, e, s, 5.0);
+  EXPECT_NEAR(smooth.max_lag, 2.0, kTol);
+  EXPECT_NEAR(smooth.overshoot, 1.0, kTol);
+  EXPECT_GT(smooth.response_s, 2.0);
+  EXPECT_LE(smooth.response_s, 2.51);
+}
+
+TEST(Response, OnlyTheSamplesFromTheChangeOnCount) {
+  // GIVEN a large error before the change
+  std::vector<double> t, e, s;
+  responseCurve(-50.0, t, e, s);
+  MetricsOptions raw;
+  raw.settling_smoothing_s = 0.0;
+  // THEN it does not enter the response to the change at 5 s
+  const ResponseMetrics r = computeResponse(t, e, s, 5.0, raw);
+  EXPECT_NEAR(r.max_lag, 2.0, kTol);
+  // AND a change after the last sample gives NaN figures; bad sizes throw
+  EXPECT_TRUE(std::isnan(computeResponse(t, e, s, 20.0).max_lag));
+  EXPECT_THROW(computeResponse({0, 1}, {1, 1}, {1}, 0.0), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace predvs

@@ -57,4 +57,31 @@ Metrics computeMetrics(const std::vector<double>& t_s, const std::vector<double>
                        const MetricsOptions& options = {},
                        const std::vector<Eigen::Matrix<double, 6, 1>>* velocity = nullptr);
 
+/// Response of a predictor to a manoeuvre, the figures paper 000 §6.1 compares on E1-E3 ("fastest
+/// response, smallest overshoot"). Input per sample: |e_i| and the signed error along the unit
+/// direction d of the change, s_i = (x_hat_i - x_i) . d, negative while the estimate lags behind the
+/// change and positive when it overshoots it. Both are judged from t_change_s on, on trailing means
+/// over options.settling_smoothing_s (so that one noisy sample does not decide them):
+///  * max_lag     largest -mean(s) (>= 0), the worst lag behind the change;
+///  * overshoot   largest +mean(s) (>= 0), the worst overshoot past it;
+///  * mean_after  mean of |e| over [t_change, t_change + window_s];
+///  * response_s  settling time (header definition, options.settling_band) of |e| restricted to
+///                t >= t_change, measured from t_change: how long the predictor takes to follow.
+/// NaN fields when no finite sample lies at or after t_change.
+struct ResponseMetrics {
+  double max_lag = std::numeric_limits<double>::quiet_NaN();
+  double overshoot = std::numeric_limits<double>::quiet_NaN();
+  double mean_after = std::numeric_limits<double>::quiet_NaN();
+  double response_s = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// Default window of ResponseMetrics::mean_after (s): the 3 s after the change.
+constexpr double kResponseWindowS = 3.0;
+
+/// Computes ResponseMetrics (t_s, error and signed_error of equal size, std::invalid_argument
+/// otherwise; NaN entries are skipped).
+ResponseMetrics computeResponse(const std::vector<double>& t_s, const std::vector<double>& error,
+                                const std::vector<double>& signed_error, double t_change_s,
+                                const MetricsOptions& options = {}, double window_s = kResponseWindowS);
+
 }  // namespace predvs
