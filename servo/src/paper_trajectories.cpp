@@ -37,6 +37,7 @@ class PlanarChannels : public ChannelTrajectory {
   }
   Eigen::VectorXd position(double t_s) const override { return t_->position(t_s); }
   Eigen::VectorXd velocity(double t_s) const override { return t_->velocity(t_s); }
+  Manoeuvre manoeuvre() const override { return t_->manoeuvre(); }
 
  private:
   std::unique_ptr<Trajectory> t_;
@@ -66,6 +67,13 @@ class OnsetSinusoid : public ChannelTrajectory {
     return v;
   }
   double onsetTime() const override { return t_start_s_; }
+  Manoeuvre manoeuvre() const override {
+    Manoeuvre m;
+    if (amplitude_ == 0.0) return m;
+    m.t_s = t_start_s_;
+    m.direction = Eigen::VectorXd::Constant(1, amplitude_ > 0.0 ? 1.0 : -1.0);
+    return m;
+  }
 
  private:
   double x0_, amplitude_, period_s_, t_start_s_;

@@ -10,6 +10,15 @@ namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
 
+/// A manoeuvre at t_s along `change` (none when the change is zero).
+Manoeuvre manoeuvreAlong(double t_s, const Eigen::Vector2d& change) {
+  Manoeuvre m;
+  if (change.norm() == 0.0) return m;
+  m.t_s = t_s;
+  m.direction = change.normalized();
+  return m;
+}
+
 double getFinite(const Params& p, const std::string& traj, const std::string& key, double fallback) {
   const double v = p.get(key, fallback);
   if (!std::isfinite(v)) throw std::invalid_argument("trajectory '" + traj + "': parameter '" + key + "' is not finite");
@@ -45,6 +54,7 @@ class LineTrajectory : public Trajectory {
   std::string name() const override { return "line"; }
   Eigen::Vector2d position(double t) const override { return p0_ + v_ * t; }
   Eigen::Vector2d velocity(double) const override { return v_; }
+  Manoeuvre manoeuvre() const override { return manoeuvreAlong(0.0, v_); }
 
  private:
   Eigen::Vector2d p0_, v_;
@@ -68,6 +78,7 @@ class AccelJumpTrajectory : public Trajectory {
     if (t < t_jump_) return v0_ + a0_ * t;
     return velocity1() + a1_ * (t - t_jump_);
   }
+  Manoeuvre manoeuvre() const override { return manoeuvreAlong(t_jump_, a1_ - a0_); }
 
  private:
   Eigen::Vector2d position1() const { return p0_ + v0_ * t_jump_ + 0.5 * a0_ * t_jump_ * t_jump_; }
@@ -88,6 +99,7 @@ class ZigzagTrajectory : public Trajectory {
   std::string name() const override { return "zigzag"; }
   Eigen::Vector2d position(double t) const override { return {p0_.x() + vx_ * t, p0_.y() + yOffset(t)}; }
   Eigen::Vector2d velocity(double t) const override { return {vx_, vy_ * sign(t)}; }
+  Manoeuvre manoeuvre() const override { return manoeuvreAlong(t_switch_, {0.0, -vy_}); }
 
  private:
   // Sign of v_y on the segment containing t (right-continuous at the switches).

@@ -86,5 +86,28 @@ TEST(Trajectory, RejectsUnknownNamesAndKeys) {
   EXPECT_THROW(makeTrajectory("zigzag", Params{{"t_switch", 0}}), std::invalid_argument);
 }
 
+TEST(Trajectory, ManoeuvresOfThePaperMotions) {
+  // E1: the start along v; E2: the jump along a_jump - a; E3: the switch along -v_y
+  const Manoeuvre line = makeTrajectory("line")->manoeuvre();
+  ASSERT_TRUE(line.exists());
+  EXPECT_EQ(line.t_s, 0.0);
+  EXPECT_NEAR(line.direction(0), std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(line.direction(1), std::sqrt(0.5), 1e-15);
+  const Manoeuvre jump = makeTrajectory("accel-jump", Params{{"ax_jump", 1}, {"ay_jump", 5}})->manoeuvre();
+  ASSERT_TRUE(jump.exists());
+  EXPECT_EQ(jump.t_s, 14.0);
+  EXPECT_NEAR(jump.direction(0), 0.0, 1e-15);
+  EXPECT_NEAR(jump.direction(1), 1.0, 1e-15);
+  const Manoeuvre zig = makeTrajectory("zigzag")->manoeuvre();
+  ASSERT_TRUE(zig.exists());
+  EXPECT_EQ(zig.t_s, 9.0);
+  EXPECT_NEAR(zig.direction(1), -1.0, 1e-15);
+  // no fixed direction on turning motions, none when nothing changes
+  EXPECT_FALSE(makeTrajectory("circle")->manoeuvre().exists());
+  EXPECT_FALSE(makeTrajectory("sinusoid")->manoeuvre().exists());
+  EXPECT_FALSE(makeTrajectory("static")->manoeuvre().exists());
+  EXPECT_FALSE(makeTrajectory("line", Params{{"vx", 0}, {"vy", 0}})->manoeuvre().exists());
+}
+
 }  // namespace
 }  // namespace predvs

@@ -58,6 +58,9 @@ class ChannelTrajectory {
   virtual Eigen::VectorXd velocity(double t_s) const = 0;
   /// Time at which a discontinuity of the motion starts (onset-sinusoid: t_start), NaN if none.
   virtual double onsetTime() const;
+  /// The motion's manoeuvre (trajectory.h; onset-sinusoid: the onset, along the initial motion;
+  /// a planar trajectory: its own; e6-target: none).
+  virtual Manoeuvre manoeuvre() const { return {}; }
 };
 
 /// Names accepted by makeChannelTrajectory: e6-target, onset-sinusoid, then trajectoryNames().

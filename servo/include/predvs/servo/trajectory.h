@@ -26,11 +26,23 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace predvs {
+
+/// A sudden change of the motion: when it happens and the unit direction of the change (of the
+/// velocity for a velocity step, of the acceleration for an acceleration step). A predictor that
+/// lags behind the change has an error pointing against `direction`; one that overshoots, along
+/// it (metrics.h, computeResponse). No manoeuvre: t_s is NaN.
+struct Manoeuvre {
+  double t_s = std::numeric_limits<double>::quiet_NaN();
+  Eigen::VectorXd direction;
+  bool exists() const { return std::isfinite(t_s); }
+};
 
 class Trajectory {
  public:
@@ -41,6 +53,10 @@ class Trajectory {
   virtual Eigen::Vector2d position(double t_s) const = 0;
   /// Exact time derivative of position() at t_s (right derivative at a switching instant).
   virtual Eigen::Vector2d velocity(double t_s) const = 0;
+  /// The trajectory's manoeuvre (line: the start from rest at t = 0 along v; accel-jump: t_jump
+  /// along a_jump - a; zigzag: the first switch along -v_y). None for the others: on a circle or a
+  /// sinusoid the direction of motion turns, so no fixed direction tells lag from overshoot.
+  virtual Manoeuvre manoeuvre() const { return {}; }
 };
 
 /// Names accepted by makeTrajectory, in display order.
