@@ -169,7 +169,22 @@ std::vector<std::string> variantMetrics(const Scenario& sc) {
     m.push_back("detected");
     m.push_back("detect_delay_frames");
   }
+  if (traj->manoeuvre().exists())
+    for (const char* k : {"resp_max_lag", "resp_overshoot", "resp_mean_3s", "resp_time_s"}) m.push_back(k);
   return m;
+}
+
+/// ResponseMetrics of an open-loop run to the trajectory's manoeuvre, on the effect-time axis
+/// (the prediction for t_pred is scored against the truth at t_pred, so the change is at t_pred =
+/// manoeuvre time).
+ResponseMetrics responseMetrics(const ChannelExperimentResult& r, const Manoeuvre& man, const MetricsOptions& opt) {
+  std::vector<double> t, e, s;
+  for (const auto& row : r.trace) {
+    t.push_back(row.t_pred_s);
+    e.push_back(row.error);
+    s.push_back((row.predicted - row.truth).dot(man.direction));
+  }
+  return computeResponse(t, e, s, man.t_s, opt);
 }
 
 Outcome runOne(const Variant& v, const ScenarioPredictor& sp, std::uint64_t seed) {
@@ -220,6 +235,11 @@ Outcome runOne(const Variant& v, const ScenarioPredictor& sp, std::uint64_t seed
   if (onset > 0.0) {
     o.values.push_back(std::isfinite(delay) ? 1.0 : 0.0);
     o.values.push_back(delay);
+  }
+  const Manoeuvre man = traj->manoeuvre();
+  if (man.exists()) {
+    const ResponseMetrics resp = responseMetrics(r, man, cfg.metrics);
+    o.values.insert(o.values.end(), {resp.max_lag, resp.overshoot, resp.mean_after, resp.response_s});
   }
   return o;
 }
@@ -510,7 +530,8 @@ std::vector<size_t> shownMetrics(const Variant& v) {
     const bool occl = k == "occl_rmse" || k == "occl_end_error" || k == "reacq_error" || k == "reacq_1s_rmse";
     const bool monitor = sc.trajectory == "onset-sinusoid" &&
                          (k == "detected" || k == "detect_delay_frames" || k == "false_alarms_per_min");
-    if (base || (mse && is_mse) || occl || monitor) shown.push_back(m);
+    const bool response = k.rfind("resp_", 0) == 0;
+    if (base || (mse && is_mse) || occl || monitor || response) shown.push_back(m);
   }
   return shown;
 }

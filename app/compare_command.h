@@ -31,6 +31,11 @@
 //                                        frame acquired in [t_onset, t_onset + kDetectWindowS), and
 //                                        its delay in frames after the first frame at or after the
 //                                        onset (NaN when not detected)
+//   resp_max_lag, resp_overshoot,        trajectory with a manoeuvre (E1 start, E2 jump, E3 switch, E12 onset;
+//   resp_mean_3s, resp_time_s            servo/trajectory.h): the largest lag behind and overshoot past the
+//                                        change (error projected on its direction, 0.5 s trailing mean),
+//                                        mean error over the 3 s after it, and the time from it until the
+//                                        error settles (servo/metrics.h, computeResponse)
 // Aggregates over runs: n (finite values), mean, std (sample, 0 for one run), min, max.
 //
 // Output directory (default out/compare), created only when everything succeeded:
