@@ -4,7 +4,7 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc)
 PREDVS := $(BUILD_DIR)/app/predvs
 
-.PHONY: deps configure build run test bench golden clean
+.PHONY: deps configure build run test bench golden reproduce clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -30,6 +30,17 @@ bench: build
 golden: build
 	$(PREDVS) servo --out $(BUILD_DIR)/golden-run --no-plots
 	cp $(BUILD_DIR)/golden-run/log.csv data/golden/ibvs-moving-target.csv
+
+# Every figure of docs/REPRODUCTION.md: one leaderboard per paper (and the closed loop) under
+# out/reproduction/ (a few seconds on 2 cores).
+PAPER000 := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf-classic,fakf
+CLOSED := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf,stkf,st-akf
+reproduce: build
+	$(PREDVS) compare --scenarios e1-line,e2-accel-jump,e3-zigzag,e4-circle,e4-circle-large --predictors $(PAPER000) --out out/reproduction/paper000
+	$(PREDVS) compare --scenarios e6-noise-study --out out/reproduction/paper001-e6
+	$(PREDVS) compare --scenarios e7-occlusion --predictors hold,kf-cv,kf-ca,cs-akf-adaptive,fakf-classic,fakf,stkf,st-akf --out out/reproduction/paper001-e7
+	$(PREDVS) compare --scenarios e12-discontinuity,e12-discontinuity-2ms,e12-smooth --out out/reproduction/paper004
+	$(PREDVS) compare --scenarios ibvs-moving-target --predictors $(CLOSED) --out out/reproduction/closed-loop
 
 clean:
 	rm -rf $(BUILD_DIR) out
