@@ -35,9 +35,14 @@ ChannelExperimentResult runChannelExperiment(const PredictionExperimentConfig& c
     msg << "duration_s must be > 0, got " << config.duration_s;
     throw std::invalid_argument(msg.str());
   }
-  for (size_t i = 0; i < config.occlusions.size(); ++i)
-    if (!(config.occlusions[i].start_s < config.occlusions[i].end_s))
-      throw std::invalid_argument("occlusions[" + std::to_string(i) + "]: start_s must be < end_s");
+  for (size_t i = 0; i < config.occlusions.size(); ++i) {
+    const OcclusionInterval& o = config.occlusions[i];
+    if (!(o.start_s < o.end_s)) {
+      std::ostringstream msg;
+      msg << "occlusions[" << i << "]: start_s (" << o.start_s << ") must be < end_s (" << o.end_s << ")";
+      throw std::invalid_argument(msg.str());
+    }
+  }
   const int n = trajectory.channels();
   if (predictor.channels() != n)
     throw std::invalid_argument("prediction experiment: predictor '" + predictor.name() + "' has " +
