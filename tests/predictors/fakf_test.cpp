@@ -29,6 +29,21 @@ void runRamp(P& f, double sigma_px, int frames, unsigned seed) {
   }
 }
 
+/// Feeds `frames` frames of 0 px with a 1e6 px outlier of alternating sign on every 7th, and
+/// asserts after every update that R is inside [r_min, r_max] and the state and P are finite.
+template <class P>
+void expectRClampedUnderOutliers(P& f, int frames, double r_min, double r_max) {
+  Eigen::VectorXd z(1);
+  for (int k = 0; k < frames; ++k) {
+    z(0) = (k % 7 == 0) ? 1e6 * ((k % 2) ? 1.0 : -1.0) : 0.0;
+    f.update(k * kPeriodS, z);
+    ASSERT_GE(f.adaptedR(0), r_min) << "frame " << k;
+    ASSERT_LE(f.adaptedR(0), r_max) << "frame " << k;
+    ASSERT_TRUE(std::isfinite(f.gaussian(0).x(0))) << "frame " << k;
+    ASSERT_TRUE(f.gaussian(0).P.allFinite()) << "frame " << k;
+  }
+}
+
 TEST(FakfClassic, RaisesRWhenTheNoiseIsLargerThanAssumed) {
   // GIVEN an assumed R = 1 px^2 and a real noise variance of 9 px^2
   FakfClassicPredictor f(1, {{"r", 1.0}});
@@ -51,15 +66,8 @@ TEST(FakfClassic, LowersRWhenTheNoiseIsSmallerThanAssumed) {
 TEST(FakfClassic, RStaysInsideItsClampUnderOutliers) {
   // GIVEN tight bounds on R and a sequence of wild measurements (1e6 px jumps)
   FakfClassicPredictor f(1, {{"r", 1.0}, {"r_min", 0.5}, {"r_max", 2.0}, {"dr_max", 100.0}});
-  Eigen::VectorXd z(1);
-  for (int k = 0; k < 200; ++k) {
-    z(0) = (k % 7 == 0) ? 1e6 * ((k % 2) ? 1.0 : -1.0) : 0.0;
-    f.update(k * kPeriodS, z);
-    // THEN R stays finite and inside [r_min, r_max], and so does the state
-    ASSERT_GE(f.adaptedR(0), 0.5);
-    ASSERT_LE(f.adaptedR(0), 2.0);
-    ASSERT_TRUE(std::isfinite(f.gaussian(0).x(0)));
-  }
+  // WHEN it filters 200 frames THEN R stays inside [r_min, r_max] and the state stays finite
+  expectRClampedUnderOutliers(f, 200, 0.5, 2.0);
 }
 
 TEST(FakfClassic, ResetRestoresTheInitialR) {
@@ -106,16 +114,10 @@ TEST(Fakf, LowersRWhenTheNoiseIsSmallerThanAssumed) {
 }
 
 TEST(Fakf, RStaysInsideItsClampUnderOutliers) {
+  // GIVEN tight bounds on R and the same wild measurements
   FakfPredictor f(1, {{"r", 1.0}, {"r_min", 0.5}, {"r_max", 2.0}});
-  Eigen::VectorXd z(1);
-  for (int k = 0; k < 300; ++k) {
-    z(0) = (k % 7 == 0) ? 1e6 * ((k % 2) ? 1.0 : -1.0) : 0.0;
-    f.update(k * kPeriodS, z);
-    ASSERT_GE(f.adaptedR(0), 0.5);
-    ASSERT_LE(f.adaptedR(0), 2.0);
-    ASSERT_TRUE(std::isfinite(f.gaussian(0).x(0)));
-    ASSERT_TRUE(f.gaussian(0).P.allFinite());
-  }
+  // WHEN it filters 300 frames THEN R stays inside [r_min, r_max] and the state stays finite
+  expectRClampedUnderOutliers(f, 300, 0.5, 2.0);
 }
 
 TEST(Fakf, InflatesPOnASuddenManoeuvreOnly) {

@@ -85,6 +85,19 @@ struct GoldenChannel {
   double x0, x1, p00, r;
 };
 
+/// Checks position, velocity, position variance and adapted R of both channels of `f` (fakf or
+/// fakf-classic) against the reference.
+template <class F>
+void expectPinnedState(const F& f, const GoldenChannel (&expected)[2]) {
+  for (int c = 0; c < 2; ++c) {
+    SCOPED_TRACE(c);
+    expectRelNear(f.gaussian(c).x(0), expected[c].x0, kTrajectoryRelTol);
+    expectRelNear(f.gaussian(c).x(1), expected[c].x1, kTrajectoryRelTol);
+    expectRelNear(f.gaussian(c).P(0, 0), expected[c].p00, kTrajectoryRelTol);
+    expectRelNear(f.adaptedR(c), expected[c].r, kTrajectoryRelTol);
+  }
+}
+
 TEST(FuzzyGolden, FakfEndsAtThePinnedState) {
   // GIVEN fakf with its defaults
   FakfPredictor f(2, {});
@@ -95,14 +108,8 @@ TEST(FuzzyGolden, FakfEndsAtThePinnedState) {
   const GoldenChannel expected[2] = {
       {275.74755771756469, 27.765390532446062, 0.72297396006322612, 4.3938022672085406},
       {3185.6493483609456, 557.9511482999801, 0.042749747819333987, 0.24631723367801853}};
-  for (int c = 0; c < 2; ++c) {
-    SCOPED_TRACE(c);
-    expectRelNear(f.gaussian(c).x(0), expected[c].x0, kTrajectoryRelTol);
-    expectRelNear(f.gaussian(c).x(1), expected[c].x1, kTrajectoryRelTol);
-    expectRelNear(f.gaussian(c).P(0, 0), expected[c].p00, kTrajectoryRelTol);
-    expectRelNear(f.adaptedR(c), expected[c].r, kTrajectoryRelTol);
-    EXPECT_EQ(f.inflations(c), 1);
-  }
+  expectPinnedState(f, expected);
+  for (int c = 0; c < 2; ++c) EXPECT_EQ(f.inflations(c), 1) << "channel " << c;
 }
 
 TEST(FuzzyGolden, FakfClassicEndsAtThePinnedState) {
@@ -114,13 +121,7 @@ TEST(FuzzyGolden, FakfClassicEndsAtThePinnedState) {
   const GoldenChannel expected[2] = {
       {275.17103232583474, 21.933646710395777, 0.38622675039878235, 1.4058459812581376},
       {3184.586128780551, 544.84226448239951, 0.3246063635014737, 1.1371190491675252}};
-  for (int c = 0; c < 2; ++c) {
-    SCOPED_TRACE(c);
-    expectRelNear(f.gaussian(c).x(0), expected[c].x0, kTrajectoryRelTol);
-    expectRelNear(f.gaussian(c).x(1), expected[c].x1, kTrajectoryRelTol);
-    expectRelNear(f.gaussian(c).P(0, 0), expected[c].p00, kTrajectoryRelTol);
-    expectRelNear(f.adaptedR(c), expected[c].r, kTrajectoryRelTol);
-  }
+  expectPinnedState(f, expected);
 }
 
 }  // namespace
