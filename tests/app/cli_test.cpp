@@ -2,6 +2,7 @@
 // exactly one "predvs: error:" line naming the file:line, key or option, and no output directory;
 // the happy paths write every promised file.
 #include "cli.h"
+#include "cli_test_utils.h"
 #include "output_dir.h"
 #include "scenario.h"
 #include "scenario_file.h"
@@ -12,52 +13,25 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
-using predvs::runCli;
+using predvs::apptest::CliRun;
+using predvs::apptest::lineCount;
+using predvs::apptest::run;
+using predvs::apptest::slurp;
 
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-CliRun run(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  CliRun r;
-  r.code = runCli(args, out, err);
-  r.out = out.str();
-  r.err = err.str();
-  return r;
-}
-
-int lineCount(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
-
-class CliTest : public ::testing::Test {
+class CliTest : public predvs::apptest::ScratchDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("predvs_app_test_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  CliTest() : ScratchDirTest("predvs_app_test") {}
 
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name)) << text;
-    return path(name);
-  }
   /// A target on a constant-velocity line (u = 100 + 30 t, v = 50 - 20 t), T = 0.04 s, seeded
   /// Gaussian noise of 0.5 px, with a dropped frame every 13th row and the truth columns.
   std::string lineTrack(int rows = 100) const {
@@ -74,19 +48,6 @@ class CliTest : public ::testing::Test {
     }
     return write("track.csv", csv.str());
   }
-  /// Expects the failure contract: status 2, one line starting "predvs: error: " that contains
-  /// `needle`, and no output directory (nor its staging sibling) left behind.
-  void expectError(const CliRun& r, const std::string& needle, const std::string& out_dir = "") const {
-    EXPECT_EQ(r.code, 2) << r.err;
-    EXPECT_EQ(lineCount(r.err), 1) << r.err;
-    EXPECT_EQ(r.err.rfind("predvs: error: ", 0), 0u) << r.err;
-    EXPECT_NE(r.err.find(needle), std::string::npos) << "expected '" << needle << "' in: " << r.err;
-    if (!out_dir.empty()) {
-      EXPECT_FALSE(fs::exists(out_dir)) << out_dir;
-    }
-    for (const auto& e : fs::directory_iterator(dir_))
-      EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
-  }
   std::vector<std::string> predictArgs(const std::string& input, const std::string& out) const {
     return {"predict", "--input", input, "--predictor", "kf-cv", "--delay-frames", "2", "--out", out, "--no-plots"};
   }
@@ -102,8 +63,6 @@ class CliTest : public ::testing::Test {
                  "predictors: [hold, kf-cv]\n" +
                      extra);
   }
-
-  fs::path dir_;
 };
 
 // --------------------------------------------------------------------------------------------
@@ -441,11 +400,7 @@ TEST_F(CliTest, ServoSameSeedIsReproducible) {
   const std::string f = shortClosedLoop();
   ASSERT_EQ(run({"servo", "--scenario", f, "--out", path("a"), "--no-plots"}).code, 0);
   ASSERT_EQ(run({"servo", "--scenario", f, "--out", path("b"), "--no-plots"}).code, 0);
-  std::ifstream a(path("a/log.csv")), b(path("b/log.csv"));
-  std::stringstream sa, sb;
-  sa << a.rdbuf();
-  sb << b.rdbuf();
-  EXPECT_EQ(sa.str(), sb.str());
+  EXPECT_EQ(slurp(path("a/log.csv")), slurp(path("b/log.csv")));
   EXPECT_FALSE(fs::exists(path("a/error.png")));
 }
 

@@ -1,6 +1,7 @@
 // Tests of `predvs compare` (app/compare_command.h), in-process through runCli(): the promised
 // files, independence of the numbers from --jobs, the failure contract on bad input.
 #include "cli.h"
+#include "cli_test_utils.h"
 #include "gnuplot.h"
 #include "scenario.h"
 #include "scenario_file.h"
@@ -8,44 +9,22 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
+using predvs::apptest::CliRun;
+using predvs::apptest::run;
+using predvs::apptest::slurp;
+
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-CliRun run(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  CliRun r;
-  r.code = predvs::runCli(args, out, err);
-  r.out = out.str();
-  r.err = err.str();
-  return r;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class CompareTest : public ::testing::Test {
+class CompareTest : public predvs::apptest::ScratchDirTest {
  protected:
+  CompareTest() : ScratchDirTest("predvs_compare_test") {}
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("predvs_compare_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ScratchDirTest::SetUp();
     // Two tiny scenarios: an open-loop E6-like sweep with an occlusion (3 channels), and a 1 s
     // closed loop.
     open_ = write("tiny-open.yaml",
@@ -61,24 +40,10 @@ class CompareTest : public ::testing::Test {
                     "timing: {base_period_s: 0.04, delay_frames: 2}\n"
                     "predictors: [hold, kf-cv]\n");
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name)) << text;
-    return path(name);
-  }
-  void expectError(const CliRun& r, const std::string& needle, const std::string& out_dir) const {
-    EXPECT_EQ(r.code, 2) << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    EXPECT_EQ(r.err.rfind("predvs: error: ", 0), 0u) << r.err;
-    EXPECT_NE(r.err.find(needle), std::string::npos) << "expected '" << needle << "' in: " << r.err;
-    EXPECT_FALSE(fs::exists(out_dir)) << out_dir;
-  }
   std::vector<std::string> args(const std::string& out, const std::string& jobs) const {
     return {"compare", "--scenarios", open_ + "," + closed_, "--out", out, "--jobs", jobs, "--no-plots"};
   }
 
-  fs::path dir_;
   std::string open_, closed_;
 };
 
@@ -180,8 +145,6 @@ TEST_F(CompareTest, BadInputIsOneLineExit2AndNoDirectory) {
   expectError(run({"compare", "--scenarios", bad_runs, "--out", out}), "bad-runs.yaml:2", out);
   // `predvs servo` points 1- and 3-channel scenarios to compare
   expectError(run({"servo", "--scenario", "e6-noise-study", "--out", out}), "predvs compare --scenarios e6-noise-study", out);
-  for (const auto& e : fs::directory_iterator(dir_))
-    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
 }
 
 TEST(CompareScenarios, PaperStudiesHaveThePapersValues) {
