@@ -21,14 +21,11 @@
 #include <sstream>
 
 namespace fs = std::filesystem;
-using predvs::apptest::CliRun;
-using predvs::apptest::lineCount;
-using predvs::apptest::run;
-using predvs::apptest::slurp;
+using namespace predvs::apptest;  // run(), CliRun, slurp(), ScratchDirTest (cli_test_utils.h)
 
 namespace {
 
-class CliTest : public predvs::apptest::ScratchDirTest {
+class CliTest : public ScratchDirTest {
  protected:
   CliTest() : ScratchDirTest("predvs_app_test") {}
 

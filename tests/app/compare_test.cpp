@@ -14,13 +14,11 @@
 
 namespace fs = std::filesystem;
 
-using predvs::apptest::CliRun;
-using predvs::apptest::run;
-using predvs::apptest::slurp;
+using namespace predvs::apptest;  // run(), CliRun, slurp(), ScratchDirTest (cli_test_utils.h)
 
 namespace {
 
-class CompareTest : public predvs::apptest::ScratchDirTest {
+class CompareTest : public ScratchDirTest {
  protected:
   CompareTest() : ScratchDirTest("predvs_compare_test") {}
   void SetUp() override {
