@@ -93,7 +93,8 @@ inline Innovation measurementUpdate<2>(Gaussian<2>& g, double z, double R) {
   g.x(1) += k1 * in.eps;
   // A = I - K H = [[1 - k0, 0], [-k1, 1]];  P <- A P A' + R K K'
   const double a00 = 1.0 - k0;
-  const double ap00 = a00 * p00, ap01 = a00 * p01;            // row 0 of A P
+  // (A P A') is symmetric: its (0, 1) entry is taken as (1, 0) = row 1 of A P times column 0 of A'.
+  const double ap00 = a00 * p00;                              // (0, 0) of A P
   const double ap10 = p01 - k1 * p00, ap11 = p11 - k1 * p01;  // row 1 of A P
   g.P(0, 0) = ap00 * a00 + R * k0 * k0;
   g.P(0, 1) = g.P(1, 0) = ap10 * a00 + R * k0 * k1;
