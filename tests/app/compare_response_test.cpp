@@ -1,17 +1,16 @@
 // `predvs compare` response metrics (resp_*) on the paper-000 manoeuvres: present exactly for
 // trajectories with a manoeuvre, and they separate a CA filter from a CV one on the E2
 // acceleration jump (a CV model lags a constant acceleration; a CA model does not).
-#include "cli.h"
+#include "cli_test_utils.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
+using namespace predvs::apptest;
 
 namespace {
 
@@ -35,16 +34,19 @@ bool hasMetric(const nlohmann::json& j, const std::string& metric) {
 nlohmann::json compare(const std::vector<std::string>& extra, const fs::path& out) {
   std::vector<std::string> args = {"compare", "--runs", "4", "--no-plots", "--out", out.string()};
   args.insert(args.end(), extra.begin(), extra.end());
-  std::ostringstream o, e;
-  const int code = predvs::runCli(args, o, e);
-  EXPECT_EQ(code, 0) << e.str();
+  const CliRun r = run(args);
+  EXPECT_EQ(r.code, 0) << r.err;
   std::ifstream in(out / "leaderboard.json");
   return nlohmann::json::parse(in);
 }
 
-TEST(CompareResponse, CaFollowsTheAccelerationJumpWithLessLagThanCv) {
-  const fs::path dir = fs::temp_directory_path() / ("predvs_resp_test_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+class CompareResponse : public ScratchDirTest {
+ protected:
+  CompareResponse() : ScratchDirTest("predvs_resp_test") {}
+};
+
+TEST_F(CompareResponse, CaFollowsTheAccelerationJumpWithLessLagThanCv) {
+  const fs::path dir = dir_;
   // GIVEN E2 (acceleration (1,1) -> (30,30) px/s^2 at 14 s), kf-cv and kf-ca on the same 4 seeds
   const auto j = compare({"--scenarios", "e2-accel-jump", "--predictors", "kf-cv,kf-ca"}, dir / "e2");
   // THEN the CV filter lags the jump clearly more (measured over 20 runs: 4.87 vs 2.42 px) and
@@ -56,7 +58,6 @@ TEST(CompareResponse, CaFollowsTheAccelerationJumpWithLessLagThanCv) {
   // AND a circle, which has no manoeuvre, has no response metrics
   const auto c = compare({"--scenarios", "e4-circle", "--predictors", "kf-cv"}, dir / "e4");
   EXPECT_FALSE(hasMetric(c, "resp_max_lag"));
-  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // `--set PATH=VALUE` on `predvs servo` / `predvs compare` (app/scenario_override.h): the override
 // reaches the strict scenario parse, its errors name the override (exit 2, one line, no output
 // directory), and it is recorded in summary.json / leaderboard.json.
-#include "cli.h"
+#include "cli_test_utils.h"
 #include "scenario.h"
 #include "scenario_file.h"
 #include "scenario_override.h"
@@ -9,59 +9,26 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
-using predvs::runCli;
+using namespace predvs::apptest;
 
 namespace {
-
-struct SetRun {
-  int code = -1;
-  std::string out, err;
-};
-
-SetRun run(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  SetRun r;
-  r.code = runCli(args, out, err);
-  r.out = out.str();
-  r.err = err.str();
-  return r;
-}
 
 nlohmann::json readJson(const fs::path& p) {
   std::ifstream in(p);
   return nlohmann::json::parse(in);
 }
 
-class SetOverrideTest : public ::testing::Test {
+class SetOverrideTest : public ScratchDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("predvs_set_test_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  SetOverrideTest() : ScratchDirTest("predvs_set_test") {}
 
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-  /// The failure contract: status 2, one "predvs: error: " line containing every needle, and no
-  /// output directory nor staging sibling left behind.
-  void expectError(const SetRun& r, const std::vector<std::string>& needles, const std::string& out_dir) const {
-    EXPECT_EQ(r.code, 2) << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    EXPECT_EQ(r.err.rfind("predvs: error: ", 0), 0u) << r.err;
-    for (const auto& n : needles) EXPECT_NE(r.err.find(n), std::string::npos) << "expected '" << n << "' in: " << r.err;
-    EXPECT_FALSE(fs::exists(out_dir)) << out_dir;
-    for (const auto& e : fs::directory_iterator(dir_))
-      EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  /// The shared failure contract, with every needle in the one error line.
+  void expectError(const CliRun& r, const std::vector<std::string>& needles, const std::string& out_dir) const {
+    for (const auto& n : needles) ScratchDirTest::expectError(r, n, out_dir);
   }
 
   /// Steady RMSE of kf-cv on the default scenario cut to 6 s, with extra --set arguments.
@@ -72,14 +39,12 @@ class SetOverrideTest : public ::testing::Test {
       args.push_back("--set");
       args.push_back(s);
     }
-    const SetRun r = run(args);
+    const CliRun r = run(args);
     EXPECT_EQ(r.code, 0) << r.err;
     const auto j = readJson(fs::path(out) / "summary.json");
     EXPECT_EQ(j["duration_s"].get<double>(), 6.0);
     return j["predictors"][0]["metrics"]["rmse_px"].get<double>();
   }
-
-  fs::path dir_;
 };
 
 /// predictors.NAME.params of a loaded scenario (empty Params when NAME is not listed).
@@ -214,7 +179,7 @@ TEST_F(SetOverrideTest, ServoPredictorsKeepTheParamsGivenWithSet) {
   // GIVEN --predictors naming a predictor whose params come from --set WHEN servo runs THEN those
   // params are used (not dropped in favour of the defaults)
   const std::string out = path("out");
-  const SetRun r = run({"servo", "--predictors", "kf-cv", "--set", "predictors.kf-cv.params.q=50", "--set",
+  const CliRun r = run({"servo", "--predictors", "kf-cv", "--set", "predictors.kf-cv.params.q=50", "--set",
                         "duration_s=1", "--out", out, "--no-plots"});
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = readJson(fs::path(out) / "summary.json");
@@ -225,7 +190,7 @@ TEST_F(SetOverrideTest, ServoPredictorsKeepTheParamsGivenWithSet) {
 TEST_F(SetOverrideTest, CompareAppliesOverridesToEveryScenario) {
   // GIVEN two open-loop scenarios without a runs: key WHEN compare sets runs and duration
   const std::string out = path("out");
-  const SetRun r = run({"compare", "--scenarios", "e1-line,e2-accel-jump", "--predictors", "kf-cv", "--set",
+  const CliRun r = run({"compare", "--scenarios", "e1-line,e2-accel-jump", "--predictors", "kf-cv", "--set",
                         "runs=2", "--set", "duration_s=3", "--jobs", "1", "--out", out, "--no-plots"});
   ASSERT_EQ(r.code, 0) << r.err;
   // THEN both scenarios ran twice (the default would be compare's 20) and the overrides are recorded
@@ -242,7 +207,7 @@ TEST_F(SetOverrideTest, CompareAppliesOverridesToEveryScenario) {
 
 TEST_F(SetOverrideTest, HelpMentionsSet) {
   for (const char* sub : {"servo", "compare"}) {
-    const SetRun r = run({sub, "--help"});
+    const CliRun r = run({sub, "--help"});
     EXPECT_EQ(r.code, 0);
     EXPECT_NE(r.out.find("--set PATH=VALUE"), std::string::npos) << sub;
   }
