@@ -4,7 +4,7 @@
 // frame ticks, noise per channel in channel order, occlusions, delivery at the release tick,
 // prediction at the effect time), for a ChannelTrajectory of any number of channels (E6: x_i,
 // y_i, d_x; E12: one channel). On a 2-channel trajectory it produces the same errors, seed for
-// seed, as runPredictionExperiment() (tested). In addition it records
+// seed, as runPredictionExperiment(), which runs through it. In addition it records
 //  * the predictor's velocity at the effect time and the true velocity there, so that the
 //    velocity error of the estimate can be scored (paper 001 Table 2 reports velocity MSE);
 //  * the acquisition time of every frame that raised a discontinuity-monitor alarm (predictors of
