@@ -282,12 +282,17 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       "compare", "Leaderboard: every predictor on every scenario, many seeded runs in parallel");
   compare->footer(
       "Runs each chosen predictor on each chosen scenario (open and closed loop; a scenario with "
-      "`sweep: {noise.sigma: [...]}`, e.g. e6-noise-study, once per value) N times, run r with seed S + r for "
+      "`sweep: {PATH: [...]}`, e.g. e6-noise-study or delay-study, once per value) N times, run r with seed S + r for "
       "every predictor, on a pool of threads; every run builds its own predictor and noise generator, so the "
       "numbers do not depend on --jobs. Without --runs a scenario runs as often as its `runs:` key says "
       "(default 20). Predictors take the parameters their scenario gives them, their defaults otherwise. "
       "Writes DIR/leaderboard.csv, leaderboard.json, leaderboard.md (mean, std, min, max over runs of each "
-      "metric), error_<scenario>.png (mean error versus time) and, for sweeps, mse_vs_sigma_<scenario>.png. "
+      "metric), error_<scenario>.png (mean error versus time) and, for sweeps, mse_vs_sigma_<scenario>.png "
+      "(noise.sigma, open loop) or rmse_vs_<KEY>_<scenario>.png. "
+      "--sweep PATH=V1,V2,... (or PATH=[V1, V2]) runs every chosen scenario once per value of the scenario "
+      "path PATH, replacing the scenarios' own sweeps, e.g. --scenarios ibvs-moving-target --sweep "
+      "timing.delay_frames=0,1,2 or --sweep predictors.cs-akf.params.a_max=5,20,50; the variants are named "
+      "SCENARIO@KEY=VALUE (KEY: the last segment of PATH). "
       "--set PATH=VALUE changes one value of every chosen scenario file before it is validated (so a key "
       "that a scenario kind does not have is an error for that scenario), e.g. "
       "--scenarios e2-accel-jump --predictors cs-akf --set predictors.cs-akf.params.a_max=100; the overrides "
@@ -308,6 +313,10 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                       "override a value in every chosen scenario (repeatable): PATH is a dotted YAML path, "
                       "VALUE is YAML")
       ->type_name("PATH=VALUE");
+  std::string cmp_sweep;
+  compare->add_option("--sweep", cmp_sweep,
+                      "run every chosen scenario once per value of a scenario path (replaces their own sweep:)")
+      ->type_name("PATH=V1,V2,...");
   compare->add_option("--out", co.out_dir, "output directory, replaced only when the run succeeds")
       ->capture_default_str()
       ->type_name("DIR");
@@ -335,6 +344,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
         co.seed = static_cast<unsigned long>(parseIntegerArg("--seed", cmp_seed, 0, 2147483647L));
       }
       for (const auto& text : cmp_sets) co.overrides.push_back(parseScenarioOverride(text));
+      if (compare->count("--sweep")) co.sweep = parseSweepOption(cmp_sweep);
       if (!cmp_jobs.empty()) co.jobs = static_cast<int>(parseIntegerArg("--jobs", cmp_jobs, 1, 1024));
       co.plots = !cmp_no_plots;
       co.progress_bar = &err == &std::cerr && ::isatty(STDERR_FILENO);

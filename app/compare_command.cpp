@@ -18,6 +18,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <deque>
 #include <exception>
 #include <fstream>
 #include <iomanip>
@@ -34,11 +36,16 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// One scenario at one sweep value.
 struct Variant {
-  const Scenario* scenario = nullptr;
+  const Scenario* scenario = nullptr;  ///< the scenario loaded with this sweep value applied
   size_t scenario_index = 0;
   bool swept = false;
+  size_t sweep_index = 0;       ///< position of the value in the sweep
+  bool shown = true;            ///< in leaderboard.md, the printed table and the error plots
+                                ///< (a sweep's first and last value only)
+  std::string value;            ///< the swept value as YAML text ("" without a sweep)
+  double x = kNaN;              ///< the swept value as a number (NaN when it is not one)
   double sigma = kNaN;          ///< noise.sigma of this variant
-  std::string id;               ///< "e6-noise-study@sigma=10" or the scenario name
+  std::string id;               ///< "e6-noise-study@sigma=10", "delay-study@delay_frames=1" or the scenario name
   std::string file_id;          ///< file-name-safe id
   std::vector<std::string> metrics;
 };
@@ -112,6 +119,19 @@ std::string sigmaText(double sigma) {
   std::ostringstream s;
   s << sigma;
   return s.str();
+}
+
+/// A sweep value as a finite number (NaN when the YAML text is not one).
+double numberOf(const std::string& text) {
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  return end != text.c_str() && *end == '\0' && std::isfinite(x) ? x : kNaN;
+}
+
+/// A sweep value in a variant name: numbers printed plainly (1.0 -> 1, as sigma always was).
+std::string valueLabel(const std::string& text) {
+  const double x = numberOf(text);
+  return std::isfinite(x) ? sigmaText(x) : text;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -203,7 +223,6 @@ Outcome runOne(const Variant& v, const ScenarioPredictor& sp, std::uint64_t seed
   }
   PredictionExperimentConfig cfg = sc.open_loop;
   cfg.seed = seed;
-  if (v.swept) cfg.noise.sigma = v.sigma;
   const auto traj = makeChannelTrajectory(sc.trajectory, sc.trajectory_params);
   auto predictor = makePredictor(sp.name, traj->channels(), sp.params);
   const ChannelExperimentResult r = runChannelExperiment(cfg, *traj, *predictor);
@@ -285,11 +304,37 @@ class Progress {
 // Plan, validation.
 
 struct Plan {
-  std::vector<Scenario> scenarios;
+  std::vector<Scenario> scenarios;         ///< as loaded (with --set, --sweep and --predictors applied)
   std::vector<int> runs;                   ///< per scenario
   std::vector<std::uint64_t> seeds;        ///< base seed per scenario
+  std::deque<Scenario> variant_scenarios;  ///< per swept variant: the scenario at that value
   std::vector<Variant> variants;
 };
+
+/// Replaces the scenario's predictor list by `chosen` (each with the parameters the scenario gives
+/// it, its defaults otherwise); no-op when `chosen` is empty.
+void choosePredictors(Scenario& sc, const std::vector<std::string>& chosen) {
+  if (chosen.empty()) return;
+  std::vector<ScenarioPredictor> ps;
+  for (const auto& name : chosen) {
+    ScenarioPredictor p{name, {}, 0};
+    for (const auto& own : sc.predictors)
+      if (own.name == name) p = own;
+    try {
+      makePredictor(p.name, sc.channels, p.params);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(sc.path + ": " + e.what());
+    }
+    ps.push_back(p);
+  }
+  sc.predictors = ps;
+}
+
+std::vector<std::string> predictorNames(const Scenario& sc) {
+  std::vector<std::string> names;
+  for (const auto& p : sc.predictors) names.push_back(p.name);
+  return names;
+}
 
 std::vector<std::string> splitNames(const std::vector<std::string>& names, const std::string& option) {
   std::set<std::string> seen;
@@ -336,48 +381,54 @@ Plan makePlan(const CompareOptions& o) {
     Scenario sc = loadScenario(path, o.overrides);
     if (!names.insert(sc.name).second)
       throw std::invalid_argument("--scenarios: two scenarios named '" + sc.name + "'");
-    if (!chosen.empty()) {
-      std::vector<ScenarioPredictor> ps;
-      for (const auto& name : chosen) {
-        ScenarioPredictor p{name, {}, 0};
-        for (const auto& own : sc.predictors)
-          if (own.name == name) p = own;
-        try {
-          makePredictor(p.name, sc.channels, p.params);
-        } catch (const std::invalid_argument& e) {
-          throw std::invalid_argument(sc.path + ": " + e.what());
-        }
-        ps.push_back(p);
-      }
-      sc.predictors = ps;
-    }
+    if (!o.sweep.empty()) setScenarioSweep(sc, o.sweep);
+    choosePredictors(sc, chosen);
     plan.runs.push_back(o.runs > 0 ? o.runs : sc.runs > 0 ? sc.runs : kDefaultRuns);
     plan.seeds.push_back(o.seed_given ? o.seed : sc.seed());
     plan.scenarios.push_back(std::move(sc));
   }
+  auto noiseSigma = [](const Scenario& sc) {
+    return sc.kind == ScenarioKind::OpenLoop ? sc.open_loop.noise.sigma : sc.closed_loop.noise.sigma;
+  };
   for (size_t i = 0; i < plan.scenarios.size(); ++i) {
     const Scenario& sc = plan.scenarios[i];
-    const auto metrics = variantMetrics(sc);
-    if (sc.sigma_sweep.empty()) {
+    if (sc.sweep.empty()) {
       Variant v;
       v.scenario = &plan.scenarios[i];
       v.scenario_index = i;
       v.id = v.file_id = sc.name;
-      v.sigma = sc.kind == ScenarioKind::OpenLoop ? sc.open_loop.noise.sigma : sc.closed_loop.noise.sigma;
-      v.metrics = metrics;
+      v.sigma = noiseSigma(sc);
+      v.metrics = variantMetrics(sc);
       plan.variants.push_back(v);
-    } else {
-      for (double sigma : sc.sigma_sweep) {
-        Variant v;
-        v.scenario = &plan.scenarios[i];
-        v.scenario_index = i;
-        v.swept = true;
-        v.sigma = sigma;
-        v.id = sc.name + "@sigma=" + sigmaText(sigma);
-        v.file_id = safeName(sc.name + "_sigma" + sigmaText(sigma));
-        v.metrics = metrics;
-        plan.variants.push_back(v);
-      }
+      continue;
+    }
+    // Each value: the scenario file loaded again with the --set overrides and KEY=value.
+    std::vector<Scenario> at = loadSweepVariants(sc, o.overrides);
+    const std::string key = sc.sweep.shortKey();
+    for (auto& a : at) choosePredictors(a, chosen);
+    // A sweep of predictors.NAME.params.KEY adds NAME when the scenario lacks it: every value does.
+    plan.scenarios[i].predictors = at.front().predictors;
+    const auto names_at_first = predictorNames(at.front());
+    for (size_t k = 0; k < at.size(); ++k) {
+      if (predictorNames(at[k]) != names_at_first)
+        throw std::invalid_argument(sc.sweep.origin + " " + sc.sweep.key + "=" + sc.sweep.values[k] + " (scenario " +
+                                    sc.name + "): the value changes the list of predictors; list them in the "
+                                    "scenario or with --predictors");
+      plan.variant_scenarios.push_back(std::move(at[k]));
+      const Scenario& vs = plan.variant_scenarios.back();
+      Variant v;
+      v.scenario = &vs;
+      v.scenario_index = i;
+      v.swept = true;
+      v.sweep_index = k;
+      v.shown = k == 0 || k + 1 == at.size();
+      v.value = sc.sweep.values[k];
+      v.x = numberOf(v.value);
+      v.sigma = noiseSigma(vs);
+      v.id = sc.name + "@" + key + "=" + valueLabel(v.value);
+      v.file_id = safeName(sc.name + "_" + key + valueLabel(v.value));
+      v.metrics = variantMetrics(vs);
+      plan.variants.push_back(v);
     }
   }
   return plan;
@@ -472,6 +523,13 @@ void writeJson(const Plan& plan, const Results& res, const CompareOptions& o, co
   nlohmann::json j;
   j["command"] = o.command_line;
   j["overrides"] = overrideTexts(o.overrides);
+  if (!o.sweep.empty()) {
+    std::string values;
+    for (const auto& v : o.sweep.values) values += (values.empty() ? "" : ", ") + v;
+    j["sweep"] = o.sweep.key + "=[" + values + "]";  // --sweep, applied to every scenario
+  } else {
+    j["sweep"] = nullptr;
+  }
   j["error_definition"] = {
       {"open-loop", "||predicted - true|| over the channels at the effect time, in the scenario's units"},
       {"closed-loop", "RMS over the 4 points of ||s - s*|| (px)"}};
@@ -486,6 +544,14 @@ void writeJson(const Plan& plan, const Results& res, const CompareOptions& o, co
     s["runs"] = plan.runs[i];
     s["seeds"] = {plan.seeds[i], plan.seeds[i] + static_cast<std::uint64_t>(plan.runs[i]) - 1};
     s["error_units"] = errorUnits(sc);
+    if (!sc.sweep.empty()) {
+      s["sweep"] = {{"key", sc.sweep.key}, {"values", nlohmann::json::array()},
+                    {"from", sc.sweep.origin == "--sweep" ? "--sweep" : "scenario file"}};
+      for (const auto& v : sc.sweep.values) {
+        const double x = numberOf(v);
+        s["sweep"]["values"].push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(v));
+      }
+    }
     s["variants"] = nlohmann::json::array();
     for (size_t v = 0; v < plan.variants.size(); ++v) {
       const Variant& var = plan.variants[v];
@@ -493,12 +559,14 @@ void writeJson(const Plan& plan, const Results& res, const CompareOptions& o, co
       nlohmann::json jv;
       jv["id"] = var.id;
       jv["noise_sigma"] = jsonNumber(var.sigma);
+      if (var.swept) jv["sweep_value"] = std::isfinite(var.x) ? nlohmann::json(var.x) : nlohmann::json(var.value);
       jv["predictors"] = nlohmann::json::array();
+      const auto& preds = var.scenario->predictors;  // a sweep may change their parameters
       for (size_t p : ranking(plan, res, v)) {
         nlohmann::json jp;
-        jp["name"] = sc.predictors[p].name;
+        jp["name"] = preds[p].name;
         jp["params"] = nlohmann::json::object();
-        for (const auto& kv : sc.predictors[p].params.values()) jp["params"][kv.first] = kv.second;
+        for (const auto& kv : preds[p].params.values()) jp["params"][kv.first] = kv.second;
         for (size_t m = 0; m < var.metrics.size(); ++m) {
           const Stats& st = res.cells[v][p].stats[m];
           jp["metrics"][var.metrics[m]] = {{"n", st.n},
@@ -522,7 +590,7 @@ void writeJson(const Plan& plan, const Results& res, const CompareOptions& o, co
 std::vector<size_t> shownMetrics(const Variant& v) {
   const Scenario& sc = *v.scenario;
   std::vector<size_t> shown;
-  const bool mse = !sc.sigma_sweep.empty() || (sc.kind == ScenarioKind::OpenLoop && sc.channels != 2);
+  const bool mse = (sc.sweep.key == "noise.sigma" && sc.kind == ScenarioKind::OpenLoop) || (sc.kind == ScenarioKind::OpenLoop && sc.channels != 2);
   for (size_t m = 0; m < v.metrics.size(); ++m) {
     const std::string& k = v.metrics[m];
     const bool base = k == "rmse" || k == "final" || k == "peak" || k == "iae" || k == "effort";
@@ -549,12 +617,17 @@ std::string markdown(const Plan& plan, const Results& res, const CompareOptions&
     const Scenario& sc = *var.scenario;
     const size_t i = var.scenario_index;
     // For a sweep, only the first and last value go into the markdown.
-    if (var.swept && var.sigma != sc.sigma_sweep.front() && var.sigma != sc.sigma_sweep.back()) continue;
+    if (!var.shown) continue;
     md << "\n## " << var.id << "\n\n"
        << sc.description << "  \n"
        << scenarioKindName(sc.kind) << ", " << plan.runs[i] << " runs, seeds " << plan.seeds[i] << ".."
-       << plan.seeds[i] + static_cast<std::uint64_t>(plan.runs[i]) - 1 << ", noise sigma " << sigmaText(var.sigma)
-       << ", error in " << errorUnits(sc) << (var.swept ? " (every sigma in leaderboard.csv)" : "") << "\n\n";
+       << plan.seeds[i] + static_cast<std::uint64_t>(plan.runs[i]) - 1 << ", noise sigma " << sigmaText(var.sigma);
+    if (var.swept && sc.sweep.key != "noise.sigma") md << ", " << sc.sweep.key << " = " << var.value;
+    md << ", error in " << errorUnits(sc);
+    if (var.swept)
+      md << (sc.sweep.key == "noise.sigma" ? std::string(" (every sigma in leaderboard.csv)")
+                                           : " (every " + sc.sweep.key + " in leaderboard.csv)");
+    md << "\n\n";
     const auto shown = shownMetrics(var);
     md << "| # | predictor |";
     for (size_t m : shown) md << " " << var.metrics[m] << " |";
@@ -581,7 +654,7 @@ void printBoard(const Plan& plan, const Results& res, std::ostream& out) {
   for (size_t v = 0; v < plan.variants.size(); ++v) {
     const Variant& var = plan.variants[v];
     const Scenario& sc = *var.scenario;
-    if (var.swept && var.sigma != sc.sigma_sweep.front() && var.sigma != sc.sigma_sweep.back()) continue;
+    if (!var.shown) continue;
     const auto shown = shownMetrics(var);
     size_t w = 9;
     for (const auto& p : sc.predictors) w = std::max(w, p.name.size());
@@ -599,11 +672,12 @@ void printBoard(const Plan& plan, const Results& res, std::ostream& out) {
   }
 }
 
-void writePlots(const Plan& plan, const Results& res, const StagedOutputDir& dir) {
+/// error_<variant>: mean error versus time, one line per predictor, for every shown variant.
+void writeErrorPlots(const Plan& plan, const Results& res, const StagedOutputDir& dir) {
   for (size_t v = 0; v < plan.variants.size(); ++v) {
     const Variant& var = plan.variants[v];
     const Scenario& sc = *var.scenario;
-    if (var.swept && var.sigma != sc.sigma_sweep.front() && var.sigma != sc.sigma_sweep.back()) continue;
+    if (!var.shown) continue;
     const std::string base = "error_" + var.file_id;
     {
       std::ofstream d(dir.file(base + ".dat"));
@@ -652,16 +726,25 @@ void writePlots(const Plan& plan, const Results& res, const StagedOutputDir& dir
     gp.close();
     runGnuplot(dir.staging().string(), base + ".gp");
   }
-  // MSE versus sigma for sweep scenarios.
-  for (size_t i = 0; i < plan.scenarios.size(); ++i) {
+}
+
+/// Variants of scenario i, in sweep order.
+std::vector<size_t> variantsOf(const Plan& plan, size_t i) {
+  std::vector<size_t> vs;
+  for (size_t v = 0; v < plan.variants.size(); ++v)
+    if (plan.variants[v].scenario_index == i) vs.push_back(v);
+  return vs;
+}
+
+/// mse_vs_sigma_<scenario>: an open-loop noise.sigma sweep, position and velocity MSE per channel
+/// versus sigma_n, one line per predictor (paper 001 Fig. 8 analogue).
+void writeMseVsSigmaPlot(const Plan& plan, const Results& res, const StagedOutputDir& dir, size_t i) {
+  {
     const Scenario& sc = plan.scenarios[i];
-    if (sc.sigma_sweep.empty()) continue;
     const auto traj = makeChannelTrajectory(sc.trajectory, sc.trajectory_params);
     const auto& chans = traj->channelNames();
     const std::string base = "mse_vs_sigma_" + safeName(sc.name);
-    std::vector<size_t> vs;
-    for (size_t v = 0; v < plan.variants.size(); ++v)
-      if (plan.variants[v].scenario_index == i) vs.push_back(v);
+    const std::vector<size_t> vs = variantsOf(plan, i);
     const auto& metrics = plan.variants[vs.front()].metrics;
     {
       std::ofstream d(dir.file(base + ".dat"));
@@ -705,6 +788,74 @@ void writePlots(const Plan& plan, const Results& res, const StagedOutputDir& dir
     gp << "unset multiplot\n";
     gp.close();
     runGnuplot(dir.staging().string(), base + ".gp");
+  }
+}
+
+/// rmse_vs_<key>_<scenario>: any other sweep, mean ± std over the runs of the steady-window rmse
+/// versus the swept value, one line per predictor. Numeric values are the x axis; otherwise the
+/// values are placed at 0, 1, ... with their text as tic labels.
+void writeRmseVsKeyPlot(const Plan& plan, const Results& res, const StagedOutputDir& dir, size_t i) {
+  const Scenario& sc = plan.scenarios[i];
+  const std::vector<size_t> vs = variantsOf(plan, i);
+  bool numeric = true;
+  for (size_t v : vs) numeric = numeric && std::isfinite(plan.variants[v].x);
+  const std::string key = sc.sweep.shortKey();
+  const std::string base = "rmse_vs_" + safeName(key) + "_" + safeName(sc.name);
+  bool positive = true;  // every mean - std > 0: a log axis, so that large and small errors both read
+  for (size_t v : vs)
+    for (const auto& cell : res.cells[v]) positive = positive && cell.stats[0].mean - cell.stats[0].std > 0.0;
+  {
+    std::ofstream d(dir.file(base + ".dat"));
+    d << "# one block per predictor (separated by two blank lines): " << sc.sweep.key
+      << (numeric ? "" : " (as its index)") << ", mean rmse, std rmse over the runs\n";
+    for (size_t p = 0; p < sc.predictors.size(); ++p) {
+      d << "# " << sc.predictors[p].name << "\n";
+      for (size_t k = 0; k < vs.size(); ++k) {
+        const Variant& var = plan.variants[vs[k]];
+        const Stats& st = res.cells[vs[k]][p].stats[0];  // metric 0 is rmse for every kind
+        d << dat(numeric ? var.x : static_cast<double>(k)) << " " << dat(st.mean) << " " << dat(st.std) << "\n";
+      }
+      d << "\n\n";
+    }
+  }
+  const bool closed = sc.kind == ScenarioKind::ClosedLoop;
+  std::ofstream gp(dir.file(base + ".gp"));
+  gp << "# Regenerate with: gnuplot " << base << ".gp\n"
+     << "set terminal pngcairo size 1100,650 enhanced font 'Sans,11'\nset output '" << base << ".png'\n"
+     << "set datafile missing 'NaN'\nset grid\nset key outside right top\nset offsets graph 0.03, graph 0.03, 0, 0\n"
+     << (positive ? "set logscale y\nset format y '%g'\n" : "")
+     << "set xlabel " << gnuplotQuote(sc.sweep.key) << " noenhanced\n"
+     << "set ylabel " << gnuplotQuote(closed ? "steady rmse of the image error [px]"
+                                             : "steady rmse of ||predicted - true|| [" + errorUnits(sc) + "]")
+     << "\n"
+     << "set title " << gnuplotQuote(sc.name + ": steady-window rmse versus " + sc.sweep.key + ", mean ± std over " +
+                                     std::to_string(plan.runs[i]) + " runs")
+     << " noenhanced\n";
+  if (!numeric) {
+    gp << "set xtics (";
+    for (size_t k = 0; k < vs.size(); ++k)
+      gp << (k ? ", " : "") << gnuplotQuote(plan.variants[vs[k]].value) << " " << k;
+    gp << ")\n";
+  }
+  gp << "plot ";
+  for (size_t p = 0; p < sc.predictors.size(); ++p)
+    gp << (p ? ", \\\n     " : "") << "'" << base << ".dat' index " << p
+       << " using 1:2:3 with yerrorlines lw 1.6 pt 7 ps 0.6 " << (p < 6 ? "" : "dt 2 ") << "lc rgb '" << seriesColor(p)
+       << "' title " << gnuplotQuote(sc.predictors[p].name);
+  gp << "\n";
+  gp.close();
+  runGnuplot(dir.staging().string(), base + ".gp");
+}
+
+void writePlots(const Plan& plan, const Results& res, const StagedOutputDir& dir) {
+  writeErrorPlots(plan, res, dir);
+  for (size_t i = 0; i < plan.scenarios.size(); ++i) {
+    const Scenario& sc = plan.scenarios[i];
+    if (sc.sweep.empty()) continue;
+    if (sc.sweep.key == "noise.sigma" && sc.kind == ScenarioKind::OpenLoop && !sc.sigma_sweep.empty())
+      writeMseVsSigmaPlot(plan, res, dir, i);
+    else
+      writeRmseVsKeyPlot(plan, res, dir, i);
   }
 }
 

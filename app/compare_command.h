@@ -4,8 +4,15 @@
 //
 // Runs and seeds: a scenario runs `runs` times per predictor (--runs, else the scenario's `runs:`
 // key, else kDefaultRuns); run r (0-based) uses seed S + r for every predictor, S = --seed or the
-// scenario's seed. A scenario with `sweep: {noise.sigma: [...]}` (E6) runs once per value, each
-// value a "variant" with the same seeds. Every run builds its own trajectory, noise generator,
+// scenario's seed.
+// Sweeps: a scenario with `sweep: {PATH: [v1, v2, ...]}` (scenario.h; e.g. noise.sigma in E6,
+// timing.delay_frames in delay-study), or every chosen scenario under `--sweep PATH=v1,v2,...`
+// (which replaces a scenario's own sweep), runs once per value, each value a "variant" named
+// <scenario>@<KEY>=<value> (KEY the last segment of PATH: e6-noise-study@sigma=10,
+// delay-study@delay_frames=1) with the same seeds. A variant is the scenario file loaded again with
+// the --set overrides and then PATH=value, so a value is validated like any scenario key and a bad
+// one is the error "ORIGIN PATH=value (scenario NAME): ..." (ORIGIN "FILE:LINE: sweep" or
+// "--sweep"), before anything runs. Every run builds its own trajectory, noise generator,
 // predictor (or servo loop), so the numbers do not depend on --jobs or on the order of the runs.
 // Predictors: --predictors all (the registry) or a list; each uses the parameters the scenario
 // gives it when the scenario lists it, its defaults otherwise; without --predictors, each
@@ -40,15 +47,22 @@
 //
 // Output directory (default out/compare), created only when everything succeeded:
 //   leaderboard.csv   scenario,variant,predictor,metric,n,mean,std,min,max (one row per metric)
-//   leaderboard.json  the same, nested, with each scenario's runs, seeds and units, and the --set
-//                     overrides (applied to every scenario)
-//   leaderboard.md    one table per variant, predictors ranked by mean rmse, mean ± std
+//   leaderboard.json  the same, nested, with each scenario's runs, seeds, units and sweep ({key,
+//                     values, from}; each variant's sweep_value), the --set overrides and the
+//                     --sweep (applied to every scenario; null without)
+//   leaderboard.md    one table per variant (for a sweep: its first and last value), predictors
+//                     ranked by mean rmse, mean ± std
 //   error_<variant>.png  mean over runs of the error versus time, one line per predictor (for a
-//                     sweep: its first and last value), with error_<variant>.gp / .dat
-//   mse_vs_sigma_<scenario>.png  sweep scenarios: position and velocity MSE per channel versus
-//                     sigma_n, one line per predictor (paper 001 Fig. 8 analogue)
+//                     sweep: its first and last value), with error_<variant>.gp / .dat; the file id
+//                     of a variant is <scenario>_<KEY><value> (error_e6-noise-study_sigma10.png)
+//   mse_vs_sigma_<scenario>.png  open-loop noise.sigma sweeps: position and velocity MSE per
+//                     channel versus sigma_n, one line per predictor (paper 001 Fig. 8 analogue)
+//   rmse_vs_<KEY>_<scenario>.png  any other sweep: mean ± std over the runs of rmse versus the
+//                     swept value, one line per predictor (values that are not numbers are placed
+//                     in order, labelled with their text)
 #pragma once
 
+#include "scenario.h"
 #include "scenario_override.h"
 
 #include <ostream>
@@ -64,6 +78,7 @@ struct CompareOptions {
   bool seed_given = false;
   unsigned long seed = 0;               ///< base seed S when seed_given
   std::vector<ScenarioOverride> overrides;  ///< --set PATH=VALUE, applied to every scenario
+  ScenarioSweep sweep;                  ///< --sweep PATH=V1,V2 (parseSweepOption); empty = the scenarios' own
   int jobs = 0;                         ///< worker threads; 0 = std::thread::hardware_concurrency()
   std::string out_dir = "out/compare";
   bool plots = true;

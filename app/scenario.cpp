@@ -8,6 +8,7 @@
 #include "predvs/servo/paper_trajectories.h"
 #include "predvs/servo/trajectory.h"
 
+#include <cstdlib>
 #include <map>
 #include <set>
 
@@ -164,6 +165,79 @@ std::vector<ScenarioPredictor> readPredictors(YamlSection& root, int channels) {
   return out;
 }
 
+/// Top-level keys a sweep may not change: they identify the scenario or fix how compare runs it
+/// (runs and seeds are per scenario, not per variant).
+const std::set<std::string> kUnsweepable = {"kind", "seed", "runs", "description", "sweep"};
+
+/// Why `key` cannot be swept ("" when it can): malformed as a --set path, or unsweepable.
+std::string sweepKeyProblem(const std::string& key) {
+  std::vector<std::string> path;
+  try {
+    path = parseScenarioOverride(key + "=0").path;
+  } catch (const OverrideError&) {
+    return "expected a dotted scenario path such as timing.delay_frames, got '" + key + "'";
+  }
+  if (kUnsweepable.count(path.front()))
+    return "'" + path.front() + "' cannot be swept (sweep a value that changes a run, e.g. noise.sigma, "
+           "timing.delay_frames, task.lambda, predictors.NAME.params.KEY)";
+  return "";
+}
+
+/// A sweep value as YAML text (flow style, so it parses back to the same node).
+std::string yamlText(const YAML::Node& node) {
+  if (node.IsScalar()) return node.Scalar();
+  YAML::Emitter e;
+  e << YAML::Flow << node;
+  return e.c_str();
+}
+
+/// Checks the values of a sweep (non-empty, distinct); `fail(what)` throws.
+template <class Fail>
+void checkSweepValues(const ScenarioSweep& sw, Fail&& fail) {
+  if (sw.values.empty()) fail("expected a non-empty list of values");
+  std::set<std::string> seen;
+  for (const auto& v : sw.values)
+    if (!seen.insert(v).second) fail("value '" + v + "' is listed twice");
+}
+
+/// sweep: {PATH: [v1, v2, ...]} (any kind; the values are checked when compare loads them).
+void readSweep(YamlSection& root, Scenario& sc) {
+  root.allow("sweep");
+  if (!root.has("sweep")) return;
+  const YAML::Node node = root.node("sweep");
+  const std::string& file = root.file();
+  if (!node.IsMap() || node.size() == 0)
+    throwAt(file, yamlLine(node), "'sweep': expected a mapping {PATH: [v1, v2, ...]} with one dotted scenario path");
+  if (node.size() > 1) {
+    std::string keys;
+    for (const auto& kv : node) keys += (keys.empty() ? "" : ", ") + kv.first.Scalar();
+    throwAt(file, yamlLine(node), "'sweep': one key per scenario, got " + std::to_string(node.size()) + " (" + keys +
+                                      "); sweep one and fix the others with --set");
+  }
+  const auto kv = *node.begin();
+  ScenarioSweep sw;
+  sw.key = kv.first.Scalar();
+  const int line = yamlLine(kv.first);
+  sw.origin = fileLocation(file, line, "sweep");
+  // The nested spelling {noise: {sigma: [...]}} (what `--set sweep.noise.sigma=[...]` writes into a
+  // scenario without a sweep) is the dotted key noise.sigma.
+  YAML::Node list = kv.second;
+  while (list.IsMap()) {
+    if (list.size() != 1)
+      throwAt(file, yamlLine(list), "'sweep." + sw.key + "': one key per scenario, expected {" + sw.key +
+                                        ".KEY: [v1, v2, ...]}");
+    const auto inner = *list.begin();
+    sw.key += "." + inner.first.Scalar();
+    list.reset(inner.second);
+  }
+  const std::string problem = sweepKeyProblem(sw.key);
+  if (!problem.empty()) throwAt(file, line, "'sweep': " + problem);
+  if (!list.IsSequence()) throwAt(file, yamlLine(list), "'sweep." + sw.key + "': expected a list of values");
+  for (const auto& v : list) sw.values.push_back(yamlText(v));
+  checkSweepValues(sw, [&](const std::string& what) { throwAt(file, line, "'sweep." + sw.key + "': " + what); });
+  setScenarioSweep(sc, sw);
+}
+
 /// The keys both kinds share, into PredictionExperimentConfig or ServoConfig (same field names).
 template <class Config>
 void readCommon(YamlSection& root, Config& c) {
@@ -192,11 +266,6 @@ void readOpenLoop(YamlSection& root, Scenario& sc) {
       c.occlusions.push_back(o);
     }
   }
-  readSection(root, "sweep", [&](YamlSection& s) {
-    sc.sigma_sweep = s.numbers("noise.sigma", {}, 0);
-    for (double v : sc.sigma_sweep)
-      if (v < 0.0) s.fail("noise.sigma", "expected values >= 0");
-  });
   sc.predictors = readPredictors(root, sc.channels);
 }
 
@@ -258,8 +327,8 @@ Scenario parseScenario(const YAML::Node& doc, const std::string& path) {
   }
   // Unknown top-level keys first (a misspelt 'trajectory' is reported as such, not as missing).
   static const std::set<std::string> kCommon = {"description", "kind", "seed", "duration_s", "timing",
-                                                "noise", "metrics", "predictors", "runs"};
-  static const std::set<std::string> kOpen = {"trajectory", "occlusions", "sweep"};
+                                                "noise", "metrics", "predictors", "runs", "sweep"};
+  static const std::set<std::string> kOpen = {"trajectory", "occlusions"};
   static const std::set<std::string> kClosed = {"camera", "target", "initial_pose", "task", "servo", "robot"};
   const auto& own = sc.kind == ScenarioKind::OpenLoop ? kOpen : kClosed;
   for (const auto& kv : doc) {
@@ -277,12 +346,103 @@ Scenario parseScenario(const YAML::Node& doc, const std::string& path) {
     readOpenLoop(root, sc);
   else
     readClosedLoop(root, sc);
+  readSweep(root, sc);
   sc.setSeed(static_cast<std::uint64_t>(seed));
   root.finish();
   return sc;
 }
 
 }  // namespace
+
+std::string ScenarioSweep::shortKey() const {
+  const auto dot = key.rfind('.');
+  return dot == std::string::npos ? key : key.substr(dot + 1);
+}
+
+ScenarioOverride ScenarioSweep::valueOverride(size_t i) const { return parseScenarioOverride(key + "=" + values.at(i)); }
+
+void setScenarioSweep(Scenario& sc, const ScenarioSweep& sweep) {
+  sc.sweep = sweep;
+  sc.sigma_sweep.clear();
+  if (sweep.key != "noise.sigma") return;
+  for (const auto& v : sweep.values) {
+    char* end = nullptr;
+    const double x = std::strtod(v.c_str(), &end);
+    if (end == v.c_str() || *end != '\0') {  // not a number: the variant's load will say so
+      sc.sigma_sweep.clear();
+      return;
+    }
+    sc.sigma_sweep.push_back(x);
+  }
+}
+
+ScenarioSweep parseSweepOption(const std::string& text) {
+  const auto eq = text.find('=');
+  const std::string usage =
+      "--sweep: expected PATH=V1,V2,... (or PATH=[V1, V2, ...]) with a dotted scenario path such as "
+      "timing.delay_frames=0,1,2, got '" + text + "'";
+  if (eq == std::string::npos || eq == 0) throw std::invalid_argument(usage);
+  ScenarioSweep sw;
+  sw.key = text.substr(0, eq);
+  sw.origin = "--sweep";
+  const std::string problem = sweepKeyProblem(sw.key);
+  if (!problem.empty()) throw std::invalid_argument("--sweep: " + problem);
+  const std::string list = text.substr(eq + 1);
+  auto trimmed = [](const std::string& x) {
+    const auto b = x.find_first_not_of(" \t");
+    return b == std::string::npos ? std::string() : x.substr(b, x.find_last_not_of(" \t") - b + 1);
+  };
+  if (trimmed(list).rfind('[', 0) == 0) {
+    YAML::Node node;
+    try {
+      node = YAML::Load(list);
+    } catch (const YAML::Exception& e) {
+      throw std::invalid_argument("--sweep " + text + ": not a valid YAML list (" + e.msg + ")");
+    }
+    if (!node.IsSequence()) throw std::invalid_argument(usage);
+    for (const auto& v : node) sw.values.push_back(yamlText(v));
+  } else {
+    size_t start = 0;
+    while (true) {
+      const auto comma = list.find(',', start);
+      const std::string v = trimmed(list.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+      if (v.empty()) throw std::invalid_argument(usage + " (empty value)");
+      sw.values.push_back(v);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+  }
+  checkSweepValues(sw, [&](const std::string& what) { throw std::invalid_argument("--sweep " + text + ": " + what); });
+  return sw;
+}
+
+std::vector<Scenario> loadSweepVariants(const Scenario& sc, const std::vector<ScenarioOverride>& overrides) {
+  std::vector<Scenario> out;
+  for (size_t i = 0; i < sc.sweep.values.size(); ++i) {
+    const std::string text = sc.sweep.key + "=" + sc.sweep.values[i];
+    const std::string prefix = sc.sweep.origin + " " + text + " (scenario " + sc.name + "): ";
+    try {
+      std::vector<ScenarioOverride> all = overrides;
+      all.push_back(sc.sweep.valueOverride(i));
+      Scenario v = loadScenario(sc.path, all);
+      setScenarioSweep(v, sc.sweep);
+      out.push_back(std::move(v));
+    } catch (const std::invalid_argument& e) {
+      // loadScenario blames the first override that breaks the parse: here the sweep value, since
+      // the scenario loaded without it ("--set TEXT (scenario NAME): WHAT" or "--set TEXT: WHAT").
+      std::string what = e.what();
+      const std::vector<std::string> heads = {"--set " + text + " (scenario " + sc.name + "): ",
+                                              "--set " + text + ": ", "--set: "};
+      for (const auto& head : heads)
+        if (what.rfind(head, 0) == 0) {
+          what = what.substr(head.size());
+          break;
+        }
+      throw std::invalid_argument(prefix + what);
+    }
+  }
+  return out;
+}
 
 std::string scenarioKindName(ScenarioKind kind) { return kind == ScenarioKind::OpenLoop ? "open-loop" : "closed-loop"; }
 

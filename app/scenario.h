@@ -21,6 +21,13 @@
 //                                (REQUIRED, at least one; names from the predictor registry)
 //   runs: N                      integer >= 1, runs per predictor in `predvs compare` (run r uses
 //                                seed + r); absent: compare's default (ignored by `predvs servo`)
+//   sweep: {PATH: [v1, v2, ...]} `predvs compare` runs the scenario once per value, each run of
+//                                it being the file loaded with `--set PATH=v` (so every value is
+//                                validated like the key itself); PATH is any dotted scenario path
+//                                (scenario_override.h): noise.sigma (E6), timing.delay_frames,
+//                                task.lambda, predictors.cs-akf.params.a_max, ... One key per
+//                                scenario; not kind, seed, runs, description or sweep itself.
+//                                `predvs servo` ignores it (it runs the value the file gives)
 //   -- open-loop only (prediction experiment E1-E4, units: px) --
 //   trajectory: {type: line | accel-jump | zigzag | circle | sinusoid | static | e6-target |
 //                onset-sinusoid, <its params>}
@@ -28,8 +35,6 @@
 //                                servo/paper_trajectories.h; the type fixes the number of channels:
 //                                2 for the planar ones, 3 for e6-target, 1 for onset-sinusoid)
 //   occlusions: [{start_s: a, end_s: b}, ...]
-//   sweep: {noise.sigma: [s1, s2, ...]}   `predvs compare` runs the scenario once per value (E6);
-//                                `predvs servo` uses noise.sigma
 //   -- closed-loop only (IBVS on a moving 4-point target, servo/servo_loop.h) --
 //   camera: {px: 800, py: 800, u0: 320, v0: 240}
 //   target: {square_side_m: 0.1, desired_depth_m: 0.5,
@@ -60,6 +65,20 @@ struct ScenarioPredictor {
   int line = 0;  ///< line in the scenario file (0 when given on the command line)
 };
 
+/// A parameter sweep (`sweep:` in a scenario, or `predvs compare --sweep`): the scenario is run
+/// once per value, each value applied as the override KEY=VALUE to the scenario document.
+struct ScenarioSweep {
+  std::string key;                  ///< dotted scenario path, as in --set ("timing.delay_frames")
+  std::vector<std::string> values;  ///< each value as YAML text (flow style), in the given order
+  std::string origin;               ///< prefix of errors about a value: "FILE:LINE: sweep" or "--sweep"
+
+  bool empty() const { return key.empty(); }
+  /// The last segment of the key ("sigma" for noise.sigma): names the variants and the plots.
+  std::string shortKey() const;
+  /// The override KEY=VALUE of value `i`.
+  ScenarioOverride valueOverride(size_t i) const;
+};
+
 struct Scenario {
   std::string path;         ///< file it was read from
   std::string name;         ///< file stem
@@ -71,7 +90,8 @@ struct Scenario {
   std::string trajectory;   ///< trajectory type (open loop)
   Params trajectory_params;
   int channels = 8;         ///< predictor channels: the trajectory's (open loop), 8 (closed loop)
-  std::vector<double> sigma_sweep;  ///< sweep.noise.sigma values (open loop; empty: no sweep)
+  ScenarioSweep sweep;      ///< `sweep:` (empty: none)
+  std::vector<double> sigma_sweep;  ///< the values of sweep when its key is noise.sigma (else empty)
   int runs = 0;             ///< `runs:` (0 when absent)
   // closed loop
   ServoConfig closed_loop;
@@ -87,6 +107,19 @@ struct Scenario {
 /// before the validation; a defect they cause is reported as "--set PATH=VALUE (scenario NAME):
 /// ...", naming the first override whose addition makes the parse fail.
 Scenario loadScenario(const std::string& path, const std::vector<ScenarioOverride>& overrides = {});
+
+/// Parses `predvs compare --sweep PATH=V1,V2,...` (or PATH=[V1, V2, ...], YAML list syntax, for
+/// values that contain commas). Throws std::invalid_argument "--sweep: ..." when there is no '=',
+/// the path is malformed or forbidden (see `sweep:` above), the list is empty or a value repeats.
+ScenarioSweep parseSweepOption(const std::string& text);
+
+/// Replaces the sweep of `scenario` (and sigma_sweep) by `sweep` (empty: no sweep).
+void setScenarioSweep(Scenario& scenario, const ScenarioSweep& sweep);
+
+/// The scenario at each value of its sweep: loadScenario(scenario.path, overrides + {KEY=value}),
+/// with the same `sweep` member. A value that the scenario rejects throws std::invalid_argument
+/// "ORIGIN KEY=VALUE (scenario NAME): <what was expected>". An empty sweep gives no scenarios.
+std::vector<Scenario> loadSweepVariants(const Scenario& scenario, const std::vector<ScenarioOverride>& overrides);
 
 std::string scenarioKindName(ScenarioKind kind);
 
