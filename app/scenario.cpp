@@ -183,9 +183,16 @@ std::string sweepKeyProblem(const std::string& key) {
   return "";
 }
 
-/// A sweep value as YAML text (flow style, so it parses back to the same node).
+/// A sweep value as YAML text that parses back to the same node: a scalar as written when that
+/// reads back as itself (0.5, feature), else YAML flow style (quoted strings, lists, mappings).
 std::string yamlText(const YAML::Node& node) {
-  if (node.IsScalar()) return node.Scalar();
+  if (node.IsScalar()) {
+    try {
+      const YAML::Node back = YAML::Load(node.Scalar());
+      if (back.IsScalar() && back.Scalar() == node.Scalar()) return node.Scalar();
+    } catch (const YAML::Exception&) {
+    }
+  }
   YAML::Emitter e;
   e << YAML::Flow << node;
   return e.c_str();
