@@ -375,6 +375,12 @@ void printTable(const Report& r, std::ostream& out) {
       << std::setw(c) << "final[px]" << std::setw(c) << "max[px]" << std::setw(c) << "IAE[px s]" << std::setw(c)
       << "settle[s]";
   if (closed) out << std::setw(c) << "effort";
+  // With `hold` in the run: how many times lower each predictor's steady RMSE is than no prediction.
+  double hold_rmse = kNaN;
+  for (const auto& run : r.runs)
+    if (run.predictor == "hold") hold_rmse = run.metrics.rmse;
+  const bool vs_hold = std::isfinite(hold_rmse);
+  if (vs_hold) out << std::setw(c) << "vs hold";
   out << "\n";
   for (const auto& run : r.runs) {
     const Metrics& m = run.metrics;
@@ -383,8 +389,10 @@ void printTable(const Report& r, std::ostream& out) {
         << fixedCell(m.max_error, 3) << std::setw(c) << fixedCell(m.iae, 2) << std::setw(c)
         << fixedCell(m.settling_time_s, 2);
     if (closed) out << std::setw(c) << fixedCell(m.control_effort, 4);
+    if (vs_hold) out << std::setw(c - 1) << fixedCell(hold_rmse / m.rmse, 1) << "x";
     out << "\n";
   }
+  if (vs_hold) out << "(vs hold: steady RMSE of hold / steady RMSE of the predictor; steady = second half of the run)\n";
 }
 
 }  // namespace

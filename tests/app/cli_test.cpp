@@ -388,8 +388,14 @@ TEST_F(CliTest, ServoShortClosedLoopWritesAllFiles) {
   const int steps = j["predictors"][0]["steps"].get<int>();
   EXPECT_GE(steps, 25);
   EXPECT_EQ(rows, steps + j["predictors"][1]["steps"].get<int>());
-  // The table names every predictor; progress went to stderr.
+  // The table names every predictor, with hold in the run it has the factor against hold (1.0x
+  // for hold itself); progress went to stderr.
   EXPECT_NE(r.out.find("kf-cv"), std::string::npos);
+  EXPECT_NE(r.out.find("vs hold"), std::string::npos) << r.out;
+  const size_t hold_row = r.out.find("\nhold ");
+  ASSERT_NE(hold_row, std::string::npos) << r.out;
+  const std::string row = r.out.substr(hold_row + 1, r.out.find('\n', hold_row + 1) - hold_row - 1);
+  EXPECT_EQ(row.substr(row.size() - 4), "1.0x") << row;
   EXPECT_NE(r.err.find("[2/2]"), std::string::npos);
 }
 

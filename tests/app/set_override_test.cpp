@@ -85,8 +85,8 @@ TEST_F(SetOverrideTest, UnknownKeyViaSetIsOneLineNamingTheOverride) {
   expectError(run({"servo", "--set", "servo.forecast=sideways", "--out", out, "--no-plots"}),
               {"--set servo.forecast=sideways", "sideways"}, out);
   // AND a missing section is created, so the strict parser rejects an unknown top-level key
-  expectError(run({"servo", "--set", "sweep.noise.sigma=[1]", "--out", out, "--no-plots"}),
-              {"--set sweep.noise.sigma=[1]", "unknown key 'sweep' for a closed-loop scenario"}, out);
+  expectError(run({"servo", "--set", "trajectory.type=line", "--out", out, "--no-plots"}),
+              {"--set trajectory.type=line", "unknown key 'trajectory' for a closed-loop scenario"}, out);
 }
 
 TEST_F(SetOverrideTest, ErrorNamesTheOverrideThatBrokeTheScenario) {
