@@ -6,6 +6,7 @@
 #include "cli.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <filesystem>
@@ -43,6 +44,12 @@ inline std::string slurp(const std::string& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+/// The JSON document in the file at `path` (throws if it is missing or malformed).
+inline nlohmann::json readJson(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
 }
 
 /// Fixture with an empty scratch directory per test, <temp>/<prefix>_<pid>_<suite>_<test>

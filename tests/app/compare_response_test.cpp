@@ -36,8 +36,7 @@ nlohmann::json compare(const std::vector<std::string>& extra, const fs::path& ou
   args.insert(args.end(), extra.begin(), extra.end());
   const CliRun r = run(args);
   EXPECT_EQ(r.code, 0) << r.err;
-  std::ifstream in(out / "leaderboard.json");
-  return nlohmann::json::parse(in);
+  return readJson(out / "leaderboard.json");
 }
 
 class CompareResponse : public ScratchDirTest {

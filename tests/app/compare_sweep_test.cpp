@@ -35,11 +35,6 @@ std::map<std::string, double> means(const std::string& csv_path) {
   return out;
 }
 
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
-
 class CompareSweepTest : public ScratchDirTest {
  protected:
   CompareSweepTest() : ScratchDirTest("predvs_compare_sweep_test") {}

@@ -17,11 +17,6 @@ using namespace predvs::apptest;
 
 namespace {
 
-nlohmann::json readJson(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
-
 class SetOverrideTest : public ScratchDirTest {
  protected:
   SetOverrideTest() : ScratchDirTest("predvs_set_test") {}
