@@ -41,6 +41,7 @@ reproduce: build
 	$(PREDVS) compare --scenarios e7-occlusion --predictors hold,kf-cv,kf-ca,cs-akf-adaptive,fakf-classic,fakf,stkf,st-akf --out out/reproduction/paper001-e7
 	$(PREDVS) compare --scenarios e12-discontinuity,e12-discontinuity-2ms,e12-smooth --out out/reproduction/paper004
 	$(PREDVS) compare --scenarios ibvs-moving-target --predictors $(CLOSED) --out out/reproduction/closed-loop
+	$(PREDVS) compare --scenarios delay-study --out out/reproduction/delay-study
 
 clean:
 	rm -rf $(BUILD_DIR) out
