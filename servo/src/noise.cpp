@@ -1,26 +1,20 @@
 #include "predvs/servo/noise.h"
 
+#include "predvs/predictors/named_enum.h"
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 namespace predvs {
 
-NoiseKind parseNoiseKind(const std::string& name) {
-  if (name == "none") return NoiseKind::None;
-  if (name == "gaussian") return NoiseKind::Gaussian;
-  if (name == "uniform") return NoiseKind::Uniform;
-  throw std::invalid_argument("noise.model must be 'none', 'gaussian' or 'uniform', got '" + name + "'");
-}
+namespace {
+constexpr EnumName<NoiseKind> kNoiseKinds[] = {
+    {NoiseKind::None, "none"}, {NoiseKind::Gaussian, "gaussian"}, {NoiseKind::Uniform, "uniform"}};
+}  // namespace
 
-std::string noiseKindName(NoiseKind kind) {
-  switch (kind) {
-    case NoiseKind::None: return "none";
-    case NoiseKind::Gaussian: return "gaussian";
-    case NoiseKind::Uniform: return "uniform";
-  }
-  return "?";
-}
+NoiseKind parseNoiseKind(const std::string& name) { return enumFromName(kNoiseKinds, "noise.model", name); }
+std::string noiseKindName(NoiseKind kind) { return enumToName(kNoiseKinds, kind); }
 
 NoiseConfig makeNoiseConfig(const std::string& name, const Params& params) {
   NoiseConfig c;

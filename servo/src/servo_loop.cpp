@@ -1,5 +1,7 @@
 #include "predvs/servo/servo_loop.h"
 
+#include "predvs/predictors/named_enum.h"
+
 #include "predvs/servo/trajectory.h"
 
 #include <visp3/core/vpColVector.h>
@@ -45,37 +47,17 @@ struct Command {
 
 }  // namespace
 
-ForecastMode parseForecastMode(const std::string& name) {
-  if (name == "feature") return ForecastMode::Feature;
-  if (name == "feedforward") return ForecastMode::Feedforward;
-  if (name == "both") return ForecastMode::Both;
-  throw std::invalid_argument("servo.forecast must be 'feature', 'feedforward' or 'both', got '" + name + "'");
-}
+constexpr EnumName<ForecastMode> kForecastModes[] = {
+    {ForecastMode::Feature, "feature"}, {ForecastMode::Feedforward, "feedforward"}, {ForecastMode::Both, "both"}};
+constexpr EnumName<Compensation> kCompensations[] = {
+    {Compensation::Auto, "auto"}, {Compensation::On, "on"}, {Compensation::Off, "off"}};
 
-std::string forecastModeName(ForecastMode mode) {
-  switch (mode) {
-    case ForecastMode::Feature: return "feature";
-    case ForecastMode::Feedforward: return "feedforward";
-    case ForecastMode::Both: return "both";
-  }
-  return "?";
-}
-
+ForecastMode parseForecastMode(const std::string& name) { return enumFromName(kForecastModes, "servo.forecast", name); }
+std::string forecastModeName(ForecastMode mode) { return enumToName(kForecastModes, mode); }
 Compensation parseCompensation(const std::string& name) {
-  if (name == "auto") return Compensation::Auto;
-  if (name == "on") return Compensation::On;
-  if (name == "off") return Compensation::Off;
-  throw std::invalid_argument("servo.compensation must be 'auto', 'on' or 'off', got '" + name + "'");
+  return enumFromName(kCompensations, "servo.compensation", name);
 }
-
-std::string compensationName(Compensation c) {
-  switch (c) {
-    case Compensation::Auto: return "auto";
-    case Compensation::On: return "on";
-    case Compensation::Off: return "off";
-  }
-  return "?";
-}
+std::string compensationName(Compensation c) { return enumToName(kCompensations, c); }
 
 struct ServoLoop::Impl {
   Impl(const ServoConfig& c, Predictor& p)

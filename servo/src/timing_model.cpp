@@ -1,5 +1,7 @@
 #include "predvs/servo/timing_model.h"
 
+#include "predvs/predictors/named_enum.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -22,13 +24,12 @@ void requireNonNegative(const char* key, double value) {
 
 }  // namespace
 
-Pipeline parsePipeline(const std::string& name) {
-  if (name == "serial") return Pipeline::Serial;
-  if (name == "parallel") return Pipeline::Parallel;
-  throw std::invalid_argument("timing.pipeline must be 'serial' or 'parallel', got '" + name + "'");
-}
+namespace {
+constexpr EnumName<Pipeline> kPipelines[] = {{Pipeline::Serial, "serial"}, {Pipeline::Parallel, "parallel"}};
+}  // namespace
 
-std::string pipelineName(Pipeline p) { return p == Pipeline::Serial ? "serial" : "parallel"; }
+Pipeline parsePipeline(const std::string& name) { return enumFromName(kPipelines, "timing.pipeline", name); }
+std::string pipelineName(Pipeline p) { return enumToName(kPipelines, p); }
 
 TimingModel::TimingModel(const TimingConfig& config) : config_(config) {
   if (!(config.base_period_s > 0.0) || !std::isfinite(config.base_period_s)) {

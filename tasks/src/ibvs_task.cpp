@@ -1,5 +1,7 @@
 #include "predvs/tasks/ibvs_task.h"
 
+#include "predvs/predictors/named_enum.h"
+
 #include <visp3/visual_features/vpFeaturePoint.h>
 #include <visp3/vs/vpServo.h>
 
@@ -10,21 +12,16 @@
 
 namespace predvs {
 
-InteractionMatrixType parseInteractionMatrixType(const std::string& name) {
-  if (name == "current") return InteractionMatrixType::Current;
-  if (name == "desired") return InteractionMatrixType::Desired;
-  if (name == "mean") return InteractionMatrixType::Mean;
-  throw std::invalid_argument("task.interaction must be 'current', 'desired' or 'mean', got '" + name + "'");
-}
+namespace {
+constexpr EnumName<InteractionMatrixType> kInteractionTypes[] = {{InteractionMatrixType::Current, "current"},
+                                                                 {InteractionMatrixType::Desired, "desired"},
+                                                                 {InteractionMatrixType::Mean, "mean"}};
+}  // namespace
 
-std::string interactionMatrixTypeName(InteractionMatrixType type) {
-  switch (type) {
-    case InteractionMatrixType::Current: return "current";
-    case InteractionMatrixType::Desired: return "desired";
-    case InteractionMatrixType::Mean: return "mean";
-  }
-  return "?";
+InteractionMatrixType parseInteractionMatrixType(const std::string& name) {
+  return enumFromName(kInteractionTypes, "task.interaction", name);
 }
+std::string interactionMatrixTypeName(InteractionMatrixType type) { return enumToName(kInteractionTypes, type); }
 
 struct IbvsTask::Impl {
   // vpServo keeps pointers to the features: they live here, sized once, never reallocated.
