@@ -1,5 +1,7 @@
 #include "predvs/servo/paper_trajectories.h"
 
+#include "trajectory_params.h"
+
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -10,21 +12,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-double finiteParam(const Params& p, const std::string& traj, const std::string& key, double fallback) {
-  const double v = p.get(key, fallback);
-  if (!std::isfinite(v)) throw std::invalid_argument("trajectory '" + traj + "': parameter '" + key + "' is not finite");
-  return v;
-}
-
-double positiveParam(const Params& p, const std::string& traj, const std::string& key, double fallback) {
-  const double v = finiteParam(p, traj, key, fallback);
-  if (!(v > 0.0)) {
-    std::ostringstream msg;
-    msg << "trajectory '" << traj << "': parameter '" << key << "' must be > 0, got " << v;
-    throw std::invalid_argument(msg.str());
-  }
-  return v;
-}
+using detail::finiteParam;
+using detail::positiveParam;
 
 /// A planar Trajectory seen as 2 channels (x, y).
 class PlanarChannels : public ChannelTrajectory {

@@ -1,5 +1,7 @@
 #include "predvs/servo/trajectory.h"
 
+#include "trajectory_params.h"
+
 #include <cmath>
 #include <functional>
 #include <sstream>
@@ -10,6 +12,9 @@ namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
 
+using detail::finiteParam;
+using detail::positiveParam;
+
 /// A manoeuvre at t_s along `change` (none when the change is zero).
 Manoeuvre manoeuvreAlong(double t_s, const Eigen::Vector2d& change) {
   Manoeuvre m;
@@ -19,25 +24,9 @@ Manoeuvre manoeuvreAlong(double t_s, const Eigen::Vector2d& change) {
   return m;
 }
 
-double getFinite(const Params& p, const std::string& traj, const std::string& key, double fallback) {
-  const double v = p.get(key, fallback);
-  if (!std::isfinite(v)) throw std::invalid_argument("trajectory '" + traj + "': parameter '" + key + "' is not finite");
-  return v;
-}
-
-double getPositive(const Params& p, const std::string& traj, const std::string& key, double fallback) {
-  const double v = getFinite(p, traj, key, fallback);
-  if (!(v > 0.0)) {
-    std::ostringstream msg;
-    msg << "trajectory '" << traj << "': parameter '" << key << "' must be > 0, got " << v;
-    throw std::invalid_argument(msg.str());
-  }
-  return v;
-}
-
 class StaticTrajectory : public Trajectory {
  public:
-  explicit StaticTrajectory(const Params& p) : p0_(getFinite(p, "static", "x0", 0), getFinite(p, "static", "y0", 0)) {}
+  explicit StaticTrajectory(const Params& p) : p0_(finiteParam(p, "static", "x0", 0), finiteParam(p, "static", "y0", 0)) {}
   std::string name() const override { return "static"; }
   Eigen::Vector2d position(double) const override { return p0_; }
   Eigen::Vector2d velocity(double) const override { return Eigen::Vector2d::Zero(); }
@@ -49,8 +38,8 @@ class StaticTrajectory : public Trajectory {
 class LineTrajectory : public Trajectory {
  public:
   explicit LineTrajectory(const Params& p)
-      : p0_(getFinite(p, "line", "x0", 0), getFinite(p, "line", "y0", 0)),
-        v_(getFinite(p, "line", "vx", 10), getFinite(p, "line", "vy", 10)) {}
+      : p0_(finiteParam(p, "line", "x0", 0), finiteParam(p, "line", "y0", 0)),
+        v_(finiteParam(p, "line", "vx", 10), finiteParam(p, "line", "vy", 10)) {}
   std::string name() const override { return "line"; }
   Eigen::Vector2d position(double t) const override { return p0_ + v_ * t; }
   Eigen::Vector2d velocity(double) const override { return v_; }
@@ -63,11 +52,11 @@ class LineTrajectory : public Trajectory {
 class AccelJumpTrajectory : public Trajectory {
  public:
   explicit AccelJumpTrajectory(const Params& p)
-      : p0_(getFinite(p, "accel-jump", "x0", 0), getFinite(p, "accel-jump", "y0", 0)),
-        v0_(getFinite(p, "accel-jump", "vx", 20), getFinite(p, "accel-jump", "vy", 20)),
-        a0_(getFinite(p, "accel-jump", "ax", 1), getFinite(p, "accel-jump", "ay", 1)),
-        t_jump_(getPositive(p, "accel-jump", "t_jump", 14)),
-        a1_(getFinite(p, "accel-jump", "ax_jump", 30), getFinite(p, "accel-jump", "ay_jump", 30)) {}
+      : p0_(finiteParam(p, "accel-jump", "x0", 0), finiteParam(p, "accel-jump", "y0", 0)),
+        v0_(finiteParam(p, "accel-jump", "vx", 20), finiteParam(p, "accel-jump", "vy", 20)),
+        a0_(finiteParam(p, "accel-jump", "ax", 1), finiteParam(p, "accel-jump", "ay", 1)),
+        t_jump_(positiveParam(p, "accel-jump", "t_jump", 14)),
+        a1_(finiteParam(p, "accel-jump", "ax_jump", 30), finiteParam(p, "accel-jump", "ay_jump", 30)) {}
   std::string name() const override { return "accel-jump"; }
   Eigen::Vector2d position(double t) const override {
     if (t < t_jump_) return p0_ + v0_ * t + 0.5 * a0_ * t * t;
@@ -91,11 +80,11 @@ class AccelJumpTrajectory : public Trajectory {
 class ZigzagTrajectory : public Trajectory {
  public:
   explicit ZigzagTrajectory(const Params& p)
-      : p0_(getFinite(p, "zigzag", "x0", 0), getFinite(p, "zigzag", "y0", 0)),
-        vx_(getFinite(p, "zigzag", "vx", 1)),
-        vy_(getFinite(p, "zigzag", "vy", 10)),
-        t_switch_(getPositive(p, "zigzag", "t_switch", 9)),
-        periodic_(getFinite(p, "zigzag", "periodic", 0) != 0.0) {}
+      : p0_(finiteParam(p, "zigzag", "x0", 0), finiteParam(p, "zigzag", "y0", 0)),
+        vx_(finiteParam(p, "zigzag", "vx", 1)),
+        vy_(finiteParam(p, "zigzag", "vy", 10)),
+        t_switch_(positiveParam(p, "zigzag", "t_switch", 9)),
+        periodic_(finiteParam(p, "zigzag", "periodic", 0) != 0.0) {}
   std::string name() const override { return "zigzag"; }
   Eigen::Vector2d position(double t) const override { return {p0_.x() + vx_ * t, p0_.y() + yOffset(t)}; }
   Eigen::Vector2d velocity(double t) const override { return {vx_, vy_ * sign(t)}; }
@@ -125,10 +114,10 @@ class ZigzagTrajectory : public Trajectory {
 class CircleTrajectory : public Trajectory {
  public:
   explicit CircleTrajectory(const Params& p)
-      : c_(getFinite(p, "circle", "cx", 0), getFinite(p, "circle", "cy", 0)),
-        r_(getFinite(p, "circle", "radius", 20)),
-        w_(getFinite(p, "circle", "omega", 0.15)),
-        phi_(getFinite(p, "circle", "phase", 0)) {
+      : c_(finiteParam(p, "circle", "cx", 0), finiteParam(p, "circle", "cy", 0)),
+        r_(finiteParam(p, "circle", "radius", 20)),
+        w_(finiteParam(p, "circle", "omega", 0.15)),
+        phi_(finiteParam(p, "circle", "phase", 0)) {
     if (r_ < 0.0) throw std::invalid_argument("trajectory 'circle': parameter 'radius' must be >= 0, got " + std::to_string(r_));
   }
   std::string name() const override { return "circle"; }
@@ -149,10 +138,10 @@ class CircleTrajectory : public Trajectory {
 class SinusoidTrajectory : public Trajectory {
  public:
   explicit SinusoidTrajectory(const Params& p)
-      : p0_(getFinite(p, "sinusoid", "x0", 0), getFinite(p, "sinusoid", "y0", 0)),
-        amp_(getFinite(p, "sinusoid", "amp_x", 20), getFinite(p, "sinusoid", "amp_y", 20)),
-        w_(kTwoPi * getFinite(p, "sinusoid", "freq_x", 0.1), kTwoPi * getFinite(p, "sinusoid", "freq_y", 0.15)),
-        phi_(getFinite(p, "sinusoid", "phase_x", 0), getFinite(p, "sinusoid", "phase_y", 0)) {}
+      : p0_(finiteParam(p, "sinusoid", "x0", 0), finiteParam(p, "sinusoid", "y0", 0)),
+        amp_(finiteParam(p, "sinusoid", "amp_x", 20), finiteParam(p, "sinusoid", "amp_y", 20)),
+        w_(kTwoPi * finiteParam(p, "sinusoid", "freq_x", 0.1), kTwoPi * finiteParam(p, "sinusoid", "freq_y", 0.15)),
+        phi_(finiteParam(p, "sinusoid", "phase_x", 0), finiteParam(p, "sinusoid", "phase_y", 0)) {}
   std::string name() const override { return "sinusoid"; }
   Eigen::Vector2d position(double t) const override {
     return p0_ + Eigen::Vector2d(amp_.x() * std::sin(w_.x() * t + phi_.x()), amp_.y() * std::sin(w_.y() * t + phi_.y()));
