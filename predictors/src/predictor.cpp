@@ -9,6 +9,9 @@ namespace predvs {
 
 double Params::get(const std::string& key, double fallback) const {
   used_.insert(key);
+  const auto t = texts_.find(key);
+  if (t != texts_.end())
+    throw std::invalid_argument("parameter '" + key + "' expects a number, got '" + t->second + "'");
   const auto it = values_.find(key);
   return it == values_.end() ? fallback : it->second;
 }
@@ -23,6 +26,17 @@ double Params::get(const std::string& key, double fallback, double lo, double hi
   return v;
 }
 
+std::string Params::text(const std::string& key, const std::string& fallback) const {
+  used_.insert(key);
+  if (values_.count(key)) {
+    std::ostringstream msg;
+    msg << "parameter '" << key << "' expects a word, got the number " << values_.at(key);
+    throw std::invalid_argument(msg.str());
+  }
+  const auto it = texts_.find(key);
+  return it == texts_.end() ? fallback : it->second;
+}
+
 void Params::requireAllUsed(const std::string& what) const {
   const auto unknown = unusedKeys();
   if (!unknown.empty()) throw std::invalid_argument("unknown parameter '" + unknown.front() + "' for " + what);
@@ -31,6 +45,8 @@ void Params::requireAllUsed(const std::string& what) const {
 std::vector<std::string> Params::unusedKeys() const {
   std::vector<std::string> out;
   for (const auto& kv : values_)
+    if (!used_.count(kv.first)) out.push_back(kv.first);
+  for (const auto& kv : texts_)
     if (!used_.count(kv.first)) out.push_back(kv.first);
   return out;
 }

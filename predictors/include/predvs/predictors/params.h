@@ -9,27 +9,35 @@
 
 namespace predvs {
 
-/// Named numeric parameters of a predictor, trajectory or noise model, with use tracking so
-/// that a misspelt key in a scenario file is reported instead of silently ignored.
+/// Named parameters of a predictor, trajectory, noise model, task, robot or feature source, with
+/// use tracking so that a misspelt key in a scenario file is reported instead of silently ignored.
+/// Values are numbers; a few keys take a word (a task's `interaction: current`), stored as text:
+/// reading a text key as a number (or a number as text) throws naming the key.
 class Params {
  public:
   Params() = default;
   Params(std::initializer_list<std::pair<const std::string, double>> values) : values_(values) {}
 
   void set(const std::string& key, double value) { values_[key] = value; }
-  bool has(const std::string& key) const { return values_.count(key) != 0; }
+  void setText(const std::string& key, const std::string& value) { texts_[key] = value; }
+  bool has(const std::string& key) const { return values_.count(key) != 0 || texts_.count(key) != 0; }
   /// The value of `key`, or `fallback` when absent. Marks the key as known.
   double get(const std::string& key, double fallback) const;
   /// Same, and throws std::invalid_argument unless lo <= value <= hi (naming the key).
   double get(const std::string& key, double fallback, double lo, double hi) const;
-  /// Keys that were set but never read by get(): unknown to whoever consumed them.
+  /// The word given for `key`, or `fallback` when absent. Marks the key as known; throws
+  /// std::invalid_argument when the key holds a number.
+  std::string text(const std::string& key, const std::string& fallback) const;
+  /// Keys that were set but never read by get() or text(): unknown to whoever consumed them.
   std::vector<std::string> unusedKeys() const;
   /// Throws std::invalid_argument "unknown parameter 'KEY' for WHAT" if a key was never read.
   void requireAllUsed(const std::string& what) const;
   const std::map<std::string, double>& values() const { return values_; }
+  const std::map<std::string, std::string>& texts() const { return texts_; }
 
  private:
   std::map<std::string, double> values_;
+  std::map<std::string, std::string> texts_;
   mutable std::set<std::string> used_;
 };
 
