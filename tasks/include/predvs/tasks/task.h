@@ -23,6 +23,7 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -55,6 +56,7 @@ struct TaskContext {
   double base_period_s = 0.04;   ///< control period delta
   double frame_period_s = 0.04;  ///< vision period T = N delta
   double nominal_delay_frames = 0.0;  ///< vision latency in frames (TimingModel::nominalHorizonFrames())
+  std::uint64_t seed = 1;        ///< the run's seed, for a law's random draws (e.g. model errors)
 };
 
 /// Everything the loop hands the task at one control tick (references valid during the call).
