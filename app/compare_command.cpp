@@ -50,7 +50,7 @@ struct Variant {
   std::vector<std::string> metrics;
 };
 
-struct Task {
+struct Job {
   size_t variant;
   size_t predictor;  ///< index into the scenario's chosen predictors
   int run;
@@ -214,9 +214,9 @@ Outcome runOne(const Variant& v, const ScenarioPredictor& sp, std::uint64_t seed
   if (sc.kind == ScenarioKind::ClosedLoop) {
     ServoConfig cfg = sc.closed_loop;
     cfg.seed = seed;
-    auto predictor = makePredictor(sp.name, 8, sp.params);
+    auto predictor = makePredictor(sp.name, sc.channels, sp.params);
     const ServoResult r = runServoLoop(cfg, *predictor);
-    for (const auto& s : r.trace) o.t_s.push_back(s.t_s), o.error.push_back(s.error_px);
+    for (const auto& s : r.trace) o.t_s.push_back(s.t_s), o.error.push_back(s.error);
     const Metrics& m = r.metrics;
     o.values = {m.rmse, m.final_error, m.peak_error, m.iae, m.settling_time_s, m.control_effort};
     return o;
@@ -446,7 +446,7 @@ struct Results {
   std::vector<std::vector<Cell>> cells;  ///< [variant][predictor]
 };
 
-Results aggregate(const Plan& plan, const std::vector<Task>& tasks, const std::vector<Outcome>& outcomes) {
+Results aggregate(const Plan& plan, const std::vector<Job>& tasks, const std::vector<Outcome>& outcomes) {
   Results res;
   res.cells.resize(plan.variants.size());
   for (size_t v = 0; v < plan.variants.size(); ++v)
@@ -866,7 +866,7 @@ void runCompareCommand(const CompareOptions& o, std::ostream& out, std::ostream&
   const Plan plan = makePlan(o);
   if (o.plots) requireGnuplot();
 
-  std::vector<Task> tasks;
+  std::vector<Job> tasks;
   for (size_t v = 0; v < plan.variants.size(); ++v) {
     const size_t i = plan.variants[v].scenario_index;
     for (size_t p = 0; p < plan.scenarios[i].predictors.size(); ++p)
@@ -887,7 +887,7 @@ void runCompareCommand(const CompareOptions& o, std::ostream& out, std::ostream&
     for (;;) {
       const size_t i = next.fetch_add(1);
       if (i >= tasks.size() || failed) return;
-      const Task& t = tasks[i];
+      const Job& t = tasks[i];
       const Variant& v = plan.variants[t.variant];
       try {
         outcomes[i] = runOne(v, v.scenario->predictors[t.predictor],

@@ -49,14 +49,25 @@ void readSection(YamlSection& parent, const std::string& key, F&& read) {
 }
 
 /// Numeric parameters from a YAML mapping (every value must be a finite number).
+/// With `words`, a scalar that is not a number is kept as a word (Params::text).
 Params readParams(const YAML::Node& node, const std::string& file, const std::string& section, KeyLines* lines,
-                  const std::set<std::string>& skip = {}) {
+                  const std::set<std::string>& skip = {}, bool words = false) {
   Params params;
   if (!node.IsDefined() || node.IsNull()) return params;
   if (!node.IsMap()) throwAt(file, yamlLine(node), "'" + section + "': expected a mapping of parameter: number");
   for (const auto& kv : node) {
     const std::string key = kv.first.Scalar();
     if (skip.count(key)) continue;
+    if (words && kv.second.IsScalar()) {
+      char* end = nullptr;
+      const std::string& text = kv.second.Scalar();
+      std::strtod(text.c_str(), &end);
+      if (text.empty() || *end != '\0' || end == text.c_str()) {
+        params.setText(key, text);
+        if (lines) lines->emplace_back(key, yamlLine(kv.first));
+        continue;
+      }
+    }
     params.set(key, yamlNumber(kv.second, file, "'" + section + "." + key + "'"));
     if (lines) lines->emplace_back(key, yamlLine(kv.first));
   }
@@ -254,26 +265,59 @@ void readCommon(YamlSection& root, Config& c) {
   readMetrics(root, c.metrics);
 }
 
+void readOcclusions(YamlSection& root, std::vector<OcclusionInterval>& out);
+
 void readOpenLoop(YamlSection& root, Scenario& sc) {
   PredictionExperimentConfig& c = sc.open_loop;
   readCommon(root, c);
   if (!root.has("trajectory"))
     throwAt(root.file(), root.line(), "missing required key 'trajectory' ({type: line|accel-jump|zigzag|circle|...})");
   sc.trajectory = readTrajectory(root.node("trajectory"), root.file(), "trajectory", sc.trajectory_params, &sc.channels);
-  const YAML::Node occ = root.node("occlusions");
-  if (occ.IsDefined() && !occ.IsNull()) {
-    if (!occ.IsSequence()) throwAt(root.file(), yamlLine(occ), "'occlusions': expected a list of {start_s, end_s}");
-    for (size_t i = 0; i < occ.size(); ++i) {
-      YamlSection s(occ[i], root.file(), "occlusions[" + std::to_string(i) + "]");
-      OcclusionInterval o;
-      o.start_s = s.requiredNumber("start_s", 0.0, 1e6);
-      o.end_s = s.requiredNumber("end_s", 0.0, 1e6);
-      if (!(o.end_s > o.start_s)) s.fail("end_s", "expected end_s > start_s");
-      s.finish();
-      c.occlusions.push_back(o);
-    }
-  }
+  readOcclusions(root, c.occlusions);
   sc.predictors = readPredictors(root, sc.channels);
+}
+
+/// A component section {type: NAME, key: value, ...} (task, robot, source): the name (default:
+/// the spec's own) and its parameters, numbers or words. Validated by the loop's construction.
+void readComponent(YamlSection& root, const std::string& key, ComponentSpec& spec, KeyLines& lines) {
+  root.allow(key);
+  if (!root.has(key)) return;
+  const YAML::Node node = root.node(key);
+  const std::string& file = root.file();
+  if (node.IsNull()) return;
+  if (!node.IsMap()) throwAt(file, yamlLine(node), "'" + key + "': expected a mapping {type: NAME, parameters...}");
+  const YAML::Node type = node["type"];
+  if (type.IsDefined()) {
+    if (!type.IsScalar()) throwAt(file, yamlLine(type), "'" + key + ".type': expected a name");
+    spec.name = type.Scalar();
+    lines.emplace_back(spec.name, yamlLine(type));
+  }
+  spec.params = readParams(node, file, key, &lines, {"type"}, true);
+}
+
+/// A 6-vector pose [tx, ty, tz, thetaux, thetauy, thetauz] (m, rad).
+Pose6 readPose(YamlSection& s, const std::string& key) {
+  const auto v = s.numbers(key, {}, 6);
+  Pose6 p;
+  for (int i = 0; i < 6; ++i) p(i) = v[static_cast<size_t>(i)];
+  return p;
+}
+
+/// occlusions: [{start_s: a, end_s: b}, ...] (both kinds).
+void readOcclusions(YamlSection& root, std::vector<OcclusionInterval>& out) {
+  root.allow("occlusions");
+  const YAML::Node occ = root.node("occlusions");
+  if (!occ.IsDefined() || occ.IsNull()) return;
+  if (!occ.IsSequence()) throwAt(root.file(), yamlLine(occ), "'occlusions': expected a list of {start_s, end_s}");
+  for (size_t i = 0; i < occ.size(); ++i) {
+    YamlSection s(occ[i], root.file(), "occlusions[" + std::to_string(i) + "]");
+    OcclusionInterval o;
+    o.start_s = s.requiredNumber("start_s", 0.0, 1e6);
+    o.end_s = s.requiredNumber("end_s", 0.0, 1e6);
+    if (!(o.end_s > o.start_s)) s.fail("end_s", "expected end_s > start_s");
+    s.finish();
+    out.push_back(o);
+  }
 }
 
 void readClosedLoop(YamlSection& root, Scenario& sc) {
@@ -287,33 +331,52 @@ void readClosedLoop(YamlSection& root, Scenario& sc) {
     c.camera.v0 = s.number("v0", c.camera.v0, -1e7, 1e7);
   });
   readSection(root, "target", [&](YamlSection& s) {
-    c.square_side_m = s.number("square_side_m", c.square_side_m, 1e-9, 1e3);
-    c.desired_depth_m = s.number("desired_depth_m", c.desired_depth_m, 1e-9, 1e3);
+    SceneConfig& t = c.scene;
+    t.square_side_m = s.number("square_side_m", t.square_side_m, 1e-9, 1e3);
+    t.desired_depth_m = s.number("desired_depth_m", t.desired_depth_m, 1e-9, 1e3);
+    if (s.has("points")) {
+      const YAML::Node pts = s.node("points");
+      if (!pts.IsSequence() || pts.size() == 0)
+        throwAt(file, yamlLine(pts), "'target.points': expected a list of [x, y, z] points (m, object frame)");
+      t.points.resize(3, static_cast<Eigen::Index>(pts.size()));
+      for (size_t i = 0; i < pts.size(); ++i) {
+        if (!pts[i].IsSequence() || pts[i].size() != 3)
+          throwAt(file, yamlLine(pts[i]), "'target.points[" + std::to_string(i) + "]': expected [x, y, z]");
+        for (size_t r = 0; r < 3; ++r)
+          t.points(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(i)) =
+              yamlNumber(pts[i][r], file, "'target.points[" + std::to_string(i) + "]'");
+      }
+    }
+    s.allow("points");
+    if (s.has("desired_pose")) {
+      if (s.has("desired_depth_m")) s.fail("desired_pose", "give either desired_pose or desired_depth_m, not both");
+      t.desired_pose = readPose(s, "desired_pose");
+      t.desired_pose_given = true;
+    }
+    s.allow("desired_pose");
+    if (s.has("pose")) t.object_pose = readPose(s, "pose");
+    s.allow("pose");
     if (s.has("trajectory"))
-      c.target_trajectory = readTrajectory(s.node("trajectory"), file, "target.trajectory", c.target_params);
+      t.trajectory = readTrajectory(s.node("trajectory"), file, "target.trajectory", t.trajectory_params);
     s.allow("trajectory");
+    withLocation(file, s.line(), {}, [&] { return Scene(t).points(); });
   });
-  if (root.has("initial_pose")) {
-    const auto pose = root.numbers("initial_pose", {}, 6);
-    for (int i = 0; i < 6; ++i) c.initial_pose(i) = pose[static_cast<size_t>(i)];
-  }
+  if (root.has("initial_pose")) c.initial_pose = readPose(root, "initial_pose");
   root.allow("initial_pose");
-  readSection(root, "task", [&](YamlSection& s) {
-    c.task.lambda = s.number("lambda", c.task.lambda, 1e-9, 1e6);
-    c.task.interaction = s.enumValue("interaction", c.task.interaction, parseInteractionMatrixType);
-  });
+  readOcclusions(root, c.occlusions);
+  KeyLines lines;
+  readComponent(root, "task", c.task, lines);
+  readComponent(root, "robot", c.robot, lines);
+  readComponent(root, "source", c.source, lines);
   readSection(root, "servo", [&](YamlSection& s) {
     c.forecast = s.enumValue("forecast", c.forecast, parseForecastMode);
     c.compensation = s.enumValue("compensation", c.compensation, parseCompensation);
   });
-  readSection(root, "robot", [&](YamlSection& s) {
-    c.max_translation_mps = s.number("max_translation_mps", c.max_translation_mps, 1e-9, 1e3);
-    c.max_rotation_radps = s.number("max_rotation_radps", c.max_rotation_radps, 1e-9, 1e3);
-  });
-  sc.predictors = readPredictors(root, 8);
-  // Whole-configuration check by the loop itself (it names the offending key).
-  auto hold = makePredictor("hold", 8);
-  withLocation(file, 0, {}, [&] { return ServoLoop(c, *hold).done(); });
+  // The composition checks itself (every component's keys, the task against the robot).
+  sc.channels = withLocation(file, root.line(), lines, [&] { return servoChannels(c); });
+  sc.predictors = readPredictors(root, sc.channels);
+  auto hold = makePredictor("hold", sc.channels);
+  withLocation(file, 0, lines, [&] { return ServoLoop(c, *hold).done(); });
 }
 
 /// The strict parse of a scenario document read from `path`.
@@ -336,7 +399,8 @@ Scenario parseScenario(const YAML::Node& doc, const std::string& path) {
   static const std::set<std::string> kCommon = {"description", "kind", "seed", "duration_s", "timing",
                                                 "noise", "metrics", "predictors", "runs", "sweep"};
   static const std::set<std::string> kOpen = {"trajectory", "occlusions"};
-  static const std::set<std::string> kClosed = {"camera", "target", "initial_pose", "task", "servo", "robot"};
+  static const std::set<std::string> kClosed = {"camera", "target", "initial_pose", "task", "servo", "robot",
+                                                "source", "occlusions"};
   const auto& own = sc.kind == ScenarioKind::OpenLoop ? kOpen : kClosed;
   for (const auto& kv : doc) {
     const std::string key = kv.first.Scalar();

@@ -35,14 +35,21 @@
 //                                servo/paper_trajectories.h; the type fixes the number of channels:
 //                                2 for the planar ones, 3 for e6-target, 1 for onset-sinusoid)
 //   occlusions: [{start_s: a, end_s: b}, ...]
-//   -- closed-loop only (IBVS on a moving 4-point target, servo/servo_loop.h) --
+//   -- closed-loop only (servo/servo_loop.h: a feature source, the predictor, a task and a robot) --
 //   camera: {px: 800, py: 800, u0: 320, v0: 240}
-//   target: {square_side_m: 0.1, desired_depth_m: 0.5,
-//            trajectory: {type: circle, <params in metres>}}   (type change replaces all params)
+//   target: {square_side_m: 0.1 | points: [[x, y, z], ...] (m, object frame),
+//            desired_depth_m: 0.5 | desired_pose: [tx, ty, tz, tux, tuy, tuz] (cdMo),
+//            pose: [6] (wMo at t = 0; default identity),
+//            trajectory: {type: circle, <params in metres>}}   (type change replaces all params;
+//                                the object translates in the world x-y plane, servo/scene.h)
 //   initial_pose: [tx, ty, tz, thetaux, thetauy, thetauz]     m and rad, desired camera frame
-//   task: {lambda: 1.0, interaction: current | desired | mean}
+//   task:   {type: ibvs (default) | NAME, <its parameters>}  (`predvs list` shows the tasks; ibvs:
+//                                lambda: 1.0, interaction: current | desired | mean)
+//   robot:  {type: free-camera (default) | NAME, <its parameters>} (free-camera:
+//                                max_translation_mps: 0.2, max_rotation_radps: 0.7, saturation: 1)
+//   source: {type: geometric (default) | NAME, <its parameters>}
+//   occlusions: [{start_s: a, end_s: b}, ...]   frames acquired inside see no point
 //   servo: {forecast: feature | feedforward | both, compensation: auto | on | off}
-//   robot: {max_translation_mps: 0.2, max_rotation_radps: 0.7}
 #pragma once
 
 #include "scenario_override.h"
@@ -89,7 +96,7 @@ struct Scenario {
   PredictionExperimentConfig open_loop;
   std::string trajectory;   ///< trajectory type (open loop)
   Params trajectory_params;
-  int channels = 8;         ///< predictor channels: the trajectory's (open loop), 8 (closed loop)
+  int channels = 8;         ///< predictor channels: the trajectory's (open loop), the task's features (closed loop)
   ScenarioSweep sweep;      ///< `sweep:` (empty: none)
   std::vector<double> sigma_sweep;  ///< the values of sweep when its key is noise.sigma (else empty)
   int runs = 0;             ///< `runs:` (0 when absent)

@@ -57,8 +57,9 @@ struct Run {
 struct Report {
   const Scenario* scenario = nullptr;
   std::vector<std::string> columns;
+  std::vector<std::string> feature_names;  ///< closed loop: the task's feature names
   std::vector<Run> runs;
-  FeatureVector desired_px = FeatureVector::Constant(kNaN);  ///< closed loop only
+  Eigen::VectorXd desired_px;  ///< closed loop only: s* (pairs plotted as image points)
 };
 
 size_t columnIndex(const Report& r, const std::string& name) {
@@ -128,13 +129,16 @@ Report runScenario(const Scenario& sc, std::ostream& err) {
       for (const auto& s : result.trace) run.rows.push_back(predictionTraceRow(s));
       run.metrics = result.metrics;
     } else {
-      report.columns = servoTraceColumns();
-      auto predictor = makePredictor(sp.name, 8, sp.params);
+      auto predictor = makePredictor(sp.name, sc.channels, sp.params);
       const ServoResult result = runServoLoop(sc.closed_loop, *predictor);
-      for (const auto& s : result.trace) run.rows.push_back(servoTraceRow(s));
+      report.columns = result.columns;
+      report.feature_names.clear();
+      for (const auto& c : result.columns)
+        if (c.rfind("true_", 0) == 0) report.feature_names.push_back(c.substr(5));
+      for (const auto& s : result.trace) run.rows.push_back(ServoLoop::traceRow(s));
       run.metrics = result.metrics;
       run.prediction_used = result.prediction_used;
-      report.desired_px = result.desired_px;
+      report.desired_px = result.desired;
     }
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     err << " " << run.rows.size() << " steps in " << std::fixed << std::setprecision(2) << secs << " s\n"
@@ -303,18 +307,20 @@ void writePlots(const Report& r, const StagedOutputDir& dir) {
     panel("v versus time", "time [s]", "v [px]", cols(pt, px + 1), cols(ta, mx + 1), cols(pt, tx + 1));
     gp << "unset multiplot\n";
   } else {
+    const int pairs = static_cast<int>(r.desired_px.size() / 2);
     {
       std::ofstream des(dir.file("desired.dat"));
       des << "# u_px v_px (desired features s*)\n";
-      for (int i = 0; i < 4; ++i) des << datCell(r.desired_px(2 * i)) << " " << datCell(r.desired_px(2 * i + 1)) << "\n";
+      for (int i = 0; i < pairs; ++i) des << datCell(r.desired_px(2 * i)) << " " << datCell(r.desired_px(2 * i + 1)) << "\n";
     }
-    const size_t tu = columnIndex(r, "true_u0") + 1, pu = columnIndex(r, "pred_u0") + 1;
+    const size_t tu = columnIndex(r, "true_" + r.feature_names.front()) + 1,
+                 pu = columnIndex(r, "pred_" + r.feature_names.front()) + 1;
     const size_t n = r.runs.size();
     const size_t cols = n <= 1 ? 1 : 2, rows = (n + cols - 1) / cols;
     gp << "set terminal pngcairo size " << (cols * 650) << "," << (rows * 560 + 60) << " enhanced font 'Sans,10'\n"
        << "set output 'trajectories.png'\n"
        << "set multiplot layout " << rows << "," << cols << " title "
-       << gnuplotQuote(sc.name + ": image-plane trajectories of the 4 points (seed " + std::to_string(sc.seed()) + ")")
+       << gnuplotQuote(sc.name + ": image-plane trajectories of the features (seed " + std::to_string(sc.seed()) + ")")
        << "\n"
        << "set xlabel 'u [px]'\nset ylabel 'v [px]'\n"
        << "set key outside below horizontal\n";
@@ -323,12 +329,12 @@ void writePlots(const Report& r, const StagedOutputDir& dir) {
     for (const auto& run : r.runs)
       for (const auto& row : run.rows)
         for (size_t base : {tu - 1, pu - 1})
-          for (size_t i = 0; i < 4; ++i) {
+          for (size_t i = 0; i < static_cast<size_t>(pairs); ++i) {
             const double u = row[base + 2 * i], v = row[base + 2 * i + 1];
             if (!std::isfinite(u) || !std::isfinite(v)) continue;
             umin = std::min(umin, u), umax = std::max(umax, u), vmin = std::min(vmin, v), vmax = std::max(vmax, v);
           }
-    for (int i = 0; i < 4; ++i) {
+    for (int i = 0; i < pairs; ++i) {
       umin = std::min(umin, r.desired_px(2 * i)), umax = std::max(umax, r.desired_px(2 * i));
       vmin = std::min(vmin, r.desired_px(2 * i + 1)), vmax = std::max(vmax, r.desired_px(2 * i + 1));
     }
@@ -343,11 +349,11 @@ void writePlots(const Report& r, const StagedOutputDir& dir) {
       const std::string f = "'" + traceFile(r.runs[k]) + "'";
       gp << "set title " << gnuplotQuote("predictor " + r.runs[k].predictor) << "\n"
          << "plot ";
-      for (int i = 0; i < 4; ++i)
+      for (int i = 0; i < pairs; ++i)
         gp << (i ? ", " : "") << f << " using " << (tu + 2 * static_cast<size_t>(i)) << ":"
            << (tu + 2 * static_cast<size_t>(i) + 1) << " with lines lw 2 lc rgb '" << seriesColor(k) << "' title "
            << (i == 0 ? gnuplotQuote("true features") : std::string("''"));
-      for (int i = 0; i < 4; ++i)
+      for (int i = 0; i < pairs; ++i)
         gp << ", " << f << " using " << (pu + 2 * static_cast<size_t>(i)) << ":" << (pu + 2 * static_cast<size_t>(i) + 1)
            << " with lines lw 0.7 lc rgb 'gray30' title "
            << (i == 0 ? gnuplotQuote(r.runs[k].prediction_used ? "features used by the task (predicted)"
@@ -355,7 +361,7 @@ void writePlots(const Report& r, const StagedOutputDir& dir) {
                       : std::string("''"));
       gp << ", " << f << " every ::0::0 using " << tu << ":" << (tu + 1)
          << " with points pt 6 ps 1.5 lc rgb 'black' title 'start'";
-      for (int i = 1; i < 4; ++i)
+      for (int i = 1; i < pairs; ++i)
         gp << ", " << f << " every ::0::0 using " << (tu + 2 * static_cast<size_t>(i)) << ":"
            << (tu + 2 * static_cast<size_t>(i) + 1) << " with points pt 6 ps 1.5 lc rgb 'black' notitle";
       gp << ", 'desired.dat' using 1:2 with points pt 2 ps 2 lw 2 lc rgb 'black' title 'desired s*'\n";

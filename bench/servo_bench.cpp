@@ -45,8 +45,8 @@ void BM_ServoLoopHold(benchmark::State& state) { runPredvs(state, "hold"); }
 void BM_BareViSPLoop(benchmark::State& state) {
   const ServoConfig c;
   const TimingModel timing(c.timing);
-  const auto target = makeTrajectory(c.target_trajectory, c.target_params);
-  const double a = 0.5 * c.square_side_m;
+  const auto target = makeTrajectory(c.scene.trajectory, c.scene.trajectory_params);
+  const double a = 0.5 * c.scene.square_side_m;
   const double oP[4][2] = {{-a, -a}, {a, -a}, {a, a}, {-a, a}};
   const long last_tick = timing.tickAtOrAfter(c.duration_s);
   long steps = 0;
@@ -54,17 +54,17 @@ void BM_BareViSPLoop(benchmark::State& state) {
     NoiseModel noise(c.noise, c.seed);
     vpSimulatorCamera robot;
     robot.setSamplingTime(timing.basePeriod());
-    const vpHomogeneousMatrix cdMo(0, 0, c.desired_depth_m, 0, 0, 0);
+    const vpHomogeneousMatrix cdMo(0, 0, c.scene.desired_depth_m, 0, 0, 0);
     const auto& p = c.initial_pose;
     const vpHomogeneousMatrix cdMc0(p(0), p(1), p(2), p(3), p(4), p(5));
     robot.setPosition((cdMc0.inverse() * cdMo).inverse());
     vpServo task;
     task.setServo(vpServo::EYEINHAND_CAMERA);
     task.setInteractionMatrixType(vpServo::CURRENT);
-    task.setLambda(c.task.lambda);
+    task.setLambda(1.0);  // ibvs default lambda
     vpFeaturePoint s[4], sd[4];
     for (int i = 0; i < 4; ++i) {
-      sd[i].buildFrom(oP[i][0] / c.desired_depth_m, oP[i][1] / c.desired_depth_m, c.desired_depth_m);
+      sd[i].buildFrom(oP[i][0] / c.scene.desired_depth_m, oP[i][1] / c.scene.desired_depth_m, c.scene.desired_depth_m);
       s[i] = sd[i];
       task.addFeature(s[i], sd[i]);
     }

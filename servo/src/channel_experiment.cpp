@@ -1,7 +1,5 @@
 #include "predvs/servo/channel_experiment.h"
 
-#include "predvs/predictors/st_akf.h"
-
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -51,7 +49,6 @@ ChannelExperimentResult runChannelExperiment(const PredictionExperimentConfig& c
   const TimingModel timing(config.timing);
   NoiseModel noise(config.noise, config.seed);
   predictor.reset();
-  const auto* monitored = dynamic_cast<const StAkfPredictor*>(&predictor);
 
   ChannelExperimentResult result;
   result.predictor = predictor.name();
@@ -82,10 +79,7 @@ ChannelExperimentResult runChannelExperiment(const PredictionExperimentConfig& c
         predictor.update(f.t_acq_s);
       else
         predictor.update(f.t_acq_s, f.z);
-      if (monitored) {
-        const int now = monitored->monitorAlarms();
-        for (; alarms < now; ++alarms) result.alarm_t_acq_s.push_back(f.t_acq_s);
-      }
+      for (const int now = predictor.monitorAlarms(); alarms < now; ++alarms) result.alarm_t_acq_s.push_back(f.t_acq_s);
       delivered_any = true;
       t_acq_latest = f.t_acq_s;
       latest_valid = !f.lost;

@@ -47,7 +47,7 @@ std::vector<double> trailingMean(const std::vector<double>& t_s, const std::vect
 }  // namespace
 
 Metrics computeMetrics(const std::vector<double>& t_s, const std::vector<double>& error,
-                       const MetricsOptions& options, const std::vector<Eigen::Matrix<double, 6, 1>>* velocity) {
+                       const MetricsOptions& options, const std::vector<Eigen::VectorXd>* velocity) {
   requireFraction("steady_start_fraction", options.steady_start_fraction);
   requireFraction("final_fraction", options.final_fraction);
   requireFraction("settling_band", options.settling_band);
@@ -179,6 +179,15 @@ ResponseMetrics computeResponse(const std::vector<double>& t_s, const std::vecto
   const Metrics after = computeMetrics(t, e, options);
   r.response_s = after.settling_time_s + (t.front() - t_change_s);
   return r;
+}
+
+}  // namespace predvs
+
+namespace predvs {
+
+NamedValues metricValues(const Metrics& m) {
+  return {{"rmse", m.rmse},       {"final", m.final_error},          {"max", m.max_error},     {"peak", m.peak_error},
+          {"iae", m.iae},         {"settling_s", m.settling_time_s}, {"effort", m.control_effort}};
 }
 
 }  // namespace predvs

@@ -1,13 +1,7 @@
 #include "predvs/servo/servo_loop.h"
 
 #include "predvs/predictors/named_enum.h"
-
-#include "predvs/servo/trajectory.h"
-
-#include <visp3/core/vpColVector.h>
-#include <visp3/core/vpHomogeneousMatrix.h>
-#include <visp3/robot/vpRobot.h>
-#include <visp3/robot/vpSimulatorCamera.h>
+#include "predvs/tasks/point_task.h"
 
 #include <cmath>
 #include <deque>
@@ -19,9 +13,6 @@ namespace predvs {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr int kPoints = 4;
-// Relative margin of the simulator's velocity limits over ours (see the constructor).
-constexpr double kSimulatorLimitMargin = 1e-6;
 
 void requirePositive(const char* key, double v) {
   if (!(v > 0.0) || !std::isfinite(v)) {
@@ -31,26 +22,50 @@ void requirePositive(const char* key, double v) {
   }
 }
 
+/// A frame on its way through the vision pipeline.
 struct Measurement {
   double t_acq_s;
   long release_tick;
-  FeatureVector z_px;                  // noisy pixel features
-  Eigen::Matrix<double, kPoints, 1> Z;  // depths at acquisition (assumed known)
-  FeatureVector ego_px;                // E(t_acq): camera-induced image displacement so far
+  PointFeatures points;
+  Eigen::VectorXd ego;  // E(t_acq): the image displacement the robot's own motion has caused
+  Eigen::VectorXd p;    // p(t_acq): integral of the applied command
 };
 
 struct Command {
   long apply_tick;
-  CameraTwist v;          // saturated twist
-  FeatureVector dego_px;  // L_px v delta: image displacement it causes over one tick
+  Eigen::VectorXd u;     // limited command
+  Eigen::VectorXd dego;  // J_task u delta: feature displacement it causes over one tick
 };
-
-}  // namespace
 
 constexpr EnumName<ForecastMode> kForecastModes[] = {
     {ForecastMode::Feature, "feature"}, {ForecastMode::Feedforward, "feedforward"}, {ForecastMode::Both, "both"}};
 constexpr EnumName<Compensation> kCompensations[] = {
     {Compensation::Auto, "auto"}, {Compensation::On, "on"}, {Compensation::Off, "off"}};
+
+/// The scene, robot and task of a configuration, validated.
+struct Composition {
+  Scene scene;
+  std::unique_ptr<Robot> robot;
+  std::unique_ptr<Task> task;
+
+  explicit Composition(const ServoConfig& c) : scene(c.scene) {
+    requirePositive("camera.px", c.camera.px);
+    requirePositive("camera.py", c.camera.py);
+    robot = makeRobot(c.robot.name, c.robot.params);
+    TaskContext ctx;
+    ctx.camera = c.camera;
+    ctx.desired_points = scene.desired(c.camera);
+    ctx.command_space = robot->commandSpace();
+    const TimingModel timing(c.timing);
+    ctx.base_period_s = timing.basePeriod();
+    ctx.frame_period_s = timing.framePeriod();
+    ctx.nominal_delay_frames = timing.nominalHorizonFrames();
+    ctx.seed = c.seed;
+    task = makeTask(c.task.name, c.task.params, ctx);
+  }
+};
+
+}  // namespace
 
 ForecastMode parseForecastMode(const std::string& name) { return enumFromName(kForecastModes, "servo.forecast", name); }
 std::string forecastModeName(ForecastMode mode) { return enumToName(kForecastModes, mode); }
@@ -59,157 +74,117 @@ Compensation parseCompensation(const std::string& name) {
 }
 std::string compensationName(Compensation c) { return enumToName(kCompensations, c); }
 
+int servoChannels(const ServoConfig& config) { return Composition(config).task->featureSize(); }
+
 struct ServoLoop::Impl {
-  Impl(const ServoConfig& c, Predictor& p)
-      : config(c),
-        timing(c.timing),
-        noise(c.noise, c.seed),
-        target(makeTrajectory(c.target_trajectory, c.target_params)),
-        predictor(p) {}
+  Impl(const ServoConfig& c, Predictor& p) : config(c), timing(c.timing), parts(c), predictor(p) {}
 
   ServoConfig config;
   TimingModel timing;
-  NoiseModel noise;
-  std::unique_ptr<Trajectory> target;
+  Composition parts;
   Predictor& predictor;
-  std::unique_ptr<IbvsTask> task;
-  vpSimulatorCamera robot;
-  vpColVector v_max = vpColVector(6);
+  std::unique_ptr<FeatureSource> source;
   bool compensate = false;
-
-  Eigen::Matrix<double, 3, kPoints> oP;  // points in the target frame
-  Eigen::Vector2d target_p0;             // trajectory position at t = 0
-  FeatureVector desired_px;
+  bool wants_truth_jacobian = false;
+  int n_features = 0;
+  int n_command = 0;
 
   long k = 0;
   long last_tick = 0;
   std::deque<Measurement> pending;
   std::deque<Command> commands;
   bool have_measurement = false;
-  Measurement latest{};
-  FeatureVector ego_px = FeatureVector::Zero();
-  Command active{0, CameraTwist::Zero(), FeatureVector::Zero()};
+  double t_acq_latest = kNaN;
+  Eigen::VectorXd latest;    // latest finite value of every feature channel
+  Eigen::VectorXd depths;    // latest finite depth of every point
+  Eigen::VectorXd ego;       // E(t)
+  Eigen::VectorXd p;         // integral of the applied command
+  Command active;
+  Eigen::VectorXd no_rate;   // empty: no feed-forward
   ServoSample sample;
-  std::vector<ServoSample> trace;
 
-  // True pixel features and depths at time t with the current camera pose.
-  void project(double t, FeatureVector& s_px, Eigen::Matrix<double, kPoints, 1>& Z) const {
-    const Eigen::Vector2d d = target->position(t) - target_p0;
-    vpHomogeneousMatrix wMo;
-    wMo[0][3] = d.x();
-    wMo[1][3] = d.y();
-    const vpHomogeneousMatrix cMo = robot.getPosition().inverse() * wMo;
-    for (int i = 0; i < kPoints; ++i) {
-      double c[3];
-      for (int r = 0; r < 3; ++r)
-        c[r] = cMo[r][0] * oP(0, i) + cMo[r][1] * oP(1, i) + cMo[r][2] * oP(2, i) + cMo[r][3];
-      Z(i) = c[2];
-      s_px(2 * i) = config.camera.u0 + config.camera.px * c[0] / c[2];
-      s_px(2 * i + 1) = config.camera.v0 + config.camera.py * c[1] / c[2];
-    }
-  }
+  Task& task() { return *parts.task; }
+  Robot& robot() { return *parts.robot; }
 
-  Eigen::VectorXd toNormalized(const FeatureVector& s_px) const {
-    Eigen::VectorXd xy(2 * kPoints);
-    for (int i = 0; i < kPoints; ++i) {
-      xy(2 * i) = (s_px(2 * i) - config.camera.u0) / config.camera.px;
-      xy(2 * i + 1) = (s_px(2 * i + 1) - config.camera.v0) / config.camera.py;
-    }
-    return xy;
-  }
-
-  // L_px v delta at features s_px with depths Z: the image displacement (px) one tick of v causes.
-  FeatureVector egoIncrement(const FeatureVector& s_px, const Eigen::Matrix<double, kPoints, 1>& Z,
-                             const CameraTwist& v) const {
-    const Eigen::VectorXd xy = toNormalized(s_px);
-    FeatureVector d;
-    for (int i = 0; i < kPoints; ++i) {
-      const Eigen::Vector2d dxy = IbvsTask::pointInteraction(xy(2 * i), xy(2 * i + 1), Z(i)) * v;
-      d(2 * i) = config.camera.px * dxy.x() * timing.basePeriod();
-      d(2 * i + 1) = config.camera.py * dxy.y() * timing.basePeriod();
-    }
-    return d;
-  }
-
-  double trackingError(const FeatureVector& s_px) const {
-    double sum = 0.0;
-    for (int i = 0; i < kPoints; ++i) sum += (s_px.segment<2>(2 * i) - desired_px.segment<2>(2 * i)).squaredNorm();
-    return std::sqrt(sum / kPoints);
+  void deliver(const Measurement& m) {
+    const Eigen::VectorXd f = task().features(m.points);
+    task().observe(TaskMeasurement{m.t_acq_s, f, m.p});
+    if (compensate)
+      predictor.update(m.t_acq_s, f - m.ego);
+    else
+      predictor.update(m.t_acq_s, f);
+    for (int i = 0; i < n_features; ++i)
+      if (std::isfinite(f(i))) latest(i) = f(i);
+    for (Eigen::Index i = 0; i < depths.size(); ++i)
+      if (m.points.seen[static_cast<size_t>(i)] && std::isfinite(m.points.Z_m(i))) depths(i) = m.points.Z_m(i);
+    t_acq_latest = m.t_acq_s;
+    have_measurement = true;
   }
 
   const ServoSample& step() {
     const double t = timing.tickTime(k);
-    FeatureVector s_true;
-    Eigen::Matrix<double, kPoints, 1> Z_true;
-    project(t, s_true, Z_true);
+    const vpHomogeneousMatrix wMc = robot().cameraPose();
+    const PointFeatures truth = parts.scene.project(t, wMc, config.camera);
 
     // Acquisition, then delivery of every frame whose release tick has come.
     if (timing.isAcquisitionTick(k)) {
-      Measurement m{t, timing.releaseTick(t), s_true, Z_true, ego_px};
-      for (int i = 0; i < 8; ++i) m.z_px(i) = noise.apply(m.z_px(i));
-      pending.push_back(m);
+      FeatureFrame frame = source->acquire(t, wMc);
+      pending.push_back(Measurement{frame.t_acq_s, timing.releaseTick(frame.t_acq_s), std::move(frame.points), ego, p});
     }
     while (!pending.empty() && pending.front().release_tick <= k) {
-      const Measurement& m = pending.front();
-      const FeatureVector z = compensate ? FeatureVector(m.z_px - m.ego_px) : m.z_px;
-      predictor.update(m.t_acq_s, z);
-      latest = m;
-      have_measurement = true;
+      deliver(pending.front());
       pending.pop_front();
     }
 
     sample.t_s = t;
-    sample.true_px = s_true;
-    sample.error_px = trackingError(s_true);
-    sample.t_acq_s = have_measurement ? latest.t_acq_s : kNaN;
-    sample.measured_px = have_measurement ? latest.z_px : FeatureVector::Constant(kNaN);
-    sample.predicted_px = FeatureVector::Constant(kNaN);
+    sample.truth = task().features(truth);
+    sample.error = task().trackingError(sample.truth);
+    sample.t_acq_s = have_measurement ? t_acq_latest : kNaN;
+    sample.measured = have_measurement ? latest : Eigen::VectorXd::Constant(n_features, kNaN);
+    sample.predicted = Eigen::VectorXd::Constant(n_features, kNaN);
 
-    // Control at t_c = t (no command before the first image: the camera waits).
+    // Control at t_c = t (no command before the first image: the robot waits).
     if (have_measurement) {
       const double t_eff = timing.effectTime(t);
-      FeatureVector s_used = latest.z_px;
-      Eigen::VectorXd feedforward;
+      Eigen::VectorXd s_used = latest;
+      Eigen::VectorXd rate;
       if (!compensate) {
         s_used = predictor.predictPositions(t_eff);
       } else {
         // E(t_eff): the displacement so far plus that of the queued commands acting before t_eff.
-        FeatureVector ego_eff = ego_px;
+        Eigen::VectorXd ego_eff = ego;
         const long eff_tick = timing.tickAtOrAfter(t_eff);
         for (const Command& c : commands)
-          if (c.apply_tick < eff_tick) ego_eff += c.dego_px;
-        const FeatureVector s_hat = FeatureVector(predictor.predictPositions(t_eff)) + ego_eff;
-        if (config.forecast != ForecastMode::Feedforward) s_used = s_hat;
-        if (config.forecast != ForecastMode::Feature) {
-          const FeatureVector rate_px = predictor.predictVelocities(t_eff);
-          feedforward.resize(2 * kPoints);
-          for (int i = 0; i < kPoints; ++i) {
-            feedforward(2 * i) = rate_px(2 * i) / config.camera.px;
-            feedforward(2 * i + 1) = rate_px(2 * i + 1) / config.camera.py;
-          }
-        }
+          if (c.apply_tick < eff_tick) ego_eff += c.dego;
+        if (config.forecast != ForecastMode::Feedforward) s_used = predictor.predictPositions(t_eff) + ego_eff;
+        if (config.forecast != ForecastMode::Feature) rate = predictor.predictVelocities(t_eff);
       }
-      sample.predicted_px = s_used;
-      const CameraTwist v = task->computeVelocity(toNormalized(s_used), latest.Z, feedforward);
-      vpColVector v_vp(6);
-      for (int i = 0; i < 6; ++i) v_vp[i] = v(i);
-      const vpColVector v_sat_vp = vpRobot::saturateVelocities(v_vp, v_max);
-      Command c{timing.commandApplyTick(k), CameraTwist::Zero(), FeatureVector::Zero()};
-      for (int i = 0; i < 6; ++i) c.v(i) = v_sat_vp[i];
-      if (compensate) c.dego_px = egoIncrement(s_used, latest.Z, c.v);
-      commands.push_back(c);
+      // A channel the predictor has not seen yet acts on its latest value.
+      for (int i = 0; i < n_features; ++i)
+        if (!std::isfinite(s_used(i))) s_used(i) = latest(i);
+      sample.predicted = s_used;
+      const Eigen::MatrixXd Jc = robot().cameraJacobian();
+      const Eigen::VectorXd q = robot().state();
+      Eigen::MatrixXd J_true;
+      if (wants_truth_jacobian) J_true = PointTask::pixelInteraction(truth.uv_px, truth.Z_m, config.camera) * Jc;
+      const TaskInput in{t, t_acq_latest, latest, s_used, rate.size() ? rate : no_rate, depths, Jc, q, J_true};
+      const Eigen::VectorXd u = robot().limit(task().computeCommand(in));
+      Command c{timing.commandApplyTick(k), u, Eigen::VectorXd::Zero(n_features)};
+      if (compensate) c.dego = task().featureJacobian() * (u * timing.basePeriod());
+      commands.push_back(std::move(c));
+      const NamedValues diag = task().diagnostics();
+      for (size_t i = 0; i < diag.size(); ++i) sample.diagnostics(static_cast<Eigen::Index>(i)) = diag[i].second;
     }
 
     // The command acting over [t, t + delta): the latest whose apply tick has come.
     while (!commands.empty() && commands.front().apply_tick <= k) {
-      active = commands.front();
+      active = std::move(commands.front());
       commands.pop_front();
     }
-    vpColVector v_apply(6);
-    for (int i = 0; i < 6; ++i) v_apply[i] = active.v(i);
-    robot.setVelocity(vpRobot::CAMERA_FRAME, v_apply);
-    ego_px += active.dego_px;
-    sample.velocity = active.v;
+    robot().step(active.u, timing.basePeriod());
+    ego += active.dego;
+    p += active.u * timing.basePeriod();
+    sample.command = active.u;
     ++k;
     return sample;
   }
@@ -217,54 +192,47 @@ struct ServoLoop::Impl {
 
 ServoLoop::ServoLoop(const ServoConfig& config, Predictor& predictor) {
   requirePositive("duration_s", config.duration_s);
-  requirePositive("camera.px", config.camera.px);
-  requirePositive("camera.py", config.camera.py);
-  requirePositive("target.square_side_m", config.square_side_m);
-  requirePositive("target.desired_depth_m", config.desired_depth_m);
-  requirePositive("robot.max_translation_mps", config.max_translation_mps);
-  requirePositive("robot.max_rotation_radps", config.max_rotation_radps);
   if (!config.initial_pose.allFinite()) throw std::invalid_argument("initial_pose must be finite");
-  if (predictor.channels() != 2 * kPoints)
-    throw std::invalid_argument("servo loop: predictor '" + predictor.name() + "' has " +
-                                std::to_string(predictor.channels()) + " channels, expected 8 (u, v of 4 points)");
+  for (size_t i = 0; i < config.occlusions.size(); ++i)
+    if (!(config.occlusions[i].start_s < config.occlusions[i].end_s))
+      throw std::invalid_argument("occlusions[" + std::to_string(i) + "]: start_s must be < end_s");
   impl_ = std::make_unique<Impl>(config, predictor);
   Impl& m = *impl_;
+  m.n_features = m.task().featureSize();
+  m.n_command = m.robot().commandSpace().size();
+  if (predictor.channels() != m.n_features)
+    throw std::invalid_argument("servo loop: predictor '" + predictor.name() + "' has " +
+                                std::to_string(predictor.channels()) + " channels, task '" + m.task().name() +
+                                "' has " + std::to_string(m.n_features) + " features");
   m.compensate = config.compensation == Compensation::On ||
-                 (config.compensation == Compensation::Auto && predictor.name() != "hold");
+                 (config.compensation == Compensation::Auto && predictor.extrapolates());
   predictor.reset();
 
-  const double a = 0.5 * config.square_side_m;
-  m.oP << -a, a, a, -a,  //
-      -a, -a, a, a,      //
-      0, 0, 0, 0;
-  m.target_p0 = m.target->position(0.0);
+  // The camera starts at initial_pose relative to the desired camera frame.
+  const vpHomogeneousMatrix wMc0 = m.parts.scene.desiredCameraPose() * poseMatrix(config.initial_pose);
+  m.robot().reset(wMc0);
+  const PointFeatures start = m.parts.scene.project(0.0, m.robot().cameraPose(), config.camera);
+  for (int i = 0; i < start.points(); ++i)
+    if (!start.seen[static_cast<size_t>(i)]) throw std::invalid_argument("initial_pose puts the camera behind the target");
 
-  // Desired pose: target plane parallel to the image at desired_depth_m, square centred.
-  const vpHomogeneousMatrix cdMo(0, 0, config.desired_depth_m, 0, 0, 0);
-  Eigen::VectorXd desired_xy(2 * kPoints), desired_Z(kPoints);
-  for (int i = 0; i < kPoints; ++i) {
-    const double Z = config.desired_depth_m;
-    desired_xy(2 * i) = m.oP(0, i) / Z;
-    desired_xy(2 * i + 1) = m.oP(1, i) / Z;
-    desired_Z(i) = Z;
-    m.desired_px(2 * i) = config.camera.u0 + config.camera.px * desired_xy(2 * i);
-    m.desired_px(2 * i + 1) = config.camera.v0 + config.camera.py * desired_xy(2 * i + 1);
-  }
-  m.task = std::make_unique<IbvsTask>(config.task, desired_xy, desired_Z);
+  FeatureSourceContext sctx;
+  sctx.scene = &m.parts.scene;
+  sctx.camera = config.camera;
+  sctx.noise = config.noise;
+  sctx.seed = config.seed;
+  sctx.occlusions = config.occlusions;
+  m.source = makeFeatureSource(config.source.name, config.source.params, sctx);
+  if (m.source->points() != m.parts.scene.points())
+    throw std::invalid_argument("source '" + m.source->name() + "' reports " + std::to_string(m.source->points()) +
+                                " points, the target has " + std::to_string(m.parts.scene.points()));
 
-  // World frame = target frame at t = 0; the camera starts at initial_pose in the desired frame.
-  const Eigen::Matrix<double, 6, 1>& p = config.initial_pose;
-  const vpHomogeneousMatrix cdMc0(p(0), p(1), p(2), p(3), p(4), p(5));
-  const vpHomogeneousMatrix c0Mo = cdMc0.inverse() * cdMo;
-  if (c0Mo[2][3] <= 0.0) throw std::invalid_argument("initial_pose puts the camera behind the target");
-  m.robot.setSamplingTime(m.timing.basePeriod());
-  // The command is saturated before it is queued; the simulator's own limits sit a hair above
-  // so that it neither rescales the twist again nor reports the (rounding-level) excess.
-  m.robot.setMaxTranslationVelocity(config.max_translation_mps * (1.0 + kSimulatorLimitMargin));
-  m.robot.setMaxRotationVelocity(config.max_rotation_radps * (1.0 + kSimulatorLimitMargin));
-  m.robot.setPosition(c0Mo.inverse());
-  for (int i = 0; i < 3; ++i) m.v_max[i] = config.max_translation_mps;
-  for (int i = 3; i < 6; ++i) m.v_max[i] = config.max_rotation_radps;
+  m.wants_truth_jacobian = m.task().needsTrueJacobian();
+  m.latest = Eigen::VectorXd::Constant(m.n_features, kNaN);
+  m.depths = m.parts.scene.desired(config.camera).Z_m;
+  m.ego = Eigen::VectorXd::Zero(m.n_features);
+  m.p = Eigen::VectorXd::Zero(m.n_command);
+  m.active = Command{0, Eigen::VectorXd::Zero(m.n_command), Eigen::VectorXd::Zero(m.n_features)};
+  m.sample.diagnostics = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(m.task().diagnostics().size()), kNaN);
   m.last_tick = m.timing.tickAtOrAfter(config.duration_s);
 }
 
@@ -273,52 +241,58 @@ ServoLoop::~ServoLoop() = default;
 bool ServoLoop::done() const { return impl_->k > impl_->last_tick; }
 const ServoSample& ServoLoop::step() { return impl_->step(); }
 bool ServoLoop::predictionUsed() const { return impl_->compensate; }
-const FeatureVector& ServoLoop::desiredFeatures() const { return impl_->desired_px; }
+const Eigen::VectorXd& ServoLoop::desiredFeatures() const { return impl_->parts.task->desiredFeatures(); }
+const Task& ServoLoop::task() const { return *impl_->parts.task; }
+const Robot& ServoLoop::robot() const { return *impl_->parts.robot; }
+
+std::vector<std::string> ServoLoop::traceColumns() const {
+  std::vector<std::string> c = {"t_s", "t_acq_s"};
+  const auto features = task().featureNames();
+  for (const char* prefix : {"meas_", "pred_", "true_"})
+    for (const auto& f : features) c.push_back(prefix + f);
+  c.push_back("error_px");
+  for (const auto& n : robot().commandSpace().names) c.push_back(n);
+  for (const auto& kv : task().diagnostics()) c.push_back(kv.first);
+  return c;
+}
+
+std::vector<double> ServoLoop::traceRow(const ServoSample& s) {
+  std::vector<double> r = {s.t_s, s.t_acq_s};
+  for (const Eigen::VectorXd* f : {&s.measured, &s.predicted, &s.truth})
+    for (Eigen::Index i = 0; i < f->size(); ++i) r.push_back((*f)(i));
+  r.push_back(s.error);
+  for (Eigen::Index i = 0; i < s.command.size(); ++i) r.push_back(s.command(i));
+  for (Eigen::Index i = 0; i < s.diagnostics.size(); ++i) r.push_back(s.diagnostics(i));
+  return r;
+}
 
 ServoResult ServoLoop::run() {
   ServoResult r;
   r.predictor = impl_->predictor.name();
   r.prediction_used = impl_->compensate;
-  r.desired_px = impl_->desired_px;
+  r.desired = desiredFeatures();
+  r.columns = traceColumns();
   r.trace.reserve(static_cast<size_t>(impl_->last_tick + 1));
   while (!done()) r.trace.push_back(step());
   std::vector<double> ts, es;
-  std::vector<Eigen::Matrix<double, 6, 1>> vs;
+  std::vector<Eigen::VectorXd> us;
+  ts.reserve(r.trace.size());
+  es.reserve(r.trace.size());
+  us.reserve(r.trace.size());
   for (const auto& s : r.trace) {
     ts.push_back(s.t_s);
-    es.push_back(s.error_px);
-    vs.push_back(s.velocity);
+    es.push_back(s.error);
+    us.push_back(s.command);
   }
-  r.metrics = computeMetrics(ts, es, impl_->config.metrics, &vs);
+  r.metrics = computeMetrics(ts, es, impl_->config.metrics, &us);
+  r.values = metricValues(r.metrics);
+  for (const auto& kv : task().runSummary()) r.values.push_back(kv);
   return r;
 }
 
 ServoResult runServoLoop(const ServoConfig& config, Predictor& predictor) {
   ServoLoop loop(config, predictor);
   return loop.run();
-}
-
-const std::vector<std::string>& servoTraceColumns() {
-  static const std::vector<std::string> cols = [] {
-    std::vector<std::string> c = {"t_s", "t_acq_s"};
-    for (const char* prefix : {"meas_", "pred_", "true_"})
-      for (int i = 0; i < kPoints; ++i) {
-        c.push_back(std::string(prefix) + "u" + std::to_string(i));
-        c.push_back(std::string(prefix) + "v" + std::to_string(i));
-      }
-    for (const char* n : {"error_px", "vx", "vy", "vz", "wx", "wy", "wz"}) c.push_back(n);
-    return c;
-  }();
-  return cols;
-}
-
-std::vector<double> servoTraceRow(const ServoSample& s) {
-  std::vector<double> r = {s.t_s, s.t_acq_s};
-  for (const FeatureVector* f : {&s.measured_px, &s.predicted_px, &s.true_px})
-    for (int i = 0; i < 8; ++i) r.push_back((*f)(i));
-  r.push_back(s.error_px);
-  for (int i = 0; i < 6; ++i) r.push_back(s.velocity(i));
-  return r;
 }
 
 }  // namespace predvs

@@ -2,11 +2,11 @@
 
 #include "predvs/predictors/named_enum.h"
 
+#include <visp3/core/vpVelocityTwistMatrix.h>
 #include <visp3/visual_features/vpFeaturePoint.h>
 #include <visp3/vs/vpServo.h>
 
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -28,76 +28,89 @@ struct IbvsTask::Impl {
   std::vector<vpFeaturePoint> s;
   std::vector<vpFeaturePoint> sd;
   vpServo servo;
+  vpMatrix eJe;
 };
 
-IbvsTask::IbvsTask(const IbvsTaskConfig& config, const Eigen::VectorXd& desired_xy, const Eigen::VectorXd& desired_Z)
-    : config_(config), impl_(std::make_unique<Impl>()) {
-  if (!(config.lambda > 0.0) || !std::isfinite(config.lambda)) {
-    std::ostringstream msg;
-    msg << "task.lambda must be > 0, got " << config.lambda;
-    throw std::invalid_argument(msg.str());
-  }
-  const Eigen::Index n = desired_Z.size();
-  if (n < 1 || desired_xy.size() != 2 * n)
-    throw std::invalid_argument("IBVS task: desired features have " + std::to_string(desired_xy.size()) +
-                                " entries for " + std::to_string(n) + " depths (expected 2 per point, >= 1 point)");
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (!(desired_Z(i) > 0.0)) throw std::invalid_argument("IBVS task: desired depth of point " + std::to_string(i) + " must be > 0");
+IbvsTask::IbvsTask(const Params& params, const TaskContext& context)
+    : PointTask(context),
+      lambda_(params.get("lambda", 1.0)),
+      interaction_(parseInteractionMatrixType(params.text("interaction", "current"))),
+      impl_(std::make_unique<Impl>()) {
+  if (!(lambda_ > 0.0) || !std::isfinite(lambda_))
+    throw std::invalid_argument("task.lambda must be > 0, got " + std::to_string(lambda_));
+  params.requireAllUsed("task 'ibvs'");
+  const int m = context.command_space.size();
+  if (m < 1) throw std::invalid_argument("task 'ibvs': the robot has no command");
+  const PointFeatures& desired = context.desired_points;
+  const int n = desired.points();
+  const Eigen::VectorXd xy = context.camera.toNormalized(desired.uv_px);
+  for (int i = 0; i < n; ++i)
+    if (!(desired.Z_m(i) > 0.0))
+      throw std::invalid_argument("task 'ibvs': desired depth of point " + std::to_string(i) + " must be > 0");
 
   impl_->s.resize(static_cast<size_t>(n));
   impl_->sd.resize(static_cast<size_t>(n));
+  impl_->eJe.resize(6, static_cast<unsigned>(m));
   vpServo& task = impl_->servo;
-  task.setServo(vpServo::EYEINHAND_CAMERA);
+  task.setServo(vpServo::EYEINHAND_L_cVe_eJe);
+  task.set_cVe(vpVelocityTwistMatrix());  // identity: the command acts through the robot's camera Jacobian
   vpServo::vpServoIteractionMatrixType type = vpServo::CURRENT;
-  if (config.interaction == InteractionMatrixType::Desired) type = vpServo::DESIRED;
-  if (config.interaction == InteractionMatrixType::Mean) type = vpServo::MEAN;
+  if (interaction_ == InteractionMatrixType::Desired) type = vpServo::DESIRED;
+  if (interaction_ == InteractionMatrixType::Mean) type = vpServo::MEAN;
   task.setInteractionMatrixType(type, vpServo::PSEUDO_INVERSE);
-  task.setLambda(config.lambda);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    impl_->sd[i].buildFrom(desired_xy(2 * i), desired_xy(2 * i + 1), desired_Z(i));
+  task.setLambda(lambda_);
+  for (int i = 0; i < n; ++i) {
+    impl_->sd[i].buildFrom(xy(2 * i), xy(2 * i + 1), desired.Z_m(i));
     // Until the first measurement the current feature is the desired one (zero error).
-    impl_->s[i].buildFrom(desired_xy(2 * i), desired_xy(2 * i + 1), desired_Z(i));
+    impl_->s[i].buildFrom(xy(2 * i), xy(2 * i + 1), desired.Z_m(i));
     task.addFeature(impl_->s[i], impl_->sd[i]);
   }
   error_ = Eigen::VectorXd::Zero(2 * n);
   L_ = Eigen::MatrixXd::Zero(2 * n, 6);
+  J_px_ = Eigen::MatrixXd::Zero(2 * n, m);
 }
 
 IbvsTask::~IbvsTask() = default;
-IbvsTask::IbvsTask(IbvsTask&&) noexcept = default;
-IbvsTask& IbvsTask::operator=(IbvsTask&&) noexcept = default;
 
-int IbvsTask::points() const { return static_cast<int>(impl_->s.size()); }
-
-CameraTwist IbvsTask::computeVelocity(const Eigen::VectorXd& current_xy, const Eigen::VectorXd& current_Z,
-                                      const Eigen::VectorXd& target_feature_rate) {
-  const Eigen::Index n = points();
-  if (current_xy.size() != 2 * n || current_Z.size() != n)
-    throw std::invalid_argument("IBVS task: got " + std::to_string(current_xy.size()) + " features and " +
-                                std::to_string(current_Z.size()) + " depths for " + std::to_string(n) + " points");
-  if (target_feature_rate.size() != 0 && target_feature_rate.size() != 2 * n)
-    throw std::invalid_argument("IBVS task: feed-forward has " + std::to_string(target_feature_rate.size()) +
+Eigen::VectorXd IbvsTask::computeCommand(const TaskInput& in) {
+  const Eigen::Index n = static_cast<Eigen::Index>(impl_->s.size());
+  const CameraIntrinsics& cam = context().camera;
+  const Eigen::Index m = in.robot_jacobian.cols();
+  if (in.used.size() != 2 * n || in.depths_m.size() != n || in.robot_jacobian.rows() != 6 ||
+      m != static_cast<Eigen::Index>(impl_->eJe.getCols()))
+    throw std::invalid_argument("task 'ibvs': got " + std::to_string(in.used.size()) + " features, " +
+                                std::to_string(in.depths_m.size()) + " depths and a " +
+                                std::to_string(in.robot_jacobian.rows()) + "x" + std::to_string(m) +
+                                " robot Jacobian for " + std::to_string(n) + " points");
+  if (in.target_rate.size() != 0 && in.target_rate.size() != 2 * n)
+    throw std::invalid_argument("task 'ibvs': feed-forward has " + std::to_string(in.target_rate.size()) +
                                 " entries, expected " + std::to_string(2 * n));
-  for (Eigen::Index i = 0; i < n; ++i) impl_->s[i].buildFrom(current_xy(2 * i), current_xy(2 * i + 1), current_Z(i));
+  for (Eigen::Index i = 0; i < n; ++i)
+    impl_->s[i].buildFrom((in.used(2 * i) - cam.u0) / cam.px, (in.used(2 * i + 1) - cam.v0) / cam.py, in.depths_m(i));
+  for (unsigned r = 0; r < 6; ++r)
+    for (unsigned c = 0; c < static_cast<unsigned>(m); ++c) impl_->eJe[r][c] = in.robot_jacobian(r, c);
 
   vpServo& task = impl_->servo;
-  const vpColVector v = task.computeControlLaw();
+  task.set_eJe(impl_->eJe);
+  const vpColVector u = task.computeControlLaw();
   const vpColVector e = task.getError();
   const vpMatrix L = task.getInteractionMatrix();
   error_.resize(e.size());
   for (unsigned i = 0; i < e.size(); ++i) error_(i) = e[i];
-  L_.resize(L.getRows(), L.getCols());
   for (unsigned r = 0; r < L.getRows(); ++r)
     for (unsigned c = 0; c < L.getCols(); ++c) L_(r, c) = L[r][c];
+  J_px_ = L_ * in.robot_jacobian;
+  for (Eigen::Index r = 0; r < 2 * n; ++r) J_px_.row(r) *= r % 2 ? cam.py : cam.px;
 
-  CameraTwist out;
-  for (int i = 0; i < 6; ++i) out(i) = v[i];
-  if (target_feature_rate.size() != 0) {
-    // For EYEINHAND_CAMERA the task Jacobian is L, so this is L^+ as vpServo computed it.
-    const vpMatrix Lp = task.getTaskJacobianPseudoInverse();
-    for (int r = 0; r < 6; ++r) {
+  Eigen::VectorXd out(m);
+  for (Eigen::Index i = 0; i < m; ++i) out(i) = u[static_cast<unsigned>(i)];
+  if (in.target_rate.size() != 0) {
+    // (L J_c)^+ as vpServo computed it, applied to the target rate in normalised units.
+    const vpMatrix Jp = task.getTaskJacobianPseudoInverse();
+    for (Eigen::Index r = 0; r < m; ++r) {
       double acc = 0.0;
-      for (Eigen::Index c = 0; c < 2 * n; ++c) acc += Lp[r][static_cast<unsigned>(c)] * target_feature_rate(c);
+      for (Eigen::Index c = 0; c < 2 * n; ++c)
+        acc += Jp[static_cast<unsigned>(r)][static_cast<unsigned>(c)] * in.target_rate(c) / (c % 2 ? cam.py : cam.px);
       out(r) -= acc;
     }
   }

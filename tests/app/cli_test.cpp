@@ -314,15 +314,15 @@ TEST_F(CliTest, ServoRejectsUnknownKeysWithTheirLine) {
               "short.yaml:8: unknown key 'colour'", out);
   // nested
   expectError(run({"servo", "--scenario", shortClosedLoop("task:\n  lambda: 1\n  gain_typo: 2\n"), "--out", out}),
-              "short.yaml:10: unknown key 'task.gain_typo'", out);
+              "short.yaml:10: unknown parameter 'gain_typo' for task 'ibvs'", out);
   // a trajectory parameter (checked by the servo layer, located by the app)
   expectError(run({"servo", "--scenario",
                    shortClosedLoop("target:\n  trajectory:\n    type: circle\n    radius: 0.05\n    radiuss: 1\n"), "--out",
                    out}),
               "short.yaml:12: unknown parameter 'radiuss'", out);
   // open-loop keys in a closed-loop file
-  expectError(run({"servo", "--scenario", shortClosedLoop("occlusions: []\n"), "--out", out}),
-              "short.yaml:8: unknown key 'occlusions' for a closed-loop scenario", out);
+  expectError(run({"servo", "--scenario", shortClosedLoop("trajectory: {type: line}\n"), "--out", out}),
+              "short.yaml:8: unknown key 'trajectory' for a closed-loop scenario", out);
 }
 
 TEST_F(CliTest, ServoRejectsBadValues) {

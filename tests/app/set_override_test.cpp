@@ -76,7 +76,7 @@ TEST_F(SetOverrideTest, UnknownKeyViaSetIsOneLineNamingTheOverride) {
               {"--set servo.forcast=feature", "ibvs-moving-target", "unknown key 'servo.forcast'", "forecast"}, out);
   // AND a bad value is reported the same way by the existing validation
   expectError(run({"servo", "--set", "task.lambda=abc", "--out", out, "--no-plots"}),
-              {"--set task.lambda=abc", "'task.lambda': expected a number"}, out);
+              {"--set task.lambda=abc", "parameter 'lambda' expects a number, got 'abc'"}, out);
   expectError(run({"servo", "--set", "servo.forecast=sideways", "--out", out, "--no-plots"}),
               {"--set servo.forecast=sideways", "sideways"}, out);
   // AND a missing section is created, so the strict parser rejects an unknown top-level key
@@ -142,7 +142,7 @@ TEST_F(SetOverrideTest, PathsReachListElementsAndDottedKeys) {
   EXPECT_EQ(sc.predictors[0].name, "kf-ca");
   // WHEN a whole section is given as a YAML mapping THEN it replaces the file's
   sc = predvs::loadScenario(ibvs, {parseScenarioOverride("task={lambda: 3}")});
-  EXPECT_EQ(sc.closed_loop.task.lambda, 3.0);
+  EXPECT_EQ(sc.closed_loop.task.params.get("lambda", 0.0), 3.0);
   // WHEN a key containing a dot exists (sweep's noise.sigma in e6) THEN the path finds it
   const auto e6 = predvs::loadScenario(predvs::resolveScenario("e6-noise-study"),
                                        {parseScenarioOverride("sweep.noise.sigma=[0.5, 2]")});

@@ -52,7 +52,7 @@ TEST(Metrics, SettlingIgnoresNoiseAfterTheTransient) {
 
 TEST(Metrics, ControlEffortAndNaNSkipping) {
   std::vector<double> t = {0, 1, 2, 3}, e = {NAN, 2, 2, 2};
-  std::vector<Eigen::Matrix<double, 6, 1>> v(4, Eigen::Matrix<double, 6, 1>::Zero());
+  std::vector<Eigen::VectorXd> v(4, Eigen::VectorXd::Zero(6));
   for (auto& x : v) x(0) = 2.0;
   const Metrics m = computeMetrics(t, e, {}, &v);
   EXPECT_NEAR(m.control_effort, 16.0, kTol);

@@ -24,12 +24,12 @@ ServoResult run(const std::string& predictor, const ServoConfig& c = {}) {
 TEST(ServoLoop, StaticTargetConverges) {
   // GIVEN the default scenario with the target at rest
   ServoConfig c;
-  c.target_trajectory = "static";
-  c.target_params = Params{};
+  c.scene.trajectory = "static";
+  c.scene.trajectory_params = Params{};
   for (const char* name : {"hold", "kf-cv"}) {
     const ServoResult r = run(name, c);
     // THEN the error goes from ~57 px to the level the 0.5 px noise leaves (well under 1 px)
-    EXPECT_GT(r.trace.front().error_px, 40.0) << name;
+    EXPECT_GT(r.trace.front().error, 40.0) << name;
     EXPECT_LT(r.metrics.final_error, 1.0) << name;
     EXPECT_LT(r.metrics.settling_time_s, 10.0) << name;
   }
@@ -42,7 +42,7 @@ TEST(ServoLoop, HoldIsThePlainViSPBaseline) {
   EXPECT_FALSE(r.prediction_used);
   for (const auto& s : r.trace)
     if (!std::isnan(s.t_acq_s)) {
-      EXPECT_EQ(s.predicted_px, s.measured_px);
+      EXPECT_EQ(s.predicted, s.measured);
       EXPECT_NEAR(s.t_s - s.t_acq_s, 0.08, 1e-9);
     }
   EXPECT_TRUE(run("kf-cv").prediction_used);
@@ -84,18 +84,18 @@ TEST(ServoLoop, ForecastModesAllTrack) {
 TEST(ServoLoop, EgoMotionCompensationRemovesCameraInducedMotion) {
   // GIVEN a static target and kf-cv fed with compensated features s_c = s - E
   ServoConfig c;
-  c.target_trajectory = "static";
-  c.target_params = Params{};
+  c.scene.trajectory = "static";
+  c.scene.trajectory_params = Params{};
   auto p = makePredictor("kf-cv", 8);
   const ServoResult r = runServoLoop(c, *p);
   // WHEN the camera has moved the features by ~57 px (RMS) to the goal
-  const FeatureVector moved = r.trace.back().true_px - r.trace.front().true_px;
+  const Eigen::VectorXd moved = r.trace.back().truth - r.trace.front().truth;
   ASSERT_GT(moved.cwiseAbs().maxCoeff(), 50.0);
   // THEN the compensated features stay where the first image put them: what is left is the
   // first-order error of E (L evaluated at estimated features over a large motion), a few px
   const Eigen::VectorXd s_c = p->predictPositions(p->time());
   constexpr double kLinearisationTolPx = 4.0;
-  EXPECT_LT((s_c - r.trace.front().true_px).cwiseAbs().maxCoeff(), kLinearisationTolPx);
+  EXPECT_LT((s_c - r.trace.front().truth).cwiseAbs().maxCoeff(), kLinearisationTolPx);
   // and the predictor sees no target motion (velocity at the noise level of a 0.5 px, 25 Hz KF)
   constexpr double kVelocityNoisePxPerS = 5.0;
   EXPECT_LT(p->predictVelocities(p->time()).cwiseAbs().maxCoeff(), kVelocityNoisePxPerS);
@@ -136,21 +136,21 @@ TEST(ServoLoop, CompensationSwitch) {
 TEST(ServoLoop, DeterministicForASeed) {
   const ServoResult a = run("kf-cv"), b = run("kf-cv");
   ASSERT_EQ(a.trace.size(), b.trace.size());
-  EXPECT_EQ(a.trace.back().true_px, b.trace.back().true_px);
+  EXPECT_EQ(a.trace.back().truth, b.trace.back().truth);
   ServoConfig c;
   c.seed = 2;
-  EXPECT_NE(run("kf-cv", c).trace.back().true_px, a.trace.back().true_px);
+  EXPECT_NE(run("kf-cv", c).trace.back().truth, a.trace.back().truth);
 }
 
 TEST(ServoLoop, ValidatesConfig) {
   auto p = makePredictor("kf-cv", 8);
   ServoConfig c;
-  c.square_side_m = 0.0;
+  c.scene.square_side_m = 0.0;
   EXPECT_THROW(ServoLoop(c, *p), std::invalid_argument);
   auto two = makePredictor("kf-cv", 2);
   EXPECT_THROW(ServoLoop(ServoConfig{}, *two), std::invalid_argument);
   c = ServoConfig{};
-  c.target_params.set("radiuss", 1.0);
+  c.scene.trajectory_params.set("radiuss", 1.0);
   EXPECT_THROW(ServoLoop(c, *p), std::invalid_argument);
   EXPECT_THROW(parseForecastMode("smith"), std::invalid_argument);
   EXPECT_THROW(parseCompensation("maybe"), std::invalid_argument);
@@ -158,7 +158,7 @@ TEST(ServoLoop, ValidatesConfig) {
 
 // ---- Golden trace -------------------------------------------------------------------------
 // data/golden/ibvs-moving-target.csv holds the trace of kf-cv on the default ServoConfig with
-// the columns servoTraceColumns() (extra columns are ignored; an empty cell or "nan" is NaN).
+// the columns ServoLoop::traceColumns() (extra columns are ignored; an empty cell or "nan" is NaN).
 // Two files are accepted: the CLI's log.csv (`make golden`: a leading `predictor` column, one
 // block of rows per predictor, of which the kf-cv rows are compared) or the test's own output,
 // regenerated with
@@ -175,7 +175,9 @@ const std::string kGoldenPath = std::string(PREDVS_SOURCE_DIR) + "/data/golden/i
 
 TEST(ServoGolden, DefaultScenarioMatchesGoldenTrace) {
   const ServoResult r = run("kf-cv");
-  const auto& cols = servoTraceColumns();
+  auto p = makePredictor("kf-cv", 8);
+  ServoLoop loop(ServoConfig{}, *p);
+  const auto cols = loop.traceColumns();
   const char* regen = std::getenv("PREDVS_REGENERATE_GOLDEN");
   if (regen && std::string(regen) == "1") {
     std::ofstream out(kGoldenPath);
@@ -184,7 +186,7 @@ TEST(ServoGolden, DefaultScenarioMatchesGoldenTrace) {
     out << "\n";
     char buf[64];
     for (const auto& s : r.trace) {
-      const auto row = servoTraceRow(s);
+      const auto row = ServoLoop::traceRow(s);
       for (size_t i = 0; i < row.size(); ++i) {
         std::snprintf(buf, sizeof buf, "%.12g", row[i]);
         out << (i ? "," : "") << buf;
@@ -227,7 +229,7 @@ TEST(ServoGolden, DefaultScenarioMatchesGoldenTrace) {
     ASSERT_LT(row_index, r.trace.size()) << "golden has more rows than the run";
     std::vector<double> golden;
     for (const auto& cell : cells) golden.push_back(cell == "nan" || cell.empty() ? NAN : std::strtod(cell.c_str(), nullptr));
-    const auto fresh = servoTraceRow(r.trace[row_index]);
+    const auto fresh = ServoLoop::traceRow(r.trace[row_index]);
     for (size_t c = 0; c < cols.size(); ++c) {
       const double g = golden.at(static_cast<size_t>(where[c])), f = fresh[c];
       const bool ok = (std::isnan(g) && std::isnan(f)) ||

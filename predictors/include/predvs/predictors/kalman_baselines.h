@@ -11,6 +11,7 @@ class HoldPredictor : public ChannelPredictor<2> {
  public:
   HoldPredictor(int channels, const Params& params);
   std::string name() const override { return "hold"; }
+  bool extrapolates() const override { return false; }
 
  protected:
   Mat<2> transition(int, double) const override { return Mat<2>::Identity(); }

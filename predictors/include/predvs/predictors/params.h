@@ -41,4 +41,7 @@ class Params {
   mutable std::set<std::string> used_;
 };
 
+/// Named values in a fixed order (metrics of a run, per-tick diagnostics of a control law).
+using NamedValues = std::vector<std::pair<std::string, double>>;
+
 }  // namespace predvs

@@ -73,6 +73,14 @@ class Predictor {
   /// Innovation of the last update on `channel`.
   virtual Innovation innovation(int channel) const = 0;
 
+  /// Capabilities the servo loop asks for instead of a name:
+  /// whether the predictor forecasts motion at all (false for `hold`, which repeats the last
+  /// measurement: the loop then keeps the plain, uncompensated task unless told otherwise) ...
+  virtual bool extrapolates() const { return true; }
+  /// ... and how many discontinuity-monitor alarms it has raised over all channels since reset()
+  /// (0 for a predictor without a monitor).
+  virtual int monitorAlarms() const { return 0; }
+
   /// Time of the last update (NaN before the first).
   double time() const { return t_last_; }
   /// Predicted positions of every channel at t_s (convenience over predict()).

@@ -37,8 +37,6 @@ class StAkfPredictor : public ChannelPredictor<3> {
   Vec<3> fadingFactors(int c) const { return ext_.at(static_cast<size_t>(c)).lambda; }
   /// Innovation variance predicted before fading, H (F P F' + Q) H' + R, at the last update.
   double unfadedS(int c) const { return ext_.at(static_cast<size_t>(c)).s_unfaded; }
-  /// Number of monitor alarms over all channels (always 0 without a monitor).
-  virtual int monitorAlarms() const { return 0; }
 
  protected:
   Mat<3> transition(int, double dt) const override { return caTransition(dt); }

@@ -12,7 +12,9 @@
 #pragma once
 
 #include "predvs/predictors/params.h"
+#include "predvs/predictors/registry.h"
 #include "predvs/servo/noise.h"
+#include "predvs/servo/prediction_experiment.h"
 #include "predvs/servo/scene.h"
 #include "predvs/tasks/camera.h"
 #include "predvs/tasks/task.h"
@@ -26,19 +28,13 @@
 
 namespace predvs {
 
-/// Frames acquired at t_acq in [start_s, end_s) see no point (target fully hidden).
-struct OcclusionWindow {
-  double start_s = 0.0;
-  double end_s = 0.0;
-};
-
 /// What a source is built with (besides its own parameters).
 struct FeatureSourceContext {
   const Scene* scene = nullptr;  ///< outlives the source
   CameraIntrinsics camera;       ///< the true intrinsics
   NoiseConfig noise;             ///< measurement noise (px)
   std::uint64_t seed = 1;
-  std::vector<OcclusionWindow> occlusions;
+  std::vector<OcclusionInterval> occlusions;  ///< frames acquired in [start_s, end_s) see no point
 };
 
 /// One acquired frame.
@@ -57,10 +53,7 @@ class FeatureSource {
   virtual FeatureFrame acquire(double t_acq_s, const vpHomogeneousMatrix& wMc) = 0;
 };
 
-struct FeatureSourceInfo {
-  std::string name;
-  std::string summary;  ///< one line for `predvs list`
-};
+using FeatureSourceInfo = RegistryInfo;
 
 const std::vector<FeatureSourceInfo>& featureSourceRegistry();
 bool isFeatureSource(const std::string& name);

@@ -20,9 +20,12 @@
 //    mean and standard deviation of m over the final window; NaN if m ends above it. (A band
 //    relative to the excursion, because the tracking error of a moving target does not go to
 //    zero; the smoothing and the 3-sigma floor keep measurement noise from deciding it.)
-//  * control_effort: sum of ||v||^2 dt over the whole run ((m/s)^2 s + (rad/s)^2 s mixed as
-//    ViSP's 6-vector); NaN when no command is given (open loop).
+//  * control_effort: sum of ||u||^2 dt over the whole run, u the applied command in the robot's
+//    command space ((m/s)^2 s + (rad/s)^2 s mixed as ViSP's 6-vector for a camera twist); NaN
+//    when no command is given (open loop).
 #pragma once
+
+#include "predvs/predictors/params.h"
 
 #include <Eigen/Core>
 
@@ -51,11 +54,15 @@ struct Metrics {
 
 /// Computes the metrics of e(t) (NaN entries of e are skipped: e.g. before the first prediction).
 /// `t_s` and `error` must have the same size (std::invalid_argument otherwise); `velocity`, when
-/// not null, holds one 6-vector per sample. Options out of (0, 1) throw std::invalid_argument
+/// not null, holds one command vector per sample. Options out of (0, 1) throw std::invalid_argument
 /// naming metrics.<key>.
 Metrics computeMetrics(const std::vector<double>& t_s, const std::vector<double>& error,
                        const MetricsOptions& options = {},
-                       const std::vector<Eigen::Matrix<double, 6, 1>>* velocity = nullptr);
+                       const std::vector<Eigen::VectorXd>* velocity = nullptr);
+
+/// The metrics as named values, the names every report uses (predvs servo and compare):
+/// rmse, final, max, peak, iae, settling_s, effort (the fields above, in that order).
+NamedValues metricValues(const Metrics& m);
 
 /// Response of a predictor to a manoeuvre, the figures paper 000 §6.1 compares on E1-E3 ("fastest
 /// response, smallest overshoot"). Input per sample: |e_i| and the signed error along the unit

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "predvs/predictors/params.h"
+#include "predvs/predictors/registry.h"
 #include "predvs/tasks/task.h"
 
 #include <visp3/core/vpHomogeneousMatrix.h>
@@ -54,10 +55,7 @@ class Robot {
   virtual std::vector<std::string> stateNames() const = 0;
 };
 
-struct RobotInfo {
-  std::string name;
-  std::string summary;  ///< one line for `predvs list`
-};
+using RobotInfo = RegistryInfo;
 
 const std::vector<RobotInfo>& robotRegistry();
 bool isRobot(const std::string& name);

@@ -1,69 +1,62 @@
-// predvs — the closed loop: eye-in-hand IBVS of a moving four-point target, with delayed, noisy
-// vision and a predictor ahead of the task (METHODS §0, §10; default scenario
-// `ibvs-moving-target`).
+// predvs — the closed loop, a composition: a feature source, a predictor, a task (control law)
+// and a robot, timed by the timing model (METHODS §0, §10; default scenario `ibvs-moving-target`).
 //
-// World: four coplanar points, the corners of a square of side `square_side_m`, on a target
-// plane. At the desired pose the camera looks at the square's centre from `desired_depth_m`, the
-// plane parallel to the image plane and the square's sides aligned with the image axes. The target
-// translates in its own plane by d(t) = p(t) - p(0), p from a Trajectory in metres (built by name
-// from `target_trajectory` / `target_params`). The camera is a vpSimulatorCamera integrating the
-// applied twist over each control period delta (its sampling time is set to delta); it starts at
-// `initial_pose` relative to the desired camera frame.
+// The loop knows none of them by name: it asks their interfaces (task.h, robot.h,
+// feature_source.h, predictor.h). A new law, robot or source is new files plus one registry line.
 //
-// Velocity saturation (choice): the command is saturated with vpRobot::saturateVelocities at
-// `max_translation_mps` / `max_rotation_radps` before it is queued, with vpSimulatorCamera's own
-// defaults (0.2 m/s, 0.7 rad/s, set on the simulator too) as our defaults, because that is what a
-// plain ViSP user gets; the ego-motion compensation below uses the saturated (applied) twist.
+// World: a Scene (scene.h): N target points translating in the world x-y plane along a
+// Trajectory, and the goal camera pose cdMo. The robot starts with its camera at `initial_pose`
+// relative to the desired camera frame (robot.h: reset()).
 //
 // Per control tick k, t = k delta (TimingModel decides every instant):
-//  1. true pixel features s(t) = projection of the points (intrinsics px, py, u0, v0);
-//  2. at an acquisition tick a measurement z = s(t) + n (NoiseModel seeded from `seed`) with its
-//     per-point depth Z(t) (depth assumed known, as in ViSP's simulated IBVS) is stamped t_acq;
-//  3. measurements whose release tick has come are delivered to the predictor (in order);
-//  4. the task (tasks/IbvsTask, vpServo EYEINHAND_CAMERA) computes v_c at t_c = t from:
-//     - `hold` baseline (no prediction, no compensation): s = the latest delivered measurement;
-//       this is exactly IBVS on the last delayed image;
-//     - with prediction (the predictor is not `hold`, or `compensation = on`): ego-motion
-//       compensated features are fed to the predictor,
-//           s_c(t_acq) = z(t_acq) - E(t_acq),   E(t) = integral_0^t L_px(s_hat, Z) v_applied dt,
-//       where E is the image displacement the camera's own applied motion has caused (known
-//       exactly from the applied commands; L_px = diag(px, py) L evaluated at the features the
-//       task used at that tick). The predictor then only has to estimate the target-induced
-//       image motion (a P-controller keeps the raw features almost still on a constant-velocity
-//       target, so a predictor on raw features would see ~zero velocity). At the effect time
-//       t_eff = effectTime(t) (horizon (t - t_acq) + t_c1 + t_c2 (+ t_m/2)):
-//           s_hat(t_eff) = s_c_hat(t_eff) + E(t_eff)   (Smith-predictor-like; E(t_eff) includes
-//                                                      the queued commands that will act by then)
-//           ds_c/dt(t_eff) = predictor velocity, the target-motion rate
-//       and `forecast` decides how they enter the task:
-//         feature      s = s_hat(t_eff), no feed-forward
-//         feedforward  s = latest delivered measurement, v_c -= L^+ ds_c/dt (target feed-forward)
-//         both         s = s_hat(t_eff) and the feed-forward
-//  5. the command is queued and applied from commandApplyTick(k); the camera and target move.
-// Default forecast mode, chosen by measurement on the default scenario (seed 1, steady RMSE of
-// the tracking error; hold = 36.5 px): feature 36.0 / 35.8 px, feedforward 5.1 / 1.0 px, both
-// 5.7 / 1.1 px for kf-cv / kf-ca. `feedforward` is the default. Why: on a moving target a
+//  1. true features: the task's features of the scene's exact projection with the robot's camera
+//     pose now (for scoring only);
+//  2. at an acquisition tick the source delivers a frame stamped t_acq (its points with a status
+//     each; noise is the source's); the loop stamps it with the ego-motion displacement E(t_acq)
+//     and the robot's command integral p(t_acq);
+//  3. frames whose release tick has come are delivered in order: the task features f are
+//     computed, the task observes (f, p(t_acq)) (online Jacobian estimators pair increments this
+//     way, METHODS §7), and the predictor is updated with f - E(t_acq) when the prediction path is
+//     on, with f otherwise (NaN where a point is lost: predict-only for that channel). The latest
+//     finite value of every channel is kept: for `hold`, a lost feature stays at its last value;
+//  4. the task computes the command u at t_c = t from:
+//     - no prediction path (a predictor that does not extrapolate, i.e. `hold`, with compensation
+//       auto, or compensation off): the latest delivered features (compensation off: the
+//       predictor's forecast of the raw features, `feature` mode only); this is exactly a plain
+//       ViSP loop on the last delayed image;
+//     - prediction path: the predictor runs on the ego-motion compensated features
+//           s_c(t_acq) = f(t_acq) - E(t_acq),   E(t) = integral_0^t J_task u_applied dt,
+//       where J_task = ds/du is the Jacobian the task itself used (Task::featureJacobian()), so the
+//       compensation uses the law's own model. At the effect time t_eff = effectTime(t)
+//           s_hat(t_eff) = s_c_hat(t_eff) + E(t_eff)   (E(t_eff) includes the queued commands)
+//           ds_c/dt(t_eff) = the predictor's velocity: the target-induced feature rate
+//       and `forecast` decides what the task gets:
+//         feature      acts on s_hat(t_eff), no feed-forward
+//         feedforward  acts on the latest measurement, feeds the target rate forward (default)
+//         both         acts on s_hat(t_eff) and feeds the target rate forward;
+//  5. the robot limits the command (velocity limits, quantisation); the limited command is
+//     queued and applied from commandApplyTick(k); E and p integrate the applied command.
+// Why feedforward is the default (measured on the default scenario, `predvs servo --predictors
+// hold,kf-cv,kf-ca --set servo.forecast=MODE`, see docs/DESIGN.md): on a moving target a
 // P-controller's steady error is the lag (image speed) / lambda, which the delay hardly changes,
-// so forecasting the features to the effect time alone buys ~1 %; only the target-rate
-// feed-forward removes the lag. `both` was a little worse than `feedforward` for lambda 0.5-4
-// (command lag 0-80 ms, N = 1-2); at high gain, where the delay matters to the loop dynamics,
-// `both` can win for the CA filter (lambda = 8: hold 5.4 px, kf-ca feature 4.9, feedforward
-// 1.3, both 0.7 px) but not for kf-cv (lambda = 6: feedforward 1.26, both 1.67 px), so try
-// `both` when raising lambda with kf-ca. Reproduce with
-// `predvs servo --predictors hold,kf-cv,kf-ca --set servo.forecast=MODE --set task.lambda=L`. The price of the feed-forward is control effort: it passes
-// the filter's velocity noise to the camera (lambda = 1: effort 0.72 / 1.36 vs 0.10 for hold
-// over 25 s); the `feature` mode alone lowers the effort (it filters the measurement noise).
+// so forecasting the features to the effect time alone buys about 1 %; only the target-rate
+// feed-forward removes the lag. Its price is control effort: it passes the filter's velocity
+// noise to the robot.
 //
-// Error per step: RMS over the 4 points of the pixel distance between the true features s(t) and
-// the desired features s* (the tracking error), see metrics.h for the metric definitions.
+// Error per step: Task::trackingError of the true features (point tasks: RMS over the points of
+// the pixel distance ||s_i - s*_i||); metrics.h defines the metrics over the run.
 #pragma once
 
 #include "predvs/predictors/params.h"
 #include "predvs/predictors/predictor.h"
+#include "predvs/servo/feature_source.h"
 #include "predvs/servo/metrics.h"
 #include "predvs/servo/noise.h"
+#include "predvs/servo/robot.h"
+#include "predvs/servo/scene.h"
 #include "predvs/servo/timing_model.h"
-#include "predvs/tasks/ibvs_task.h"
+#include "predvs/tasks/camera.h"
+#include "predvs/tasks/task.h"
 
 #include <Eigen/Core>
 
@@ -81,72 +74,69 @@ std::string forecastModeName(ForecastMode mode);
 
 /// When the ego-motion compensation + prediction path is used (servo.compensation).
 enum class Compensation {
-  Auto,  ///< on unless the predictor is `hold` (default: `hold` stays the plain-ViSP baseline)
+  Auto,  ///< on unless the predictor does not extrapolate (`hold` stays the plain-ViSP baseline)
   On,    ///< always (with `hold` this is a Smith predictor with a zero-velocity target model)
   Off,   ///< never: the predictor is fed raw features and only the `feature` forecast is used
 };
 Compensation parseCompensation(const std::string& name);  ///< "auto" | "on" | "off"
 std::string compensationName(Compensation c);
 
-/// Pinhole intrinsics without distortion (camera.<key>).
-struct CameraIntrinsics {
-  double px = 800.0;  ///< focal length / pixel width (px)
-  double py = 800.0;  ///< focal length / pixel height (px)
-  double u0 = 320.0;  ///< principal point (px)
-  double v0 = 240.0;  ///< principal point (px)
+/// A component chosen by name with its parameters (task, robot, feature source).
+struct ComponentSpec {
+  std::string name;
+  Params params;
 };
 
 /// Every default of the `ibvs-moving-target` scenario; the app overrides what the YAML names.
 struct ServoConfig {
   TimingConfig timing;       ///< default delta = T = 0.04 s, vision latency 0.08 s (2 frames), parallel
   double duration_s = 25.0;  ///< duration_s > 0
-  std::uint64_t seed = 1;    ///< seeds the measurement noise
-  CameraIntrinsics camera;
-  double square_side_m = 0.1;    ///< target.square_side_m > 0
-  double desired_depth_m = 0.5;  ///< target.desired_depth_m > 0: camera-plane distance at the goal
+  std::uint64_t seed = 1;    ///< seeds the measurement noise and the task's random draws
+  CameraIntrinsics camera;   ///< the true intrinsics (the task is given the same)
+  /// Target and goal. Default: a 10 cm square, goal 0.5 m in front of it, moving on a 5 cm
+  /// radius circle at 0.5 rad/s (2.5 cm/s, about 40 px/s in the image at 0.5 m).
+  SceneConfig scene;
   /// Initial camera pose in the desired camera frame: (tx, ty, tz) in m, then theta-u (rad)
   /// (initial_pose). Default: 3 cm right, 2 cm up, 10 cm further back, 0.2 rad about the axis.
-  Eigen::Matrix<double, 6, 1> initial_pose = (Eigen::Matrix<double, 6, 1>() << 0.03, -0.02, -0.1, 0.0, 0.0, 0.2).finished();
-  /// target.trajectory and target.params (metres). When the app changes the trajectory name it
-  /// must replace the params wholesale (unused keys are rejected). Default: a 5 cm radius circle
-  /// at 0.5 rad/s (2.5 cm/s, about 40 px/s in the image at 0.5 m).
-  std::string target_trajectory = "circle";
-  Params target_params{{"radius", 0.05}, {"omega", 0.5}};
-  NoiseConfig noise;         ///< default gaussian, sigma 0.5 px
-  IbvsTaskConfig task;       ///< default lambda 1.0 /s, CURRENT interaction matrix
-  ForecastMode forecast = ForecastMode::Feedforward;  ///< servo.forecast: measured best (header comment)
+  Pose6 initial_pose = (Pose6() << 0.03, -0.02, -0.1, 0.0, 0.0, 0.2).finished();
+  NoiseConfig noise;                          ///< default gaussian, sigma 0.5 px
+  std::vector<OcclusionInterval> occlusions;   ///< frames acquired inside are lost
+  ComponentSpec task{"ibvs", {}};             ///< task.type and its keys (default lambda 1, current)
+  ComponentSpec robot{"free-camera", {}};     ///< robot.type and its keys
+  ComponentSpec source{"geometric", {}};      ///< source.type and its keys
+  ForecastMode forecast = ForecastMode::Feedforward;  ///< servo.forecast
   Compensation compensation = Compensation::Auto;     ///< servo.compensation
-  double max_translation_mps = 0.2;  ///< robot.max_translation_mps > 0 (vpRobot default)
-  double max_rotation_radps = 0.7;   ///< robot.max_rotation_radps > 0 (vpRobot default)
   MetricsOptions metrics;
 };
 
-using FeatureVector = Eigen::Matrix<double, 8, 1>;  ///< (u0, v0, u1, v1, u2, v2, u3, v3) in px
-
-/// One row of the closed-loop trace.
+/// One row of the closed-loop trace (features in the task's feature space, see Task).
 struct ServoSample {
   double t_s = 0.0;            ///< control tick time t
   double t_acq_s = 0.0;        ///< acquisition time of the latest delivered measurement (NaN before)
-  FeatureVector measured_px;   ///< latest delivered (delayed, noisy) measurement; NaN before the first
-  FeatureVector predicted_px;  ///< features the task used (= measured for hold / feedforward mode)
-  FeatureVector true_px;       ///< true features at t
-  double error_px = 0.0;       ///< RMS over points of ||true - desired|| (px)
-  CameraTwist velocity;        ///< applied camera twist during [t, t + delta) (after saturation)
+  Eigen::VectorXd measured;    ///< latest delivered (delayed, noisy) features; NaN before the first
+  Eigen::VectorXd predicted;   ///< features the task acted on (= measured for hold / feedforward mode)
+  Eigen::VectorXd truth;       ///< true features at t
+  double error = 0.0;          ///< Task::trackingError(truth)
+  Eigen::VectorXd command;     ///< applied command during [t, t + delta) (after the robot's limits)
+  Eigen::VectorXd diagnostics; ///< the task's diagnostics of its last command (Task::diagnostics())
 };
 
 struct ServoResult {
-  std::string predictor;      ///< predictor.name()
+  std::string predictor;         ///< predictor.name()
   bool prediction_used = false;  ///< whether the compensation + prediction path was active
-  FeatureVector desired_px;   ///< s* in pixels
+  Eigen::VectorXd desired;       ///< s*
+  std::vector<std::string> columns;  ///< trace columns (ServoLoop::traceColumns())
   std::vector<ServoSample> trace;
-  Metrics metrics;            ///< of error_px, with control effort
+  Metrics metrics;               ///< of the error, with control effort
+  NamedValues values;            ///< metricValues(metrics), then the task's run summary
 };
 
 /// The loop, stepwise (the app and the benchmark drive it; runServoLoop() is the one-call form).
 class ServoLoop {
  public:
-  /// Validates `config` (std::invalid_argument naming the key) and resets `predictor`, which must
-  /// have 8 channels and outlive the loop.
+  /// Builds the scene, source, task and robot from `config` and validates everything
+  /// (std::invalid_argument naming the key); resets `predictor`, which must have one channel per
+  /// task feature and outlive the loop.
   ServoLoop(const ServoConfig& config, Predictor& predictor);
   ~ServoLoop();
   ServoLoop(const ServoLoop&) = delete;
@@ -159,7 +149,17 @@ class ServoLoop {
   /// Steps until done() and returns the trace and metrics.
   ServoResult run();
   bool predictionUsed() const;
-  const FeatureVector& desiredFeatures() const;
+  const Eigen::VectorXd& desiredFeatures() const;
+  const Task& task() const;
+  const Robot& robot() const;
+
+  /// Column names of a trace row, in order: t_s, t_acq_s, meas_<f>.., pred_<f>.., true_<f>..
+  /// (f the task's feature names), error_px, the robot's command names, the task's diagnostic
+  /// names. The golden trace data/golden/ibvs-moving-target.csv uses these columns (kf-cv on the
+  /// default ServoConfig).
+  std::vector<std::string> traceColumns() const;
+  /// Values of one row in the order of traceColumns().
+  static std::vector<double> traceRow(const ServoSample& sample);
 
  private:
   struct Impl;
@@ -168,11 +168,7 @@ class ServoLoop {
 
 ServoResult runServoLoop(const ServoConfig& config, Predictor& predictor);
 
-/// Column names of a closed-loop trace row, in order: t_s, t_acq_s, meas_u0 .. meas_v3,
-/// pred_u0 .. pred_v3, true_u0 .. true_v3, error_px, vx, vy, vz, wx, wy, wz. The golden trace
-/// data/golden/ibvs-moving-target.csv uses these columns (kf-cv on the default ServoConfig).
-const std::vector<std::string>& servoTraceColumns();
-/// Values of one row in the order of servoTraceColumns().
-std::vector<double> servoTraceRow(const ServoSample& sample);
+/// The number of predictor channels the loop of `config` needs (the task's feature count).
+int servoChannels(const ServoConfig& config);
 
 }  // namespace predvs

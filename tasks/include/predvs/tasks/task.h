@@ -19,6 +19,7 @@
 #pragma once
 
 #include "predvs/predictors/params.h"
+#include "predvs/predictors/registry.h"
 #include "predvs/tasks/camera.h"
 
 #include <Eigen/Core>
@@ -82,9 +83,6 @@ struct TaskMeasurement {
   const Eigen::VectorXd& command_integral;  ///< p(t_acq)
 };
 
-/// Named values in a fixed order (per-tick diagnostics, per-run summaries).
-using NamedValues = std::vector<std::pair<std::string, double>>;
-
 class Task {
  public:
   virtual ~Task() = default;
@@ -114,16 +112,16 @@ class Task {
   /// Per-tick diagnostics of the last computeCommand() (the sliding variable, the Jacobian
   /// estimation error, the Lyapunov term, ...), always the same names in the same order.
   virtual NamedValues diagnostics() const { return {}; }
+  /// Whether the law's diagnostics need TaskInput::true_point_jacobian (computing it costs a
+  /// matrix product per tick, so the loop fills it only for a law that asks; otherwise empty).
+  virtual bool needsTrueJacobian() const { return false; }
   /// Per-run figures the law computes over the run (e.g. the fraction of time a Lyapunov bound
   /// holds); reported beside the loop's metrics.
   virtual NamedValues runSummary() const { return {}; }
 };
 
 /// One entry of the task registry.
-struct TaskInfo {
-  std::string name;
-  std::string summary;  ///< one line for `predvs list`
-};
+using TaskInfo = RegistryInfo;
 
 const std::vector<TaskInfo>& taskRegistry();
 bool isTask(const std::string& name);
