@@ -28,7 +28,7 @@ int commandSize(const TaskContext& context) {
 JacobianEstimatorConfig estimatorConfig(const Params& params) {
   JacobianEstimatorConfig c;
   c.method = parseJacobianMethod(params.text("method", "rls"), "method");
-  c.lambda = params.get("lambda", 0.95, 0.0, 1.0);
+  c.lambda = params.get("lambda", 0.99, 0.0, 1.0);
   c.min_dp = params.get("min_dp", 1e-3, 0.0, kInf);
   return c;  // lambda = 0 is rejected by the estimator (naming "lambda")
 }
@@ -44,7 +44,7 @@ double positive(const Params& params, const std::string& key, double fallback) {
 IbvsBroydenTask::IbvsBroydenTask(const Params& params, const TaskContext& context)
     : PointTask(context),
       gain_(positive(params, "gain", 1.0)),
-      damping_(params.get("damping", 1e-3, 0.0, 1.0)),
+      damping_(params.get("damping", 1e-2, 0.0, 1.0)),
       compensation_(params.get("delay_compensation", 1.0, 0.0, 1.0) != 0.0),
       init_(enumFromName(kInits, "init", params.text("init", "explore"))),
       probe_speed_(positive(params, "probe_speed", 0.05)),
@@ -115,7 +115,8 @@ Eigen::VectorXd IbvsBroydenTask::computeCommand(const TaskInput& in) {
   if (exploring_) {
     u = probeCommand(in.t_s);
   } else {
-    const Eigen::VectorXd& s = compensation_ ? in.used : in.measured;
+    // Acts on the forecast when compensating (falling back to the measurement if the loop gave none).
+    const Eigen::VectorXd& s = compensation_ && in.used.size() == n ? in.used : in.measured;
     const bool feed_forward = compensation_ && in.target_rate.size() == n;
     if (s.size() != n) {
       u = Eigen::VectorXd::Zero(inputs_);

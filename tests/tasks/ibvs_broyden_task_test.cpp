@@ -161,6 +161,12 @@ LinearPlant linearPlant(std::uint64_t seed) {
   return plant;
 }
 
+// The four-point square's Jacobian has one weak mode (vx against wy, and vy against wx: they move
+// the image alike up to the x^2 terms), sigma / sigma_max ~ 0.005 here. The default damping 1e-2
+// (chosen for tracking, see the header) slows that mode to a fraction of K; the tight convergence
+// tests use damping 1e-3, and FreeCameraWithDefaultDampingStillConverges shows the default's price.
+constexpr double kTightDamping = 1e-3;
+
 // Convergence threshold: 0.01 px is far below anything visible and, with K T = 0.1, reached
 // after ~100 ticks from tens of pixels when the estimate is right.
 constexpr double kConvergedPx = 0.01;
@@ -216,7 +222,7 @@ TEST(IbvsBroydenTask, FreeCameraConvergesOnStaticTargetAndLearnsTheLocalJacobian
   plant.cMo = desiredPose();
   const Eigen::VectorXd desired = plant.features();
   plant.cMo = startPose();
-  IbvsBroydenTask task(Params{{"gain", 1.0}}, contextFor(desired, 6));
+  IbvsBroydenTask task(Params{{"gain", 1.0}, {"damping", kTightDamping}}, contextFor(desired, 6));
   // WHEN the law explores (12 probes, 1.3 s) and servoes
   const RunResult r = run(task, plant, 150, 0);
   // THEN after exploration the estimate matches the plant's Jacobian at the start (finite
@@ -237,6 +243,23 @@ TEST(IbvsBroydenTask, FreeCameraConvergesOnStaticTargetAndLearnsTheLocalJacobian
   EXPECT_GE(summary[1].second, 12.0);
 }
 
+TEST(IbvsBroydenTask, FreeCameraWithDefaultDampingStillConverges) {
+  // GIVEN the free camera and every parameter at its default (damping 1e-2)
+  CameraPlant plant;
+  plant.cMo = desiredPose();
+  const Eigen::VectorXd desired = plant.features();
+  plant.cMo = startPose();
+  IbvsBroydenTask task(Params{}, contextFor(desired, 6));
+  // WHEN it runs 15 and then 40 s
+  const double after15 = run(task, plant, 150, 0).final_error_px;
+  const double after40 = run(task, plant, 250, 0).final_error_px;
+  // THEN the error keeps falling, only slower along the weak mode (measured 0.094 px at 15 s, from
+  // 36 px at the start; bounds with a factor ~2 margin)
+  constexpr double kSlowModePx = 0.2;
+  EXPECT_LT(after15, kSlowModePx);
+  EXPECT_LT(after40, 0.5 * after15);
+}
+
 TEST(IbvsBroydenTask, DelayCompensationOffAndOnBothConvergeOnStaticTarget) {
   for (const double compensation : {0.0, 1.0}) {
     // GIVEN the free camera with a 2-frame vision delay (K T = 0.1, far below the delayed loop's
@@ -245,7 +268,8 @@ TEST(IbvsBroydenTask, DelayCompensationOffAndOnBothConvergeOnStaticTarget) {
     plant.cMo = desiredPose();
     const Eigen::VectorXd desired = plant.features();
     plant.cMo = startPose();
-    IbvsBroydenTask task(Params{{"gain", 1.0}, {"delay_compensation", compensation}}, contextFor(desired, 6, 2.0));
+    IbvsBroydenTask task(Params{{"gain", 1.0}, {"delay_compensation", compensation}, {"damping", kTightDamping}},
+                         contextFor(desired, 6, 2.0));
     // WHEN it runs 20 s
     const RunResult r = run(task, plant, 200, 2, 0.1);
     // THEN it converges to the noise level: 0.1 px noise passes the loop attenuated by about
@@ -293,7 +317,7 @@ TEST(IbvsBroydenTask, ModelInitialisationStartsFromThePerturbedTruth) {
   EXPECT_EQ(d[2].first, "exploring");
   // AND with a 20 % model error it converges anyway, from the same seed to the same result
   plant.cMo = startPose();
-  Params noisy{{"gain", 1.0}, {"model_error", 0.2}};
+  Params noisy{{"gain", 1.0}, {"model_error", 0.2}, {"damping", kTightDamping}};
   noisy.setText("init", "model");
   IbvsBroydenTask task2(noisy, contextFor(desired, 6));
   EXPECT_LT(run(task2, plant, 150, 0).final_error_px, kConvergedPx);
