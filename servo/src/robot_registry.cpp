@@ -2,6 +2,8 @@
 #include "predvs/predictors/registry.h"
 #include "predvs/servo/free_camera_robot.h"
 #include "predvs/servo/robot.h"
+#include "predvs/servo/unicycle_tilt_robot.h"
+#include "predvs/servo/viper850_robot.h"
 
 namespace predvs {
 namespace {
@@ -16,6 +18,10 @@ const Robots& robots() {
            Robots::factory<FreeCameraRobot>()},
           {{"xy-stage", "camera on an x-y gantry translating parallel to its image plane (paper 000's follower plant)"},
            Robots::factory<XyStageRobot>()},
+          {{"viper850", "eye-in-hand 6-DOF Viper850 arm (ViSP kinematic model), joint-velocity command, joint limits"},
+           Robots::factory<Viper850Robot>()},
+          {{"unicycle-tilt", "unicycle carrying a camera on a tilt joint (paper 001), command (v, omega, tilt rate)"},
+           Robots::factory<UnicycleTiltRobot>()},
       });
   return table;
 }

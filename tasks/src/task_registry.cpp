@@ -1,6 +1,9 @@
 // The task registry: adding a control law is one entry here.
 #include "predvs/predictors/registry.h"
+#include "predvs/tasks/ibvs_broyden_task.h"
 #include "predvs/tasks/ibvs_task.h"
+#include "predvs/tasks/vsc_task.h"
+#include "predvs/tasks/vtc_task.h"
 #include "predvs/tasks/task.h"
 
 namespace predvs {
@@ -13,6 +16,13 @@ const Tasks& tasks() {
       "task", {
                   {{"ibvs", "classic IBVS of image points through ViSP's vpServo (any robot via its camera Jacobian)"},
                    Tasks::factory<IbvsTask>()},
+                  {{"ibvs-broyden",
+                    "uncalibrated IBVS on an online RLS / Broyden Jacobian, switchable delay compensation (paper 002)"},
+                   Tasks::factory<IbvsBroydenTask>()},
+                  {{"vsc", "sliding-mode point servoing: exponential reaching law, boundary layer, scheduled gain (paper 000)"},
+                   Tasks::factory<VscTask>()},
+                  {{"vtc", "visual tracking law u = B_i^-1 (K_g X_e - Xdot_t) for a unicycle with a tilt camera (paper 001)"},
+                   Tasks::factory<VtcTask>()},
               });
   return table;
 }

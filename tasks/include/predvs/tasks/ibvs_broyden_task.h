@@ -87,6 +87,7 @@ class IbvsBroydenTask : public PointTask {
   /// The current estimate J_hat (2N x m).
   const Eigen::MatrixXd& featureJacobian() const override { return estimator_.jacobian(); }
   NamedValues diagnostics() const override;
+  bool needsTrueJacobian() const override { return true; }
   NamedValues runSummary() const override;
 
   const JacobianEstimator& estimator() const { return estimator_; }
