@@ -11,6 +11,9 @@
 #include "gnuplot.h"
 
 #include "predvs/predictors/predictor.h"
+#include "predvs/servo/feature_source.h"
+#include "predvs/servo/robot.h"
+#include "predvs/tasks/task.h"
 
 #include <CLI/CLI.hpp>
 
@@ -79,19 +82,27 @@ std::vector<std::string> splitList(const std::string& s) {
 }
 
 // ---------------------------------------------------------------------------------------------
-int runList(std::ostream& out) {
-  out << "Predictors (predvs predict --predictor NAME, scenario `predictors:` lists):\n";
+/// One section of `predvs list`: a title and (name, summary) rows aligned on the longest name.
+template <class Rows>
+void listSection(std::ostream& out, const std::string& title, const Rows& rows) {
+  out << title << "\n";
   size_t w = 4;
-  for (const auto& p : predictorRegistry()) w = std::max(w, p.name.size());
-  for (const auto& p : predictorRegistry())
-    out << "  " << std::left << std::setw(static_cast<int>(w)) << p.name << "  " << p.summary << "\n";
-  out << "\nScenarios (predvs servo --scenario NAME, predvs compare --scenarios A,B), in " << scenariosDir() << ":\n";
-  const auto scenarios = listScenarios();
-  w = 4;
-  for (const auto& s : scenarios) w = std::max(w, s.name.size());
-  for (const auto& s : scenarios)
-    out << "  " << std::left << std::setw(static_cast<int>(w)) << s.name << "  " << s.description << "\n";
-  if (scenarios.empty()) out << "  (none found)\n";
+  for (const auto& r : rows) w = std::max(w, r.name.size());
+  for (const auto& r : rows) out << "  " << std::left << std::setw(static_cast<int>(w)) << r.name << "  " << r.summary << "\n";
+}
+
+int runList(std::ostream& out) {
+  listSection(out, "Predictors (predvs predict --predictor NAME, scenario `predictors:` lists):", predictorRegistry());
+  listSection(out, "\nTasks, control laws (closed-loop scenario `task: {type: NAME, ...}`):", taskRegistry());
+  listSection(out, "\nRobots (closed-loop scenario `robot: {type: NAME, ...}`):", robotRegistry());
+  listSection(out, "\nFeature sources (closed-loop scenario `source: {type: NAME, ...}`):", featureSourceRegistry());
+  struct Row {
+    std::string name, summary;
+  };
+  std::vector<Row> rows;
+  for (const auto& s : listScenarios()) rows.push_back({s.name, s.description});
+  listSection(out, "\nScenarios (predvs servo --scenario NAME, predvs compare --scenarios A,B), in " + scenariosDir() + ":", rows);
+  if (rows.empty()) out << "  (none found)\n";
   return 0;
 }
 

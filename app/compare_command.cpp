@@ -176,6 +176,10 @@ std::vector<std::string> variantMetrics(const Scenario& sc) {
   std::vector<std::string> m = {"rmse", "final", "peak", "iae", "settling_s"};
   if (sc.kind == ScenarioKind::ClosedLoop) {
     m.push_back("effort");
+    // The law's own run figures (e.g. jacobian_error_final, lyap_bound_positive_fraction).
+    auto hold = makePredictor("hold", sc.channels);
+    const ServoLoop probe(sc.closed_loop, *hold);
+    for (const auto& kv : probe.task().runSummary()) m.push_back(kv.first);
     return m;
   }
   const auto traj = makeChannelTrajectory(sc.trajectory, sc.trajectory_params);
@@ -217,8 +221,12 @@ Outcome runOne(const Variant& v, const ScenarioPredictor& sp, std::uint64_t seed
     auto predictor = makePredictor(sp.name, sc.channels, sp.params);
     const ServoResult r = runServoLoop(cfg, *predictor);
     for (const auto& s : r.trace) o.t_s.push_back(s.t_s), o.error.push_back(s.error);
-    const Metrics& m = r.metrics;
-    o.values = {m.rmse, m.final_error, m.peak_error, m.iae, m.settling_time_s, m.control_effort};
+    for (const auto& name : v.metrics) {
+      double x = kNaN;
+      for (const auto& kv : r.values)
+        if (kv.first == name) x = kv.second;
+      o.values.push_back(x);
+    }
     return o;
   }
   PredictionExperimentConfig cfg = sc.open_loop;
