@@ -55,16 +55,16 @@ vpHomogeneousMatrix Scene::objectPose(double t_s) const {
 vpHomogeneousMatrix Scene::desiredCameraPose() const { return wMo0_ * cdMo_.inverse(); }
 
 namespace {
-PointFeatures projectPoints(const Eigen::Matrix3Xd& oP, const vpHomogeneousMatrix& cMo, const CameraIntrinsics& cam) {
+/// Pixels and depths of the points oP seen through cMo (3 x 4 rows of the homogeneous matrix).
+void projectPoints(const Eigen::Matrix3Xd& oP, const Eigen::Matrix<double, 3, 4>& cMo, const CameraIntrinsics& cam,
+                   PointFeatures& f) {
   const Eigen::Index n = oP.cols();
-  PointFeatures f;
   f.uv_px.resize(2 * n);
   f.Z_m.resize(n);
   f.seen.assign(static_cast<size_t>(n), true);
   for (Eigen::Index i = 0; i < n; ++i) {
     double c[3];
-    for (int r = 0; r < 3; ++r)
-      c[r] = cMo[r][0] * oP(0, i) + cMo[r][1] * oP(1, i) + cMo[r][2] * oP(2, i) + cMo[r][3];
+    for (int r = 0; r < 3; ++r) c[r] = cMo(r, 0) * oP(0, i) + cMo(r, 1) * oP(1, i) + cMo(r, 2) * oP(2, i) + cMo(r, 3);
     f.Z_m(i) = c[2];
     if (!(c[2] > 0.0)) {  // behind the camera: not imaged
       f.seen[static_cast<size_t>(i)] = false;
@@ -74,14 +74,41 @@ PointFeatures projectPoints(const Eigen::Matrix3Xd& oP, const vpHomogeneousMatri
     f.uv_px(2 * i) = cam.u0 + cam.px * c[0] / c[2];
     f.uv_px(2 * i + 1) = cam.v0 + cam.py * c[1] / c[2];
   }
-  return f;
+}
+
+Eigen::Matrix<double, 3, 4> topRows(const vpHomogeneousMatrix& M) {
+  Eigen::Matrix<double, 3, 4> out;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) out(r, c) = M[r][c];
+  return out;
+}
+
+bool sameCamera(const CameraIntrinsics& a, const CameraIntrinsics& b) {
+  return a.px == b.px && a.py == b.py && a.u0 == b.u0 && a.v0 == b.v0;
 }
 }  // namespace
 
-PointFeatures Scene::project(double t_s, const vpHomogeneousMatrix& wMc, const CameraIntrinsics& camera) const {
-  return projectPoints(oP_, wMc.inverse() * objectPose(t_s), camera);
+const PointFeatures& Scene::project(double t_s, const vpHomogeneousMatrix& wMc, const CameraIntrinsics& camera) const {
+  const Eigen::Matrix<double, 3, 4> wMc34 = topRows(wMc);
+  if (t_s == last_t_s_ && wMc34 == last_wMc_ && sameCamera(camera, last_camera_)) return last_;
+  // cMo = wMc^-1 wMo(t), with wMc^-1 = [R' | -R' t] (a rigid transformation).
+  const Eigen::Matrix3d R = wMc34.leftCols<3>();
+  const Eigen::Vector3d t = wMc34.col(3);
+  const Eigen::Matrix<double, 3, 4> wMo = topRows(objectPose(t_s));
+  Eigen::Matrix<double, 3, 4> cMo;
+  cMo.leftCols<3>() = R.transpose() * wMo.leftCols<3>();
+  cMo.col(3) = R.transpose() * (wMo.col(3) - t);
+  projectPoints(oP_, cMo, camera, last_);
+  last_t_s_ = t_s;
+  last_wMc_ = wMc34;
+  last_camera_ = camera;
+  return last_;
 }
 
-PointFeatures Scene::desired(const CameraIntrinsics& camera) const { return projectPoints(oP_, cdMo_, camera); }
+PointFeatures Scene::desired(const CameraIntrinsics& camera) const {
+  PointFeatures f;
+  projectPoints(oP_, topRows(cdMo_), camera, f);
+  return f;
+}
 
 }  // namespace predvs

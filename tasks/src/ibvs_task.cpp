@@ -29,6 +29,11 @@ struct IbvsTask::Impl {
   std::vector<vpFeaturePoint> sd;
   vpServo servo;
   vpMatrix eJe;
+  // Form of the task Jacobian: L alone while the robot's camera Jacobian is the identity (the
+  // free-flying camera: vpServo's EYEINHAND_CAMERA, which skips two 6x6 products per step), else
+  // L cVe eJe (EYEINHAND_L_cVe_eJe). Both give the same command for J_c = I.
+  bool camera_frame = false;
+  bool form_chosen = false;
 };
 
 IbvsTask::IbvsTask(const Params& params, const TaskContext& context)
@@ -87,11 +92,19 @@ Eigen::VectorXd IbvsTask::computeCommand(const TaskInput& in) {
                                 " entries, expected " + std::to_string(2 * n));
   for (Eigen::Index i = 0; i < n; ++i)
     impl_->s[i].buildFrom((in.used(2 * i) - cam.u0) / cam.px, (in.used(2 * i + 1) - cam.v0) / cam.py, in.depths_m(i));
-  for (unsigned r = 0; r < 6; ++r)
-    for (unsigned c = 0; c < static_cast<unsigned>(m); ++c) impl_->eJe[r][c] = in.robot_jacobian(r, c);
 
   vpServo& task = impl_->servo;
-  task.set_eJe(impl_->eJe);
+  const bool identity = m == 6 && in.robot_jacobian.isIdentity(0.0);
+  if (!impl_->form_chosen || identity != impl_->camera_frame) {
+    task.setServo(identity ? vpServo::EYEINHAND_CAMERA : vpServo::EYEINHAND_L_cVe_eJe);
+    impl_->camera_frame = identity;
+    impl_->form_chosen = true;
+  }
+  if (!identity) {
+    for (unsigned r = 0; r < 6; ++r)
+      for (unsigned c = 0; c < static_cast<unsigned>(m); ++c) impl_->eJe[r][c] = in.robot_jacobian(r, c);
+    task.set_eJe(impl_->eJe);
+  }
   const vpColVector u = task.computeControlLaw();
   const vpColVector e = task.getError();
   const vpMatrix L = task.getInteractionMatrix();

@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -57,8 +58,9 @@ class Scene {
   /// World pose of the desired camera frame at t = 0 (wMo0 cdMo^-1).
   vpHomogeneousMatrix desiredCameraPose() const;
   /// Exact projection of every point with the camera at wMc at t: pixels, depths, all seen
-  /// (a point behind the camera is lost).
-  PointFeatures project(double t_s, const vpHomogeneousMatrix& wMc, const CameraIntrinsics& camera) const;
+  /// (a point behind the camera is lost). The last answer is kept: the loop's truth and the
+  /// geometric source's frame at an acquisition tick ask the same question.
+  const PointFeatures& project(double t_s, const vpHomogeneousMatrix& wMc, const CameraIntrinsics& camera) const;
   /// The points seen from the desired pose.
   PointFeatures desired(const CameraIntrinsics& camera) const;
   const Trajectory& trajectory() const { return *trajectory_; }
@@ -68,6 +70,11 @@ class Scene {
   vpHomogeneousMatrix wMo0_, cdMo_;
   std::unique_ptr<Trajectory> trajectory_;
   Eigen::Vector2d p0_;
+  // The last projection and its question (time, camera pose, intrinsics).
+  mutable PointFeatures last_;
+  mutable double last_t_s_ = std::numeric_limits<double>::quiet_NaN();
+  mutable Eigen::Matrix<double, 3, 4> last_wMc_;
+  mutable CameraIntrinsics last_camera_;
 };
 
 }  // namespace predvs
