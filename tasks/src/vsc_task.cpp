@@ -34,7 +34,16 @@ Eigen::VectorXd dampedSolve(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, 
 VscTaskConfig VscTaskConfig::fromParams(const Params& params, double period_s) {
   VscTaskConfig c;
   c.q_near_per_s = params.get("q_near", c.q_near_per_s, 1e-9, kInf);
-  c.q_far_per_s = params.get("q_far", c.q_far_per_s, 1e-9, c.q_near_per_s);
+  // q_far defaults to min(1 /s, q_near), so that a q_near below the default q_far alone is a
+  // constant gain rather than an error about a key the user never wrote; a given q_far must not
+  // exceed q_near (the gain grows towards the goal).
+  c.q_far_per_s = params.get("q_far", std::min(c.q_far_per_s, c.q_near_per_s), 1e-9, kInf);
+  if (c.q_far_per_s > c.q_near_per_s) {
+    std::ostringstream msg;
+    msg << "task 'vsc': q_far = " << c.q_far_per_s << " must not exceed q_near = " << c.q_near_per_s
+        << " (the scheduled gain grows from q_far far from the goal to q_near at it)";
+    throw std::invalid_argument(msg.str());
+  }
   c.s_half_px = params.get("s_half", c.s_half_px, 1e-9, kInf);
   c.eps_px_per_s = params.get("eps_s", c.eps_px_per_s, 0.0, kInf);
   c.phi_px = params.get("phi", c.phi_px, 1e-9, kInf);

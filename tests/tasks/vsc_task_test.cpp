@@ -396,6 +396,25 @@ TEST(VscTask, RejectsBadParameters) {
   expectRejected({}, "command space", CommandSpace{});
 }
 
+TEST(VscTask, QFarDefaultFollowsALowQNear) {
+  // GIVEN q_near below the default q_far (1 /s) and no q_far
+  const TaskContext c = makeContext(desiredOffCentre(), one(0.5), xyStageSpace());
+  // WHEN the law is built THEN it is accepted as a constant gain (q_far = q_near), not rejected for
+  // a q_far the user never wrote
+  const VscTask task(Params{{"q_near", 0.8}}, c);
+  EXPECT_DOUBLE_EQ(task.config().q_far_per_s, 0.8);
+  EXPECT_DOUBLE_EQ(task.config().gain(1e3), 0.8);
+  // AND a q_far given above q_near is an error that names both keys and their values
+  try {
+    VscTask bad(Params{{"q_near", 0.8}, {"q_far", 2.0}}, c);
+    ADD_FAILURE() << "accepted q_far > q_near";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("q_far = 2"), std::string::npos) << what;
+    EXPECT_NE(what.find("q_near = 0.8"), std::string::npos) << what;
+  }
+}
+
 TEST(VscTask, RejectsUnknownParameter) { expectRejected({{"lambda", 1.0}}, "unknown parameter 'lambda'"); }
 
 }  // namespace

@@ -28,9 +28,9 @@
 // Without a feed-forward a target moving at image rate v leaves a steady error of v / q_eff (a
 // type-1 loop: a constant delay of the measurement does not change this steady ramp error).
 //
-// Parameters (task.<key>, defaults): q_near = 4 /s, q_far = 1 /s (<= q_near), s_half = 50 px,
-// eps_s = 10 px/s (>= 0), phi = 5 px (> 0), c = 1 (c_u, c_v default to c), rcond = 1e-3 in
-// [1e-12, 0.5]. Defaults at T = 0.04 s: q_eff = 6 /s near the goal, contraction 0.76 per tick.
+// Parameters (task.<key>, defaults): q_near = 4 /s, q_far = min(1 /s, q_near) (<= q_near),
+// s_half = 50 px, eps_s = 10 px/s (>= 0), phi = 5 px (> 0), c = 1 (c_u, c_v default to c),
+// rcond = 1e-3 in [1e-12, 0.5]. Defaults at T = 0.04 s: q_eff = 6 /s near the goal, contraction 0.76 per tick.
 // The depth of a point is the measured one (in.depths_m) when finite and > 0, else the depth of
 // the desired point, else the point is left out.
 #pragma once
@@ -47,7 +47,7 @@ namespace predvs {
 /// The VSC law's parameters, validated.
 struct VscTaskConfig {
   double q_near_per_s = 4.0;  ///< q at the goal (1/s)
-  double q_far_per_s = 1.0;   ///< q far from the goal (1/s), <= q_near
+  double q_far_per_s = 1.0;   ///< q far from the goal (1/s), <= q_near; default min(1, q_near)
   double s_half_px = 50.0;    ///< |S| at which q is halfway between q_near and q_far
   double eps_px_per_s = 10.0; ///< constant reaching rate eps_s (px/s)
   double phi_px = 5.0;        ///< boundary layer width (px)
