@@ -176,10 +176,13 @@ std::vector<std::string> variantMetrics(const Scenario& sc) {
   std::vector<std::string> m = {"rmse", "final", "peak", "iae", "settling_s"};
   if (sc.kind == ScenarioKind::ClosedLoop) {
     m.push_back("effort");
-    // The law's own run figures (e.g. jacobian_error_final, lyap_bound_positive_fraction).
+    // Per-feature errors (metrics.per_feature) and the law's own run figures
+    // (e.g. jacobian_error_final, lyap_bound_positive_fraction).
     auto hold = makePredictor("hold", sc.channels);
     const ServoLoop probe(sc.closed_loop, *hold);
-    for (const auto& kv : probe.task().runSummary()) m.push_back(kv.first);
+    const std::set<std::string> listed(m.begin(), m.end());
+    for (const auto& name : probe.valueNames())
+      if (!listed.count(name) && name != "max") m.push_back(name);
     return m;
   }
   const auto traj = makeChannelTrajectory(sc.trajectory, sc.trajectory_params);

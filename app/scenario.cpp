@@ -124,6 +124,7 @@ void readMetrics(YamlSection& root, MetricsOptions& m) {
   m.steady_start_fraction = s.number("steady_start_fraction", m.steady_start_fraction, 0.0, 1.0);
   m.final_fraction = s.number("final_fraction", m.final_fraction, 0.0, 1.0);
   m.settling_band = s.number("settling_band", m.settling_band, 0.0, 1.0);
+  m.per_feature = s.boolean("per_feature", m.per_feature);
   s.finish();
   withLocation(s.file(), s.line(), {}, [&] { return computeMetrics({}, {}, m); });  // the layer's own range checks
 }

@@ -16,7 +16,8 @@
 //     acquisition_lag_s: 0.04, processing_lag_s: 0.04, controller_lag_s: 0, servo_lag_s: 0,
 //     motion_lag_s: 0, model_motion_lag: false, pipeline: parallel | serial
 //   noise: {model: gaussian | uniform | none, sigma: px, round: false}
-//   metrics: {steady_start_fraction: 0.5, final_fraction: 0.1, settling_band: 0.05}
+//   metrics: {steady_start_fraction: 0.5, final_fraction: 0.1, settling_band: 0.05,
+//             per_feature: false}   closed loop: also mean_e_<f>, rms_e_<f>, max_e_<f> per feature
 //   predictors:                  list of names or {name: NAME, params: {key: value}}
 //                                (REQUIRED, at least one; names from the predictor registry)
 //   runs: N                      integer >= 1, runs per predictor in `predvs compare` (run r uses

@@ -185,6 +185,33 @@ ResponseMetrics computeResponse(const std::vector<double>& t_s, const std::vecto
 
 namespace predvs {
 
+NamedValues featureErrorValues(const std::vector<double>& t_s, const std::vector<Eigen::VectorXd>& features,
+                               const Eigen::VectorXd& desired, const std::vector<std::string>& names,
+                               const MetricsOptions& options) {
+  const size_t n = static_cast<size_t>(desired.size());
+  if (features.size() != t_s.size() || names.size() != n)
+    throw std::invalid_argument("metrics: per-feature errors need one feature vector per sample and one name per feature");
+  std::vector<double> sum(n, 0.0), sum2(n, 0.0), mx(n, 0.0);
+  std::vector<int> count(n, 0);
+  if (!t_s.empty()) {
+    const double t_steady = t_s.front() + options.steady_start_fraction * (t_s.back() - t_s.front());
+    for (size_t i = 0; i < t_s.size(); ++i) {
+      if (t_s[i] < t_steady) continue;
+      for (size_t f = 0; f < n; ++f) {
+        const double e = features[i](static_cast<Eigen::Index>(f)) - desired(static_cast<Eigen::Index>(f));
+        if (!std::isfinite(e)) continue;
+        sum[f] += e, sum2[f] += e * e, mx[f] = std::max(mx[f], std::fabs(e)), ++count[f];
+      }
+    }
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  NamedValues out;
+  for (size_t f = 0; f < n; ++f) out.emplace_back("mean_e_" + names[f], count[f] ? sum[f] / count[f] : nan);
+  for (size_t f = 0; f < n; ++f) out.emplace_back("rms_e_" + names[f], count[f] ? std::sqrt(sum2[f] / count[f]) : nan);
+  for (size_t f = 0; f < n; ++f) out.emplace_back("max_e_" + names[f], count[f] ? mx[f] : nan);
+  return out;
+}
+
 NamedValues metricValues(const Metrics& m) {
   return {{"rmse", m.rmse},       {"final", m.final_error},          {"max", m.max_error},     {"peak", m.peak_error},
           {"iae", m.iae},         {"settling_s", m.settling_time_s}, {"effort", m.control_effort}};

@@ -245,6 +245,18 @@ const Eigen::VectorXd& ServoLoop::desiredFeatures() const { return impl_->parts.
 const Task& ServoLoop::task() const { return *impl_->parts.task; }
 const Robot& ServoLoop::robot() const { return *impl_->parts.robot; }
 
+std::vector<std::string> ServoLoop::valueNames() const {
+  std::vector<std::string> names;
+  for (const auto& kv : metricValues(Metrics{})) names.push_back(kv.first);
+  if (impl_->config.metrics.per_feature) {
+    const auto features = task().featureNames();
+    for (const char* prefix : {"mean_e_", "rms_e_", "max_e_"})
+      for (const auto& f : features) names.push_back(prefix + f);
+  }
+  for (const auto& kv : task().runSummary()) names.push_back(kv.first);
+  return names;
+}
+
 std::vector<std::string> ServoLoop::traceColumns() const {
   std::vector<std::string> c = {"t_s", "t_acq_s"};
   const auto features = task().featureNames();
@@ -286,6 +298,13 @@ ServoResult ServoLoop::run() {
   }
   r.metrics = computeMetrics(ts, es, impl_->config.metrics, &us);
   r.values = metricValues(r.metrics);
+  if (impl_->config.metrics.per_feature) {
+    std::vector<Eigen::VectorXd> truth;
+    truth.reserve(r.trace.size());
+    for (const auto& s : r.trace) truth.push_back(s.truth);
+    for (auto& kv : featureErrorValues(ts, truth, r.desired, task().featureNames(), impl_->config.metrics))
+      r.values.push_back(std::move(kv));
+  }
   for (const auto& kv : task().runSummary()) r.values.push_back(kv);
   return r;
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace predvs {
@@ -111,6 +112,35 @@ TEST(Response, OnlyTheSamplesFromTheChangeOnCount) {
   // AND a change after the last sample gives NaN figures; bad sizes throw
   EXPECT_TRUE(std::isnan(computeResponse(t, e, s, 20.0).max_lag));
   EXPECT_THROW(computeResponse({0, 1}, {1, 1}, {1}, 0.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace predvs
+
+namespace predvs {
+namespace {
+
+TEST(FeatureErrorValues, SteadyWindowMeanRmsAndMaxPerFeature) {
+  // GIVEN two features with s* = (10, 0) over four samples; the steady window is the second half
+  const std::vector<double> t = {0.0, 1.0, 2.0, 3.0};
+  std::vector<Eigen::VectorXd> s(4, Eigen::VectorXd::Zero(2));
+  s[0] << 100.0, 100.0;  // transient: ignored
+  s[1] << 100.0, 100.0;  // t = 1 < 1.5: ignored
+  s[2] << 12.0, -3.0;
+  s[3] << 8.0, std::numeric_limits<double>::quiet_NaN();  // a lost sample is skipped
+  const Eigen::Vector2d desired(10.0, 0.0);
+  // WHEN computing the per-feature figures
+  const NamedValues v = featureErrorValues(t, s, desired, {"u0", "v0"});
+  // THEN they come as mean_e_*, rms_e_*, max_e_* per feature, in feature order
+  ASSERT_EQ(v.size(), 6u);
+  EXPECT_EQ(v[0].first, "mean_e_u0");
+  EXPECT_DOUBLE_EQ(v[0].second, 0.0);           // (+2 - 2) / 2
+  EXPECT_DOUBLE_EQ(v[1].second, -3.0);          // mean_e_v0: one finite sample
+  EXPECT_EQ(v[2].first, "rms_e_u0");
+  EXPECT_DOUBLE_EQ(v[2].second, 2.0);
+  EXPECT_EQ(v[5].first, "max_e_v0");
+  EXPECT_DOUBLE_EQ(v[5].second, 3.0);
+  EXPECT_THROW(featureErrorValues(t, s, desired, {"u0"}), std::invalid_argument);
 }
 
 }  // namespace

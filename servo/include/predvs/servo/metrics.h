@@ -30,6 +30,7 @@
 #include <Eigen/Core>
 
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace predvs {
@@ -39,6 +40,9 @@ struct MetricsOptions {
   double final_fraction = 0.1;         ///< length of the final window, fraction of the run (metrics.final_fraction)
   double settling_band = 0.05;         ///< settling band, fraction of (e_peak - e_final) (metrics.settling_band)
   double settling_smoothing_s = 0.5;   ///< trailing-mean window for the settling time, s (metrics.settling_smoothing_s)
+  /// Closed loop: also report every feature's own error e_f = s_f - s*_f over the steady window
+  /// (metrics.per_feature; see featureErrorValues()).
+  bool per_feature = false;
 };
 
 struct Metrics {
@@ -59,6 +63,13 @@ struct Metrics {
 Metrics computeMetrics(const std::vector<double>& t_s, const std::vector<double>& error,
                        const MetricsOptions& options = {},
                        const std::vector<Eigen::VectorXd>* velocity = nullptr);
+
+/// Per-feature error figures over the steady window (same window as rmse): for every feature f of
+/// `names`, mean_e_<f> (signed mean of s_f - s*_f: a steady offset), rms_e_<f> and max_e_<f> (largest
+/// |s_f - s*_f|). `features` holds one feature vector per sample (NaN entries skipped).
+NamedValues featureErrorValues(const std::vector<double>& t_s, const std::vector<Eigen::VectorXd>& features,
+                               const Eigen::VectorXd& desired, const std::vector<std::string>& names,
+                               const MetricsOptions& options = {});
 
 /// The metrics as named values, the names every report uses (predvs servo and compare):
 /// rmse, final, max, peak, iae, settling_s, effort (the fields above, in that order).

@@ -153,6 +153,9 @@ class ServoLoop {
   const Task& task() const;
   const Robot& robot() const;
 
+  /// Names of ServoResult::values, in order (before the run: the task's run summary names are
+  /// fixed per law).
+  std::vector<std::string> valueNames() const;
   /// Column names of a trace row, in order: t_s, t_acq_s, meas_<f>.., pred_<f>.., true_<f>..
   /// (f the task's feature names), error_px, the robot's command names, the task's diagnostic
   /// names. The golden trace data/golden/ibvs-moving-target.csv uses these columns (kf-cv on the
