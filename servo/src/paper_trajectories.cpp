@@ -109,7 +109,7 @@ size_t E6TargetTrajectory::segment(double t_s) const {
   while (V_cm_s_.size() <= n) {
     const size_t m = V_cm_s_.size();  // computing V(m), then P(m + 1)
     const double speed = config_.v0_cm_s * std::cos(static_cast<double>(m) * kPi * T / 20.0);
-    V_cm_s_.emplace_back(speed * std::sin(heading_rad_), 0.0, speed * std::cos(heading_rad_));
+    V_cm_s_.emplace_back(-speed * std::sin(heading_rad_), 0.0, speed * std::cos(heading_rad_));  // x right: the paper's x is left
     P_cm_.push_back(P_cm_[m] + T * V_cm_s_[m]);
     heading_rad_ += T * config_.turn_rate_rad_s;
   }

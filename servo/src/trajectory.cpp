@@ -3,6 +3,7 @@
 #include "trajectory_params.h"
 
 #include <cmath>
+#include <complex>
 #include <functional>
 #include <sstream>
 #include <stdexcept>
@@ -10,7 +11,8 @@
 namespace predvs {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kTwoPi = 2.0 * kPi;
 
 using detail::finiteParam;
 using detail::positiveParam;
@@ -154,6 +156,38 @@ class SinusoidTrajectory : public Trajectory {
   Eigen::Vector2d p0_, amp_, w_, phi_;
 };
 
+/// Paper 001's eq. 44 target motion in the plane (header: e8-target).
+class E8Target : public Trajectory {
+ public:
+  explicit E8Target(const Params& p)
+      : p0_(finiteParam(p, "e8-target", "x0", 0), finiteParam(p, "e8-target", "y0", 0)),
+        v0_(finiteParam(p, "e8-target", "v0", 0.15)),
+        speed_omega_(finiteParam(p, "e8-target", "speed_omega", kPi / 20.0)),
+        turn_rate_(finiteParam(p, "e8-target", "turn_rate", 5.0 * kPi / 72.0)),
+        heading_(finiteParam(p, "e8-target", "heading", 0.0)) {}
+  std::string name() const override { return "e8-target"; }
+  Eigen::Vector2d position(double t) const override {
+    using C = std::complex<double>;
+    const C d = v0_ * std::polar(1.0, heading_) *
+                (integralOfPhase(turn_rate_ + speed_omega_, t) + integralOfPhase(turn_rate_ - speed_omega_, t)) / 2.0;
+    return p0_ + Eigen::Vector2d(d.real(), d.imag());
+  }
+  Eigen::Vector2d velocity(double t) const override {
+    const double speed = v0_ * std::cos(speed_omega_ * t), th = heading_ + turn_rate_ * t;
+    return speed * Eigen::Vector2d(std::cos(th), std::sin(th));
+  }
+
+ private:
+  // E(c, t) = integral_0^t e^{i c s} ds = t e^{i c t / 2} sinc(c t / 2), exact at c = 0.
+  static std::complex<double> integralOfPhase(double c, double t) {
+    const double half = c * t / 2.0;
+    const double sinc = std::abs(half) < 1e-4 ? 1.0 - half * half / 6.0 : std::sin(half) / half;
+    return t * sinc * std::polar(1.0, half);
+  }
+  Eigen::Vector2d p0_;
+  double v0_, speed_omega_, turn_rate_, heading_;
+};
+
 using Factory = std::function<std::unique_ptr<Trajectory>(const Params&)>;
 
 template <class T>
@@ -166,6 +200,7 @@ const std::vector<std::pair<std::string, Factory>>& entries() {
       {"static", factory<StaticTrajectory>()},     {"line", factory<LineTrajectory>()},
       {"accel-jump", factory<AccelJumpTrajectory>()}, {"zigzag", factory<ZigzagTrajectory>()},
       {"circle", factory<CircleTrajectory>()},     {"sinusoid", factory<SinusoidTrajectory>()},
+      {"e8-target", factory<E8Target>()},
   };
   return table;
 }

@@ -17,8 +17,9 @@ namespace paper {
 /// pinhole camera, observed as Xi = [x_i, y_i, d_x] (image centroid and image width, px).
 ///
 /// Target motion (paper 001 eq. 44), in cm and cm/s, camera frame (x right, y down, z forward):
-///   V(n) = v(n) [sin th(n), 0, cos th(n)],  v(n) = v0 cos(n pi T / 20),  th(n) = th(n-1) + T w,
-/// with v0 = 15 cm/s, w = 5 pi / 72 rad/s, th(0) = 0; the position is integrated as in the paper's
+///   V(n) = v(n) [-sin th(n), 0, cos th(n)],  v(n) = v0 cos(n pi T / 20),  th(n) = th(n-1) + T w,
+/// (minus: the paper's x axis points left, so its target turns to the left of the camera), with
+/// v0 = 15 cm/s, w = 5 pi / 72 rad/s, th(0) = 0; the position is integrated as in the paper's
 /// discrete model, P(n) = P(n-1) + T V(n-1).
 /// Image: x_i = fx X / Z, y_i = fy Y / Z, d_x = fx W / Z, and the ideal image velocity is the
 /// time derivative of these at V(n) (the target image velocity Jt Vt of paper 001 eq. 4).
@@ -55,7 +56,7 @@ inline E6Trajectory e6Trajectory(const E6Config& cfg = E6Config{}) {
   for (int n = 0; n < n_samples; ++n) {
     const double T = cfg.period_s;
     const double speed = cfg.v0_cm_s * std::cos(n * M_PI * T / 20.0);
-    const Eigen::Vector3d V(speed * std::sin(heading), 0.0, speed * std::cos(heading));
+    const Eigen::Vector3d V(-speed * std::sin(heading), 0.0, speed * std::cos(heading));
     const double X = P.x(), Y = P.y(), Z = P.z();
     out.t_s.push_back(n * T);
     out.X_px.emplace_back(cfg.fx_px * X / Z, cfg.fy_px * Y / Z, cfg.fx_px * cfg.width_cm / Z);

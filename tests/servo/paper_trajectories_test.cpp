@@ -3,6 +3,7 @@
 #include "predvs/servo/channel_experiment.h"
 #include "predvs/servo/paper_trajectories.h"
 #include "predvs/servo/prediction_experiment.h"
+#include "predvs/servo/trajectory.h"
 
 #include "predictors/paper_trajectories.h"  // the predictor tests' own E6 generator (reference)
 
@@ -59,6 +60,23 @@ TEST(E6Target, VelocityIsTheDerivativeOfPositionWithinASegment) {
     const Eigen::VectorXd v = traj.velocity(t);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(v(c), fd(c), kFiniteDiffTol) << "t " << t << " channel " << c;
   }
+}
+
+TEST(E6Target, IsTheE8MotionSeenByTheStaticCameraAndTurnsLeft) {
+  // GIVEN the e6-target (camera frame x right, z forward, cm) and the planar e8-target (world x
+  // forward, y left, m): the same eq. 44 motion
+  const E6TargetTrajectory e6;
+  const auto e8 = makeTrajectory("e8-target");
+  // THEN at every frame the e6 velocity is the e8 one with x_cam = -y_world, z_cam = x_world
+  for (int n = 0; n <= 200; n += 7) {
+    const double t = n * 0.1;
+    const Eigen::Vector3d V = e6.targetVelocityCmS(t);
+    EXPECT_NEAR(V.x(), -100.0 * e8->velocity(t).y(), kRoundOff) << "n " << n;
+    EXPECT_NEAR(V.y(), 0.0, kRoundOff);
+    EXPECT_NEAR(V.z(), 100.0 * e8->velocity(t).x(), kRoundOff) << "n " << n;
+  }
+  // AND the target turns to the camera's left: x_i decreases (paper: its x axis points left)
+  EXPECT_LT(e6.position(5.0)(0), -10.0);
 }
 
 TEST(OnsetSinusoid, RestThenSuddenMotion) {

@@ -158,6 +158,56 @@ TEST(VtcTask, FeaturesAreTheCentroidAndWidthOfTheOutline) {
   EXPECT_TRUE(task.features(p).array().isNaN().all());
 }
 
+TEST(VtcTask, SpreadWidthIsUnbiasedUnderPixelNoiseWhereTheRangeIsNot) {
+  // GIVEN an upright 12 cm board parallel to the image at the goal depth (d_x = 35 px exactly)
+  Params spread_params;
+  spread_params.setText("width", "spread");
+  VtcTask range(Params{}, unicycleContext()), spread(spread_params, unicycleContext());
+  const double W = 0.12, fx = 393.4, fy = 391.8, Z = fx * W / 35.0;
+  const double corners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  PointFeatures exact;
+  exact.uv_px.resize(8);
+  for (int k = 0; k < 4; ++k) {
+    exact.uv_px(2 * k) = 320.0 + fx * corners[k][0] * W / 2 / Z;
+    exact.uv_px(2 * k + 1) = 240.0 + fy * corners[k][1] * W / 2 / Z;
+  }
+  exact.Z_m = Eigen::VectorXd::Constant(4, Z);
+  exact.seen.assign(4, true);
+  // THEN without noise both widths are the model's fx W / Z
+  EXPECT_NEAR(range.features(exact)(2), 35.0, 1e-12);
+  EXPECT_NEAR(spread.features(exact)(2), 35.0, 1e-12);
+  // WHEN every coordinate gets uniform noise a (2 w - 1), a = 3 px (seeded, 20000 frames)
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> w(0.0, 1.0);
+  const double a = 3.0;
+  const int frames = 20000;
+  double range_sum = 0.0, spread_sum = 0.0, spread_sq = 0.0;
+  for (int f = 0; f < frames; ++f) {
+    PointFeatures noisy = exact;
+    for (int i = 0; i < 8; ++i) noisy.uv_px(i) += a * (2.0 * w(rng) - 1.0);
+    range_sum += range.features(noisy)(2) - 35.0;
+    const double e = spread.features(noisy)(2) - 35.0;
+    spread_sum += e;
+    spread_sq += e * e;
+  }
+  // THEN the range is biased by 2a/3 = 2 px (max and min each of two uniforms), the spread is not
+  // (standard error of the mean: sigma / sqrt(frames) = 0.012 px; tolerance 5 of them) and its noise
+  // is that of one coordinate, a / sqrt(3)
+  constexpr double kMeanTol = 0.06;
+  EXPECT_NEAR(range_sum / frames, 2.0 * a / 3.0, kMeanTol);
+  EXPECT_NEAR(spread_sum / frames, 0.0, kMeanTol);
+  EXPECT_NEAR(std::sqrt(spread_sq / frames), a / std::sqrt(3.0), kMeanTol);
+  // AND a bad value names the key
+  Params bad;
+  bad.setText("width", "median");
+  try {
+    VtcTask t(bad, unicycleContext());
+    ADD_FAILURE() << "width: median accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("width"), std::string::npos) << e.what();
+  }
+}
+
 TEST(VtcTask, LawPlacesTheClosedLoopPolesAtKg) {
   // GIVEN exact parameters, a feature error and a target rate forecast
   VtcTask task(Params{}, unicycleContext());

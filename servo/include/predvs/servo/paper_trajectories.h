@@ -9,10 +9,15 @@
 // Names, keys and defaults (paper values where the paper gives one):
 //   e6-target        (3 channels: x_i, y_i, d_x in px; paper 001 §5.1-5.2, eq. 44)
 //     Motion in cm and cm/s in the camera frame (x right, y down, z forward):
-//       V(n) = v(n) [sin th(n), 0, cos th(n)],  v(n) = v0 cos(n pi T / 20),  th(n) = th(n-1) + T w,
-//     th(0) = 0, integrated as the paper's discrete model P(n) = P(n-1) + T V(n-1). Between the
-//     samples n T the target moves on the straight segment at V(n), so the samples are exact and
-//     the signal is defined at any t >= 0.
+//       V(n) = v(n) [-sin th(n), 0, cos th(n)],  v(n) = v0 cos(n pi T / 20),  th(n) = th(n-1) + T w,
+//     th(0) = 0, integrated as the paper's discrete model P(n) = P(n-1) + T V(n-1). The paper writes
+//     the velocity as (v sin th, 0, v cos th) in its frame x LEFT, y up, z forward (its appendix:
+//     x_i = -fx x_c / z_c points right, so its x_c points left), hence the minus sign here: the
+//     target turns to the left, x_i decreases (e8-target in trajectory.h is the same motion in the
+//     plane). An earlier version had +, a mirror image; the E6/E7 statistics are symmetric
+//     under that mirror, only their per-seed values changed. Between the samples n T the target
+//     moves on the straight segment at V(n), so the samples are exact and the signal is defined
+//     at any t >= 0.
 //     Image of a static pinhole camera: x_i = fx X / Z, y_i = fy Y / Z, d_x = fx W / Z; the
 //     velocity is the exact time derivative of these (the target image velocity of paper 001 eq. 4).
 //     Keys: period_s = 0.1 (T of eq. 44), fx = 393.4, fy = 391.8 (px), width_cm = 12 (W),

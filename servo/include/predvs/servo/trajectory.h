@@ -1,4 +1,4 @@
-// predvs — 2D target trajectories: position and velocity at any time t (METHODS §10, E1–E4, E9).
+// predvs — 2D target trajectories: position and velocity at any time t (METHODS §10, E1–E4, E8, E9).
 //
 // Unit-agnostic: the same trajectory describes a target in pixels (open-loop prediction, E1–E4)
 // or the in-plane translation of the target in metres (closed loop). Every trajectory is built by
@@ -20,6 +20,26 @@
 //   sinusoid    x0 = 0, y0 = 0, amp_x = 20, amp_y = 20, freq_x = 0.1, freq_y = 0.15,
 //               phase_x = 0, phase_y = 0
 //               p_i(t) = i0 + amp_i sin(2 pi freq_i t + phase_i)  (E9: different x/y frequencies)
+//   e8-target   x0 = 0, y0 = 0, v0 = 0.15, speed_omega = pi / 20, turn_rate = 5 pi / 72, heading = 0
+//               paper 001's eq. 44 target motion in the plane (E8, paper 001 §5.1, §5.3), in metres
+//               by its defaults: speed v(t) = v0 cos(speed_omega t) (m/s; it reverses after
+//               pi / (2 speed_omega) = 10 s), heading th(t) = heading + turn_rate t (rad, 0 = +x,
+//               positive turns LEFT, counter-clockwise seen from +z):
+//                   p'(t) = v(t) (cos th(t), sin th(t)),
+//               integrated exactly (closed form below). Frames: the paper writes the target's
+//               velocity as (v sin th, 0, v cos th) in its world frame x left, y up, z forward (the
+//               robot's heading at t = 0, its appendix eq. A.1 and eq. 1); in the predvs world frame
+//               (x forward, y left, z up, servo/robot.h) that is v (cos th, sin th, 0): the paper's
+//               target turns towards its +x, i.e. to the left of a robot looking along +z.
+//               Continuous time: the paper updates v and th once per frame, v(n) = v0 cos(n pi T / 20),
+//               th(n) = th(n-1) + T 5 pi / 72, and integrates P(n) = P(n-1) + T V(n-1) (Euler); the
+//               curve here takes the same v and th at t = n T and integrates them exactly, so the
+//               motion is smooth (the velocity is the derivative everywhere). The paper's Euler
+//               samples trail it by about half a frame (under 1 cm over 20 s at T = 0.1 s, see
+//               tests/servo/trajectory_test.cpp).
+//               Closed form, with a = speed_omega, b = turn_rate and complex positions x + i y:
+//                   p(t) = p0 + v0 e^{i heading} (E(b + a, t) + E(b - a, t)) / 2,
+//                   E(c, t) = integral_0^t e^{i c s} ds = t e^{i c t / 2} sinc(c t / 2).
 #pragma once
 
 #include "predvs/predictors/params.h"

@@ -3,8 +3,19 @@
 //
 // Features X = (x_i, y_i, d_x) in pixels, from the N points of the source (all of them are the
 // target's outline, e.g. the 4 corners of a board):
-//     x_i = mean(u_k) - u0,   y_i = mean(v_k) - v0,   d_x = max(u_k) - min(u_k),
+//     x_i = mean(u_k) - u0,   y_i = mean(v_k) - v0,
+//     d_x = max(u_k) - min(u_k)                     (width: range, the default: any outline)
+//     d_x = 2 mean(|u_k - mean(u)|)                 (width: spread)
 // (u0, v0) the principal point the controller believes. Any lost point makes all three NaN.
+// Under zero-mean pixel noise the range is biased upwards: where two corners share a column
+// (an upright board) max and min each pick the more extreme of two noisy values, +2a/3 px for
+// uniform noise of half-width a, +1.13 sigma for Gaussian noise, a steady depth error no
+// estimator can remove (the paper's d_x noise is zero-mean, its eq. 42). The spread equals the
+// range exactly when the points lie on two columns symmetric about their mean (the corners of an
+// upright rectangle parallel to the image) and is then unbiased to first order (a point's
+// deviation keeps its sign unless the noise exceeds half the width); its noise is that of one
+// coordinate, sigma, against about 1.17 sigma for the range. For a dense outline (a circle of
+// points) it is not the width: keep the range there.
 // Axes: x_i right and y_i DOWN as the pixels (the paper's y_i points up: its y_i is our -y_i; its
 // eq. 18 below is written in our sign). The paper's model of these features is the projection of
 // the target centre (X, Y, Z) in the camera frame and a width that depends on depth only:
@@ -85,7 +96,8 @@ class VtcTask : public Task {
   /// desired_d_px 35; desired_source: params | points (points: features(context.desired_points));
   /// target_width_m 0.12; camera_offset_y_m 0.10; param_error 0 (in [0, 0.9]);
   /// param_error_common 0 | 1; rho_fx, rho_fy, rho_W, rho_dy (in [-0.9, 0.9]);
-  /// singular_tolerance 0.02 (in [0, 1)). fx, fy, u0, v0 come from context.camera.
+  /// singular_tolerance 0.02 (in [0, 1)); width: range | spread (d_x, header). fx, fy, u0, v0
+  /// come from context.camera.
   /// Throws std::invalid_argument naming the key, or when context.command_space.kind is not
   /// "unicycle-tilt".
   VtcTask(const Params& params, const TaskContext& context);
@@ -118,6 +130,7 @@ class VtcTask : public Task {
   VtcModel true_, estimated_;
   Eigen::Vector3d kg_;
   double singular_tolerance_;
+  bool width_spread_ = false;  ///< width: spread (else range)
   Eigen::VectorXd desired_;
   Eigen::MatrixXd B_ = Eigen::MatrixXd::Zero(3, 3);
   double lyap_f_ = 0.0, lyap_bound_ = 0.0, lyap_f_bar_ = 0.0;
