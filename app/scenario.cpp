@@ -288,12 +288,14 @@ void readComponent(YamlSection& root, const std::string& key, ComponentSpec& spe
   if (node.IsNull()) return;
   if (!node.IsMap()) throwAt(file, yamlLine(node), "'" + key + "': expected a mapping {type: NAME, parameters...}");
   const YAML::Node type = node["type"];
+  // Parameter keys before the component's name: an error quoting both ("unknown parameter 'k' for
+  // task 'vsc'") points at the key's line.
+  spec.params = readParams(node, file, key, &lines, {"type"}, true);
   if (type.IsDefined()) {
     if (!type.IsScalar()) throwAt(file, yamlLine(type), "'" + key + ".type': expected a name");
     spec.name = type.Scalar();
     lines.emplace_back(spec.name, yamlLine(type));
   }
-  spec.params = readParams(node, file, key, &lines, {"type"}, true);
 }
 
 /// A 6-vector pose [tx, ty, tz, thetaux, thetauy, thetauz] (m, rad).

@@ -20,7 +20,7 @@ double Params::get(const std::string& key, double fallback, double lo, double hi
   const double v = get(key, fallback);
   if (!(v >= lo && v <= hi)) {
     std::ostringstream msg;
-    msg << "predictor parameter '" << key << "' = " << v << " is out of range [" << lo << ", " << hi << "]";
+    msg << "parameter '" << key << "' = " << v << " is out of range [" << lo << ", " << hi << "]";
     throw std::invalid_argument(msg.str());
   }
   return v;

@@ -15,19 +15,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Parameter `key` in [lo, hi]. The message quotes the key and not the task's name: the scenario
-// loader points an error at the line of the first key it finds quoted, and it tries the task's
-// name before its parameters. (Params' own range check calls every key a predictor parameter.)
-double inRange(const Params& params, const std::string& key, double fallback, double lo, double hi) {
-  const double value = params.get(key, fallback);
-  if (!(value >= lo && value <= hi)) {
-    std::ostringstream msg;
-    msg << "task vtc: parameter '" << key << "' = " << value << " is out of range [" << lo << ", " << hi << "]";
-    throw std::invalid_argument(msg.str());
-  }
-  return value;
-}
-
 double positive(const Params& params, const std::string& key, double fallback) {
   const double value = params.get(key, fallback);
   if (!(value > 0.0) || !std::isfinite(value)) {
@@ -49,12 +36,12 @@ VtcTask::VtcTask(const Params& params, const TaskContext& context) : context_(co
   true_.fx_px = context.camera.px;
   true_.fy_px = context.camera.py;
   true_.width_m = positive(params, "target_width_m", 0.12);
-  true_.camera_offset_y_m = inRange(params, "camera_offset_y_m", 0.10, -10.0, 10.0);
-  singular_tolerance_ = inRange(params, "singular_tolerance", 0.02, 0.0, 0.999);
+  true_.camera_offset_y_m = params.get("camera_offset_y_m", 0.10, -10.0, 10.0);
+  singular_tolerance_ = params.get("singular_tolerance", 0.02, 0.0, 0.999);
 
   // Parameter errors (paper eq. 43), drawn once per run from the run's seed.
-  const double amplitude = inRange(params, "param_error", 0.0, 0.0, 0.9);
-  const bool common = inRange(params, "param_error_common", 0.0, 0.0, 1.0) != 0.0;
+  const double amplitude = params.get("param_error", 0.0, 0.0, 0.9);
+  const bool common = params.get("param_error_common", 0.0, 0.0, 1.0) != 0.0;
   double rho[4] = {0.0, 0.0, 0.0, 0.0};
   if (amplitude > 0.0) {
     std::mt19937_64 rng(context.seed);
@@ -63,7 +50,7 @@ VtcTask::VtcTask(const Params& params, const TaskContext& context) : context_(co
     if (common) rho[1] = rho[2] = rho[3] = rho[0];
   }
   const char* keys[4] = {"rho_fx", "rho_fy", "rho_W", "rho_dy"};
-  for (int i = 0; i < 4; ++i) rho[i] = inRange(params, keys[i], rho[i], -0.9, 0.9);
+  for (int i = 0; i < 4; ++i) rho[i] = params.get(keys[i], rho[i], -0.9, 0.9);
   estimated_.fx_px = true_.fx_px * (1.0 + rho[0]);
   estimated_.fy_px = true_.fy_px * (1.0 + rho[1]);
   estimated_.width_m = true_.width_m * (1.0 + rho[2]);
@@ -74,9 +61,9 @@ VtcTask::VtcTask(const Params& params, const TaskContext& context) : context_(co
     throw std::invalid_argument("task vtc: 'width' must be range or spread, got '" + width + "'");
   width_spread_ = width == "spread";
   const std::string source = params.text("desired_source", "params");
-  const double dx = inRange(params, "desired_x_px", 0.0, -1e5, 1e5);
-  const double dyp = inRange(params, "desired_y_px", 0.0, -1e5, 1e5);
-  const double dd = inRange(params, "desired_d_px", 35.0, 0.0, 1e5);
+  const double dx = params.get("desired_x_px", 0.0, -1e5, 1e5);
+  const double dyp = params.get("desired_y_px", 0.0, -1e5, 1e5);
+  const double dd = params.get("desired_d_px", 35.0, 0.0, 1e5);
   params.requireAllUsed("task 'vtc'");
   if (source == "params") {
     if (!(dd > 0.0)) throw std::invalid_argument("task vtc: 'desired_d_px' must be > 0");
