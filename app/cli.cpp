@@ -254,15 +254,20 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   std::vector<std::string> servo_sets;
   bool servo_no_plots = false;
   CLI::App* servo =
-      app.add_subcommand("servo", "Run a scenario (closed-loop IBVS or open-loop E1-E4) comparing predictors");
+      app.add_subcommand("servo", "Run a scenario (closed loop or open loop) once per predictor on one seed, with plots");
   servo->footer(
       "Runs every predictor of the scenario on the same seed. A closed-loop scenario (kind: closed-loop; "
       "the default ibvs-moving-target is IBVS on a moving 4-point target with a 2-frame vision delay, "
       "comparing hold, kf-cv and cs-akf-adaptive) runs the servo loop once per predictor; an open-loop "
-      "scenario (kind: open-loop: e1-line, e2-accel-jump, e3-zigzag, e4-circle) runs the prediction "
-      "experiment. `predvs list` shows the scenarios. Writes DIR/log.csv (one row per predictor and "
-      "control tick), DIR/summary.json (metrics per predictor, scenario, seed, command line), "
-      "DIR/error.png and DIR/trajectories.png (with their gnuplot scripts and data). "
+      "scenario (kind: open-loop: e1-line .. e4-circle, e6-noise-study, e7-occlusion, e12-*) runs the "
+      "prediction experiment on its trajectory's channels. A scenario's sweep is not run (servo runs the "
+      "value its file gives; `predvs compare` runs the sweep). `predvs list` shows the scenarios. Prints "
+      "the figures of each run under the names `predvs compare` uses (rmse, final, max, peak, iae, "
+      "settling_s, effort, the law's run summary; open loop: per-channel MSE, occlusion, alarm and "
+      "response figures). Writes DIR/log.csv (one row per predictor and control tick), DIR/summary.json "
+      "(figures per predictor with their definitions, scenario, seed, command line), DIR/error.png and "
+      "DIR/trajectories.png, and in closed loop DIR/features.png, DIR/command.png and, for a law with "
+      "diagnostics, DIR/diagnostics.png (with their gnuplot scripts and data). "
       "--set PATH=VALUE changes one value of the scenario file before it is validated, e.g. "
       "--set servo.forecast=feature, --set task.lambda=6, --set duration_s=6, "
       "--set predictors.kf-cv.params.q=50 (a list element is chosen by index or by name; a name "
@@ -307,7 +312,8 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       "--set PATH=VALUE changes one value of every chosen scenario file before it is validated (so a key "
       "that a scenario kind does not have is an error for that scenario), e.g. "
       "--scenarios e2-accel-jump --predictors cs-akf --set predictors.cs-akf.params.a_max=100; the overrides "
-      "are recorded in leaderboard.json. Metric definitions: app/compare_command.h.\n"
+      "are recorded in leaderboard.json. Metric definitions: leaderboard.json (metric_definitions), "
+      "servo/include/predvs/servo/run_metrics.h.\n"
       "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
   compare->add_option("--scenarios", cmp_scenarios, "comma-separated scenario names or .yaml paths, or 'all'")
       ->capture_default_str()

@@ -6,11 +6,13 @@
 //   predvs servo   [--scenario NAME|FILE] [--predictors a,b,c] [--seed N] [--set PATH=VALUE]...
 //                  [--out DIR] [--no-plots]
 //   predvs compare [--scenarios a,b|all] [--predictors x,y|all] [--runs N] [--seed S] [--jobs J]
-//                  [--set PATH=VALUE]... [--out DIR=out/compare] [--no-plots]   (compare_command.h)
+//                  [--set PATH=VALUE]... [--sweep PATH=V1,V2] [--out DIR=out/compare] [--no-plots]   (compare_command.h)
 //   --set overrides any scenario key before the strict parse (scenario_override.h).
 //
-// `predvs servo` runs any scenario file: closed-loop IBVS (`kind: closed-loop`, the default
-// scenario ibvs-moving-target) or an open-loop prediction experiment E1-E4 (`kind: open-loop`).
+// `predvs servo` runs any scenario file once per predictor on one seed (servo_command.h): a closed
+// loop (`kind: closed-loop`, the default scenario ibvs-moving-target) or an open-loop prediction
+// experiment (`kind: open-loop`: E1-E4, E6, E7, E12), reporting the figures `predvs compare`
+// aggregates, under the same names (report.h).
 // `predvs predict` is the open-loop prediction of a recorded CSV track.
 #pragma once
 

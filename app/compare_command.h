@@ -18,43 +18,32 @@
 // gives it when the scenario lists it, its defaults otherwise; without --predictors, each
 // scenario's own list.
 //
-// Metrics per run (open loop: the error is ||predicted - true|| over the channels at the effect
-// time, in the scenario's units; closed loop: RMS image error of the 4 points, px):
-//   rmse, final, peak, iae, settling_s   as in servo/metrics.h (rmse over the steady window)
-//   effort                               closed loop: control effort (metrics.h)
-//   pos_mse_<ch>, vel_mse_<ch>           open loop, per channel: MSE of the position and of the
-//                                        velocity over the run (paper 001 Table 2)
-//   occl_rmse, occl_max                  with occlusions: RMS / max error over the ticks whose latest
-//                                        delivered frame was lost (prediction through the occlusion)
-//   occl_end_error                       with occlusions: error at the last tick before a frame is
-//                                        delivered again (the extrapolation over the whole gap)
-//   reacq_error, reacq_1s_rmse           with occlusions: error at the first tick after a frame is
-//                                        delivered again, and RMS error over the following 1 s
-//                                        (these three: means over the occlusions of the run)
-//   alarms, false_alarms_per_min         open loop: discontinuity-monitor alarms (st-akf family;
-//                                        0 for the others), and those that are not the detection
-//                                        of the onset, per minute of run
-//   detected, detect_delay_frames        trajectory with an onset after t = 0 (E12): 1 if an alarm came from a
-//                                        frame acquired in [t_onset, t_onset + kDetectWindowS), and
-//                                        its delay in frames after the first frame at or after the
-//                                        onset (NaN when not detected)
-//   resp_max_lag, resp_overshoot,        trajectory with a manoeuvre (E1 start, E2 jump, E3 switch, E12 onset;
-//   resp_mean_3s, resp_time_s            servo/trajectory.h): the largest lag behind and overshoot past the
-//                                        change (error projected on its direction, 0.5 s trailing mean),
-//                                        mean error over the 3 s after it, and the time from it until the
-//                                        error settles (servo/metrics.h, computeResponse)
+// Figures per run: the same names `predvs servo` prints and writes, computed in the servo layer
+// (servo/include/predvs/servo/run_metrics.h has the list and definitions; leaderboard.json repeats
+// the definitions under metric_definitions). Open loop (the error e is ||predicted - true|| over
+// the channels at the effect time, in the scenario's units): rmse, final, max, peak, iae,
+// settling_s; pos_mse_<ch>, vel_mse_<ch> per channel; with occlusions occl_rmse, occl_max,
+// occl_end_error, reacq_error, reacq_1s_rmse; alarms, false_alarms_per_min; with an onset after
+// t = 0 (E12) detected, detect_delay_frames; with a manoeuvre (E1-E3, E12) resp_max_lag,
+// resp_overshoot, resp_mean_3s, resp_time_s. Closed loop (e is the task's tracking error, px):
+// rmse, final, max, peak, iae, settling_s, effort, then the task's run summary (e.g.
+// jacobian_error_final for ibvs-broyden, sliding_rms_final for vsc, lyap_bound_positive_fraction
+// for vtc).
 // Aggregates over runs: n (finite values), mean, std (sample, 0 for one run), min, max.
 //
 // Output directory (default out/compare), created only when everything succeeded:
 //   leaderboard.csv   scenario,variant,predictor,metric,n,mean,std,min,max (one row per metric)
-//   leaderboard.json  the same, nested, with each scenario's runs, seeds, units and sweep ({key,
-//                     values, from}; each variant's sweep_value), the --set overrides and the
-//                     --sweep (applied to every scenario; null without)
+//   leaderboard.json  the same, nested, with each scenario's runs, seeds, units, metric
+//                     definitions and sweep ({key, values, from}; each variant's sweep_value), the
+//                     --set overrides and the --sweep (applied to every scenario; null without)
 //   leaderboard.md    one table per variant (for a sweep: its first and last value), predictors
-//                     ranked by mean rmse, mean ± std
+//                     ranked by mean rmse, mean ± std, the columns of report.h (tableMetrics(): the
+//                     same columns `predvs servo` prints); the terminal shows the same tables
+//                     (means) with "vs hold" when hold is among the predictors
 //   error_<variant>.png  mean over runs of the error versus time, one line per predictor (for a
-//                     sweep: its first and last value), with error_<variant>.gp / .dat; the file id
-//                     of a variant is <scenario>_<KEY><value> (error_e6-noise-study_sigma10.png)
+//                     sweep: its first and last value; occlusions shaded, an onset marked), with
+//                     error_<variant>.gp / .dat; the file id of a variant is
+//                     <scenario>_<KEY><value> (error_e6-noise-study_sigma10.png)
 //   mse_vs_sigma_<scenario>.png  open-loop noise.sigma sweeps: position and velocity MSE per
 //                     channel versus sigma_n, one line per predictor (paper 001 Fig. 8 analogue)
 //   rmse_vs_<KEY>_<scenario>.png  any other sweep: mean ± std over the runs of rmse versus the
@@ -88,9 +77,6 @@ struct CompareOptions {
 
 /// Runs without a `runs:` key and without --runs.
 constexpr int kDefaultRuns = 20;
-/// An alarm counts as detecting the onset when it comes from a frame acquired within this long
-/// after the onset (s).
-constexpr double kDetectWindowS = 0.5;
 
 /// Validates everything, runs, writes the outputs and prints the leaderboard. Throws
 /// std::invalid_argument / std::runtime_error on bad input (nothing is written then).

@@ -360,9 +360,12 @@ TEST_F(CliTest, ServoShortClosedLoopWritesAllFiles) {
   const std::string out = path("out");
   const CliRun r = run({"servo", "--scenario", shortClosedLoop(), "--seed", "9", "--out", out});
   ASSERT_EQ(r.code, 0) << r.err;
-  // THEN log, summary and both plots exist, and the summary records what was run
-  for (const char* f : {"log.csv", "summary.json", "error.png", "trajectories.png", "error.gp", "trajectories.gp"})
+  // THEN log, summary and the plots exist (ibvs has no diagnostics: no diagnostics.png), and the
+  // summary records what was run
+  for (const char* f : {"log.csv", "summary.json", "error.png", "trajectories.png", "features.png", "command.png",
+                        "error.gp", "trajectories.gp"})
     EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
+  EXPECT_FALSE(fs::exists(out + "/diagnostics.png"));
   EXPECT_GT(fs::file_size(out + "/error.png"), 1000u);
   EXPECT_GT(fs::file_size(out + "/trajectories.png"), 1000u);
   std::ifstream js(out + "/summary.json");
@@ -373,8 +376,8 @@ TEST_F(CliTest, ServoShortClosedLoopWritesAllFiles) {
   EXPECT_NE(j["command"].get<std::string>().find("--seed 9"), std::string::npos);
   ASSERT_EQ(j["predictors"].size(), 2u);
   for (const auto& p : j["predictors"]) {
-    EXPECT_TRUE(p["metrics"]["rmse_px"].is_number());
-    EXPECT_TRUE(p["metrics"]["control_effort"].is_number());
+    EXPECT_TRUE(p["metrics"]["rmse"].is_number());
+    EXPECT_TRUE(p["metrics"]["effort"].is_number());
   }
   // log.csv: header + one row per (predictor, tick); 1 s at 40 ms is 25 or 26 ticks.
   std::ifstream csv(out + "/log.csv");
@@ -422,7 +425,8 @@ TEST_F(CliTest, ServoRunsAnOpenLoopScenario) {
   const auto j = nlohmann::json::parse(js);
   EXPECT_EQ(j["kind"], "open-loop");
   EXPECT_EQ(j["predictors"][1]["params"]["q"].get<double>(), 10.0);
-  EXPECT_TRUE(j["predictors"][0]["metrics"]["control_effort"].is_null());
+  EXPECT_TRUE(j["predictors"][0]["metrics"]["rmse"].is_number());
+  EXPECT_FALSE(j["predictors"][0]["metrics"].contains("effort"));  // no command in open loop
 }
 
 TEST_F(CliTest, ListShowsPredictorsAndScenarios) {

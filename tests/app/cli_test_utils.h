@@ -46,6 +46,21 @@ inline std::string slurp(const std::string& path) {
   return s.str();
 }
 
+/// The data rows of a CSV text (the header row skipped), each split at its commas.
+inline std::vector<std::vector<std::string>> csvRows(const std::string& csv) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
 /// The JSON document in the file at `path` (throws if it is missing or malformed).
 inline nlohmann::json readJson(const std::filesystem::path& path) {
   std::ifstream in(path);

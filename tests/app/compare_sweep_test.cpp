@@ -23,15 +23,8 @@ namespace {
 /// Rows of leaderboard.csv as "variant/predictor/metric" -> mean.
 std::map<std::string, double> means(const std::string& csv_path) {
   std::map<std::string, double> out;
-  std::istringstream in(slurp(csv_path));
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::vector<std::string> f;
-    std::stringstream s(line);
-    for (std::string cell; std::getline(s, cell, ',');) f.push_back(cell);
+  for (const auto& f : csvRows(slurp(csv_path)))
     if (f.size() >= 6 && !f[5].empty()) out[f[1] + "/" + f[2] + "/" + f[3]] = std::stod(f[5]);
-  }
   return out;
 }
 

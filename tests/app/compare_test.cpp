@@ -141,8 +141,6 @@ TEST_F(CompareTest, BadInputIsOneLineExit2AndNoDirectory) {
   expectError(run({"compare", "--scenarios", bad_sweep, "--out", out}), "bad-sweep.yaml:4", out);
   const std::string bad_runs = write("bad-runs.yaml", "kind: open-loop\nruns: 0\ntrajectory: {type: line}\npredictors: [hold]\n");
   expectError(run({"compare", "--scenarios", bad_runs, "--out", out}), "bad-runs.yaml:2", out);
-  // `predvs servo` points 1- and 3-channel scenarios to compare
-  expectError(run({"servo", "--scenario", "e6-noise-study", "--out", out}), "predvs compare --scenarios e6-noise-study", out);
 }
 
 TEST(CompareScenarios, PaperStudiesHaveThePapersValues) {

@@ -38,7 +38,7 @@ class SetOverrideTest : public ScratchDirTest {
     EXPECT_EQ(r.code, 0) << r.err;
     const auto j = readJson(fs::path(out) / "summary.json");
     EXPECT_EQ(j["duration_s"].get<double>(), 6.0);
-    return j["predictors"][0]["metrics"]["rmse_px"].get<double>();
+    return j["predictors"][0]["metrics"]["rmse"].get<double>();
   }
 };
 

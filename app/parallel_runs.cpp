@@ -1,0 +1,85 @@
+#include "parallel_runs.h"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <iomanip>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace predvs {
+namespace {
+
+class Progress {
+ public:
+  Progress(std::ostream& err, size_t total, bool bar, const char* label)
+      : err_(err), total_(total), bar_(bar), label_(label) {}
+  void show(size_t done, double elapsed_s) {
+    if (bar_) {
+      constexpr int kWidth = 40;
+      const int filled = total_ ? static_cast<int>(kWidth * done / total_) : kWidth;
+      const double eta = done ? elapsed_s * static_cast<double>(total_ - done) / static_cast<double>(done) : 0.0;
+      err_ << "\rpredvs " << label_ << " [" << std::string(static_cast<size_t>(filled), '#')
+           << std::string(static_cast<size_t>(kWidth - filled), '.') << "] " << done << "/" << total_ << " runs, "
+           << std::fixed << std::setprecision(0) << elapsed_s << " s, eta " << eta << " s   " << std::defaultfloat
+           << std::flush;
+      if (done == total_) err_ << "\n";
+      return;
+    }
+    // Not a terminal: a line at every quarter.
+    const size_t quarter = total_ ? 4 * done / total_ : 4;
+    if (quarter > last_quarter_ || (done == total_ && !finished_)) {
+      last_quarter_ = quarter;
+      finished_ = done == total_;
+      err_ << "predvs: " << label_ << ": " << done << "/" << total_ << " runs (" << std::fixed << std::setprecision(1)
+           << elapsed_s << " s)\n"
+           << std::defaultfloat << std::flush;
+    }
+  }
+
+ private:
+  std::ostream& err_;
+  size_t total_;
+  bool bar_;
+  const char* label_;
+  size_t last_quarter_ = 0;
+  bool finished_ = false;
+};
+
+}  // namespace
+
+void runParallel(size_t count, const std::function<void(size_t)>& run, const ParallelOptions& o, std::ostream& err) {
+  std::atomic<size_t> next{0}, done{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto work = [&] {
+    for (;;) {
+      const size_t i = next.fetch_add(1);
+      if (i >= count || failed) return;
+      try {
+        run(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        failed = true;
+      }
+      ++done;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 0; w < std::max(1, o.workers); ++w) pool.emplace_back(work);
+  Progress progress(err, count, o.progress_bar, o.label);
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - o.start).count(); };
+  while (done < count && !failed) {
+    progress.show(done, elapsed());
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  for (auto& th : pool) th.join();
+  if (error) std::rethrow_exception(error);
+  progress.show(done, elapsed());
+}
+
+}  // namespace predvs

@@ -1,0 +1,82 @@
+#include "plots.h"
+
+#include "gnuplot.h"
+#include "report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace predvs {
+
+void drawFigure(const StagedOutputDir& dir, const PlotFigure& f) {
+  const size_t n = std::max<size_t>(1, f.panels.size());
+  const size_t cols = f.columns > 0 ? f.columns : (n <= 3 ? 1 : 2);
+  const size_t rows = (n + cols - 1) / cols;
+  const int pw = f.panel_width_px > 0 ? f.panel_width_px : (cols == 1 ? 1100 : 700);
+  const int ph = f.panel_height_px > 0 ? f.panel_height_px : (n == 1 ? 600 : 330);
+  std::ostringstream gp;
+  gp << "# Regenerate with: gnuplot " << f.base << ".gp\n"
+     << "set terminal pngcairo size " << static_cast<int>(cols) * pw << "," << static_cast<int>(rows) * ph + 60
+     << " noenhanced font 'Sans,10'\n"
+     << "set output '" << f.base << ".png'\n"
+     << "set datafile missing 'NaN'\nset grid\n"
+     << f.setup;
+  if (f.panels.size() > 1)
+    gp << "set multiplot layout " << rows << "," << cols << " title " << gnuplotQuote(f.title) << "\n";
+  for (const PlotPanel& p : f.panels) {
+    gp << "set size noratio\nset autoscale x\nset autoscale xfix\nset yrange [*:*] noreverse\n"
+       << "unset logscale y\nset format y '% h'\nset key inside top right opaque font ',9' samplen 2\n"
+       << "set title " << gnuplotQuote(f.panels.size() > 1 ? p.title : f.title + (p.title.empty() ? "" : ": " + p.title))
+       << "\nset xlabel " << gnuplotQuote(p.xlabel) << "\nset ylabel " << gnuplotQuote(p.ylabel) << "\n";
+    if (p.log_y) gp << "set logscale y\nset format y '%g'\n";
+    gp << p.setup << "plot ";
+    for (size_t k = 0; k < p.lines.size(); ++k) {
+      const PlotLine& l = p.lines[k];
+      gp << (k ? ", \\\n     " : "");
+      if (l.file.empty())
+        gp << l.using_spec;
+      else
+        gp << "'" << l.file << "'" << (l.select.empty() ? "" : " " + l.select) << " using " << l.using_spec;
+      gp << " with " << l.style << " lc rgb '" << l.color << "' "
+         << (l.title.empty() ? std::string("notitle") : "title " + gnuplotQuote(l.title));
+    }
+    gp << "\n";
+  }
+  if (f.panels.size() > 1) gp << "unset multiplot\n";
+  writeTextFile(dir, f.base + ".gp", gp.str());
+  runGnuplot(dir.staging().string(), f.base + ".gp");
+}
+
+std::string eventMarks(const RunEvents& ev) {
+  std::ostringstream gp;
+  for (const auto& o : ev.occlusions)
+    gp << "set object rect from " << o.start_s << ", graph 0 to " << o.end_s
+       << ", graph 1 fc rgb 'gray90' fs solid behind\n";
+  if (!ev.occlusions.empty())
+    gp << "set label 'occlusion (shaded)' at " << ev.occlusions.front().start_s << ", graph 0.97 offset 0.5,0\n";
+  if (std::isfinite(ev.onset_s))
+    gp << "set arrow from " << ev.onset_s << ", graph 0 to " << ev.onset_s << ", graph 1 nohead dt 2 lc rgb 'black'\n"
+       << "set label 'onset' at " << ev.onset_s << ", graph 0.97 offset 0.5,0\n";
+  return gp.str();
+}
+
+std::vector<std::vector<size_t>> groupByPrefix(const std::vector<std::string>& names) {
+  std::vector<std::vector<size_t>> groups;
+  std::vector<std::string> keys;
+  for (size_t i = 0; i < names.size(); ++i) {
+    const std::string key = names[i].substr(0, names[i].find('_'));  // the whole name without '_'
+    const auto at = std::find(keys.begin(), keys.end(), key);
+    if (at == keys.end()) {
+      keys.push_back(key);
+      groups.push_back({i});
+    } else {
+      groups[static_cast<size_t>(at - keys.begin())].push_back(i);
+    }
+  }
+  return groups;
+}
+
+int dashType(size_t k) { return static_cast<int>(k % 5) + 1; }
+
+}  // namespace predvs

@@ -1,0 +1,59 @@
+// predvs app — the gnuplot figures of `predvs servo` and `predvs compare`, built from one
+// primitive: a figure is a grid of panels, a panel a list of lines read from data files in the
+// output directory. Every figure is BASE.gp (the script, re-runnable by hand with `gnuplot
+// BASE.gp` in that directory) drawing BASE.png.
+#pragma once
+
+#include "output_dir.h"
+#include "scenario_run.h"
+
+#include <string>
+#include <vector>
+
+namespace predvs {
+
+/// One curve of a panel: `plot FILE SELECT using USING with STYLE lc rgb COLOR title TITLE`.
+/// An empty file makes USING a gnuplot expression (e.g. a constant reference line).
+struct PlotLine {
+  std::string file;
+  std::string using_spec;  ///< "1:5"
+  std::string style;       ///< "lines lw 1.5", "points pt 7 ps 0.4", ...
+  std::string color;       ///< "#rrggbb" or a gnuplot colour name
+  std::string title;       ///< empty: notitle
+  std::string select;      ///< "index 2", "every ::0::0" or empty
+};
+
+struct PlotPanel {
+  std::string title, xlabel = "time t [s]", ylabel;
+  bool log_y = false;
+  std::string setup;  ///< gnuplot commands for this panel, after the per-panel defaults
+  std::vector<PlotLine> lines;
+};
+
+struct PlotFigure {
+  std::string base;   ///< BASE.gp draws BASE.png
+  std::string title;  ///< above the grid
+  std::string setup;  ///< gnuplot commands for every panel (e.g. eventMarks())
+  std::vector<PlotPanel> panels;
+  size_t columns = 0;      ///< grid columns; 0: one column up to 3 panels, else 2
+  int panel_width_px = 0;  ///< 0: 1100 in one column, 700 otherwise
+  int panel_height_px = 0; ///< 0: 600 for a lone panel, 330 otherwise
+};
+
+/// Writes BASE.gp and runs gnuplot in the staging directory (runGnuplot(): errors throw).
+/// Defaults per panel: linear y, x autoscaled to the data, grid, key inside top right. Text is
+/// not "enhanced": names with '_' print as they are.
+void drawFigure(const StagedOutputDir& dir, const PlotFigure& figure);
+
+/// gnuplot commands that shade the occlusions and mark the onset of a run on a time axis.
+std::string eventMarks(const RunEvents& events);
+
+/// Panels for related names: names that share the text before their first '_' (the whole name
+/// when it has none) share a panel (lyap_f, lyap_bound and lyap_f_bar; s_u and s_v); the others
+/// have one each. Indices into `names`, in order of first appearance.
+std::vector<std::vector<size_t>> groupByPrefix(const std::vector<std::string>& names);
+
+/// Dash type of the k-th curve of a group: solid, then dashed patterns.
+int dashType(size_t k);
+
+}  // namespace predvs

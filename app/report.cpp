@@ -1,0 +1,161 @@
+#include "report.h"
+
+#include "predvs/servo/paper_trajectories.h"
+#include "predvs/servo/run_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace predvs {
+namespace {
+
+bool startsWith(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+
+/// Width of a table column: the name plus two, at least 11.
+int columnWidth(const std::string& metric) { return std::max<int>(11, static_cast<int>(metric.size()) + 2); }
+
+}  // namespace
+
+Stats stats(const std::vector<double>& xs) {
+  Stats s;
+  double sum = 0.0;
+  for (double x : xs)
+    if (std::isfinite(x)) {
+      ++s.n;
+      sum += x;
+      s.min = s.n == 1 ? x : std::min(s.min, x);
+      s.max = s.n == 1 ? x : std::max(s.max, x);
+    }
+  if (s.n == 0) return s;
+  s.mean = sum / s.n;
+  double ss = 0.0;
+  for (double x : xs)
+    if (std::isfinite(x)) ss += (x - s.mean) * (x - s.mean);
+  s.std = s.n > 1 ? std::sqrt(ss / (s.n - 1)) : 0.0;
+  // Identical runs (no noise) differ only by the round-off of the sum: report a spread of 0.
+  constexpr double kRoundOffSpread = 1e-9;
+  if (s.std <= kRoundOffSpread * std::fabs(s.mean)) s.std = 0.0;
+  return s;
+}
+
+std::string csvNumber(double x, int precision) {
+  if (!std::isfinite(x)) return "";
+  std::ostringstream s;
+  s << std::setprecision(precision) << x;
+  return s.str();
+}
+
+std::string datNumber(double x) { return std::isfinite(x) ? csvNumber(x, 8) : "NaN"; }
+
+std::string tableNumber(double x) {
+  if (!std::isfinite(x)) return "-";
+  std::ostringstream s;
+  const double a = std::fabs(x);
+  if (a != 0.0 && (a >= 1e5 || a < 1e-3))
+    s << std::setprecision(3) << std::scientific << x;
+  else
+    s << std::fixed << std::setprecision(a >= 100 ? 1 : 3) << x;
+  return s.str();
+}
+
+nlohmann::json jsonNumber(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+std::string fileSafe(const std::string& s) {
+  std::string out;
+  for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+  return out;
+}
+
+std::vector<std::string> tableMetrics(const std::vector<std::string>& names, const Scenario& sc) {
+  const bool open = sc.kind == ScenarioKind::OpenLoop;
+  const bool channel_mse = open && (sc.sweep.key == "noise.sigma" || sc.channels != 2);
+  const bool onset =
+      open && std::isfinite(makeChannelTrajectory(sc.trajectory, sc.trajectory_params)->onsetTime());
+  std::vector<std::string> shown;
+  for (const auto& k : names) {
+    bool show = true;
+    if (startsWith(k, "pos_mse_") || startsWith(k, "vel_mse_")) show = channel_mse;
+    if (k == "false_alarms_per_min" || k == "detected" || k == "detect_delay_frames") show = onset;
+    if (k == "alarms" || k == "occl_max") show = false;
+    if (show) shown.push_back(k);
+  }
+  return shown;
+}
+
+void printMetricTable(const MetricTable& t, std::ostream& out) {
+  size_t w = 9;
+  for (const auto& r : t.rows) w = std::max(w, r.size());
+  const auto rmse = std::find(t.metrics.begin(), t.metrics.end(), "rmse");
+  const size_t m_rmse = static_cast<size_t>(rmse - t.metrics.begin());
+  const auto hold = std::find(t.rows.begin(), t.rows.end(), "hold");
+  const bool vs_hold = rmse != t.metrics.end() && hold != t.rows.end();
+  const double hold_rmse = vs_hold ? t.cells[static_cast<size_t>(hold - t.rows.begin())][m_rmse].mean : 0.0;
+  constexpr int kVsHoldWidth = 10;
+  out << std::left << std::setw(static_cast<int>(w)) << "predictor" << std::right;
+  for (const auto& m : t.metrics) out << std::setw(columnWidth(m)) << m;
+  if (vs_hold) out << std::setw(kVsHoldWidth) << "vs hold";
+  out << "\n";
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    out << std::left << std::setw(static_cast<int>(w)) << t.rows[r] << std::right;
+    for (size_t m = 0; m < t.metrics.size(); ++m) out << std::setw(columnWidth(t.metrics[m])) << tableNumber(t.cells[r][m].mean);
+    if (vs_hold) {
+      const double ratio = hold_rmse / t.cells[r][m_rmse].mean;
+      std::ostringstream s;
+      if (std::isfinite(ratio))
+        s << std::fixed << std::setprecision(1) << ratio << "x";
+      else
+        s << "-";
+      out << std::setw(kVsHoldWidth) << s.str();
+    }
+    out << "\n";
+  }
+  if (vs_hold) out << "(vs hold: rmse of hold / rmse of the predictor; rmse over the steady window)\n";
+}
+
+std::string markdownMetricTable(const MetricTable& t) {
+  std::ostringstream md;
+  md << "| # | predictor |";
+  for (const auto& m : t.metrics) md << " " << m << " |";
+  md << "\n|---|---|";
+  for (size_t k = 0; k < t.metrics.size(); ++k) md << "---:|";
+  md << "\n";
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    md << "| " << (r + 1) << " | " << t.rows[r] << " |";
+    for (const Stats& s : t.cells[r]) {
+      md << " " << tableNumber(s.mean);
+      if (s.n > 1 && std::isfinite(s.std)) md << " ± " << tableNumber(s.std);
+      if (s.n < t.runs && s.n > 0) md << " (" << s.n << "/" << t.runs << ")";
+      md << " |";
+    }
+    md << "\n";
+  }
+  return md.str();
+}
+
+nlohmann::json metricDefinitionsJson(const std::vector<std::string>& names, const Scenario& sc) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& name : names) {
+    std::string text = runMetricDefinition(name);
+    if (text.empty() && sc.kind == ScenarioKind::ClosedLoop)
+      text = "run summary of task '" + sc.closed_loop.task.name + "' (defined in its header, tasks/include/predvs/tasks/)";
+    j[name] = text;
+  }
+  return j;
+}
+
+nlohmann::json paramsJson(const Params& params) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& kv : params.values()) j[kv.first] = kv.second;
+  return j;
+}
+
+void writeTextFile(const StagedOutputDir& dir, const std::string& name, const std::string& text) {
+  std::ofstream f(dir.file(name));
+  f << text;
+  if (!f) throw std::runtime_error(dir.file(name) + ": write failed");
+}
+
+}  // namespace predvs

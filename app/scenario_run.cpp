@@ -1,0 +1,133 @@
+#include "scenario_run.h"
+
+#include "predvs/predictors/predictor.h"
+#include "predvs/servo/channel_experiment.h"
+#include "predvs/servo/paper_trajectories.h"
+#include "predvs/servo/run_metrics.h"
+#include "predvs/servo/servo_loop.h"
+
+#include <set>
+#include <stdexcept>
+
+namespace predvs {
+namespace {
+
+RunRecord runClosedLoop(const Scenario& sc, const ScenarioPredictor& p, std::uint64_t seed, bool keep_trace) {
+  ServoConfig cfg = sc.closed_loop;
+  cfg.seed = seed;
+  auto predictor = makePredictor(p.name, sc.channels, p.params);
+  const ServoResult r = runServoLoop(cfg, *predictor);
+  RunRecord rec;
+  rec.predictor = p.name;
+  rec.values = r.values;
+  rec.steady_samples = r.metrics.steady_samples;
+  rec.prediction_used = r.prediction_used;
+  for (const auto& s : r.trace) rec.t_s.push_back(s.t_s), rec.error.push_back(s.error);
+  RunLayout& l = rec.layout;
+  l.columns = r.columns;
+  l.error_column = "error_px";
+  l.desired = r.desired;
+  // traceColumns(): t_s, t_acq_s, 3 x features, error_px, commands, diagnostics.
+  const size_t n_features = static_cast<size_t>(r.desired.size());
+  const size_t n_commands = r.trace.empty() ? 0 : static_cast<size_t>(r.trace.front().command.size());
+  const size_t first_command = 2 + 3 * n_features + 1;
+  for (size_t i = 0; i < n_features; ++i) l.features.push_back(r.columns[2 + 2 * n_features + i].substr(5));
+  for (size_t i = first_command; i < r.columns.size(); ++i)
+    (i < first_command + n_commands ? l.commands : l.diagnostics).push_back(r.columns[i]);
+  if (keep_trace)
+    for (const auto& s : r.trace) rec.rows.push_back(ServoLoop::traceRow(s));
+  return rec;
+}
+
+RunRecord runOpenLoop(const Scenario& sc, const ScenarioPredictor& p, std::uint64_t seed, bool keep_trace) {
+  PredictionExperimentConfig cfg = sc.open_loop;
+  cfg.seed = seed;
+  const auto traj = makeChannelTrajectory(sc.trajectory, sc.trajectory_params);
+  auto predictor = makePredictor(p.name, traj->channels(), p.params);
+  const ChannelExperimentResult r = runChannelExperiment(cfg, *traj, *predictor);
+  RunRecord rec;
+  rec.predictor = p.name;
+  rec.values = openLoopRunValues(r, cfg, *traj);
+  rec.steady_samples = r.metrics.steady_samples;
+  for (const auto& s : r.trace) rec.t_s.push_back(s.t_s), rec.error.push_back(s.error);
+  RunLayout& l = rec.layout;
+  l.features = r.channel_names;
+  l.error_column = "error";
+  l.columns = {"t_s", "t_acq_s", "t_pred_s", "horizon_s"};
+  for (const char* prefix : {"meas_", "pred_", "true_"})
+    for (const auto& c : l.features) l.columns.push_back(prefix + c);
+  l.columns.push_back(l.error_column);
+  if (keep_trace)
+    for (const auto& s : r.trace) {
+      std::vector<double> row = {s.t_s, s.t_acq_s, s.t_pred_s, s.t_pred_s - s.t_acq_s};
+      for (const Eigen::VectorXd* v : {&s.measured, &s.predicted, &s.truth})
+        for (Eigen::Index c = 0; c < v->size(); ++c) row.push_back((*v)(c));
+      row.push_back(s.error);
+      rec.rows.push_back(std::move(row));
+    }
+  return rec;
+}
+
+}  // namespace
+
+size_t RunLayout::column(const std::string& name) const {
+  for (size_t i = 0; i < columns.size(); ++i)
+    if (columns[i] == name) return i + 1;
+  throw std::logic_error("trace column '" + name + "' missing");
+}
+
+RunRecord runScenarioOnce(const Scenario& sc, const ScenarioPredictor& p, std::uint64_t seed, bool keep_trace) {
+  return sc.kind == ScenarioKind::ClosedLoop ? runClosedLoop(sc, p, seed, keep_trace)
+                                             : runOpenLoop(sc, p, seed, keep_trace);
+}
+
+void choosePredictors(Scenario& sc, const std::vector<std::string>& chosen, const std::string& option) {
+  if (chosen.empty()) return;
+  std::set<std::string> seen;
+  std::vector<ScenarioPredictor> ps;
+  for (const auto& name : chosen) {
+    if (!seen.insert(name).second) throw std::invalid_argument(option + ": '" + name + "' listed twice");
+    ScenarioPredictor p{name, {}, 0};
+    for (const auto& own : sc.predictors)
+      if (own.name == name) p = own;
+    try {
+      makePredictor(p.name, sc.channels, p.params);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(sc.path + ": " + e.what());
+    }
+    ps.push_back(p);
+  }
+  sc.predictors = ps;
+}
+
+std::string errorUnits(const Scenario& sc) {
+  if (sc.kind == ScenarioKind::ClosedLoop) return "px (the task's tracking error: RMS over the points of ||s_i - s*_i||)";
+  if (sc.trajectory == "onset-sinusoid") return "scenario units (mm in the E12 scenarios)";
+  return "px";
+}
+
+std::string errorUnitLabel(const Scenario& sc) {
+  return sc.kind == ScenarioKind::OpenLoop && sc.trajectory == "onset-sinusoid" ? "mm" : "px";
+}
+
+std::string errorDefinition(ScenarioKind kind) {
+  return kind == ScenarioKind::OpenLoop
+             ? "open loop: ||predicted - true|| over the channels at the time the command would take effect, in the "
+               "scenario's units"
+             : "closed loop: the task's tracking error of the true features (point tasks: RMS over the points of "
+               "||s_i - s*_i||), px";
+}
+
+RunEvents runEvents(const Scenario& sc) {
+  RunEvents ev;
+  if (sc.kind == ScenarioKind::ClosedLoop) {
+    ev.occlusions = sc.closed_loop.occlusions;
+    return ev;
+  }
+  ev.occlusions = sc.open_loop.occlusions;
+  const double onset = makeChannelTrajectory(sc.trajectory, sc.trajectory_params)->onsetTime();
+  if (onset > 0.0) ev.onset_s = onset;
+  return ev;
+}
+
+}  // namespace predvs

@@ -1,0 +1,162 @@
+#include "predvs/servo/run_metrics.h"
+
+#include "predvs/servo/metrics.h"
+#include "predvs/servo/timing_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace predvs {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+/// Re-acquisition window of reacq_1s_rmse (s).
+constexpr double kReacquisitionWindowS = 1.0;
+/// Slack when comparing an acquisition time with a multiple of the frame period (s): the times are
+/// sums of periods, exact to well below this.
+constexpr double kTimeSlackS = 1e-9;
+
+/// Mean of the finite entries (NaN when there is none).
+double finiteMean(const std::vector<double>& xs) {
+  double sum = 0.0;
+  int n = 0;
+  for (double x : xs)
+    if (std::isfinite(x)) sum += x, ++n;
+  return n > 0 ? sum / n : kNaN;
+}
+
+/// occl_rmse, occl_max, occl_end_error, reacq_error, reacq_1s_rmse (header).
+NamedValues occlusionValues(const ChannelExperimentResult& r) {
+  double sq = 0.0, mx = kNaN;
+  int n = 0;
+  std::vector<double> end_errors, reacq_errors, reacq_rms;
+  const auto& tr = r.trace;
+  for (size_t k = 0; k < tr.size(); ++k) {
+    if (!tr[k].measured_valid) {
+      if (std::isfinite(tr[k].error)) {
+        sq += tr[k].error * tr[k].error;
+        ++n;
+        mx = std::isfinite(mx) ? std::max(mx, tr[k].error) : tr[k].error;
+      }
+      continue;
+    }
+    if (k > 0 && !tr[k - 1].measured_valid) {  // first tick after a frame is delivered again
+      end_errors.push_back(tr[k - 1].error);
+      reacq_errors.push_back(tr[k].error);
+      double s2 = 0.0;
+      int m = 0;
+      for (size_t j = k; j < tr.size() && tr[j].t_s < tr[k].t_s + kReacquisitionWindowS; ++j)
+        if (std::isfinite(tr[j].error)) s2 += tr[j].error * tr[j].error, ++m;
+      reacq_rms.push_back(m > 0 ? std::sqrt(s2 / m) : kNaN);
+    }
+  }
+  return {{"occl_rmse", n > 0 ? std::sqrt(sq / n) : kNaN},
+          {"occl_max", mx},
+          {"occl_end_error", finiteMean(end_errors)},
+          {"reacq_error", finiteMean(reacq_errors)},
+          {"reacq_1s_rmse", finiteMean(reacq_rms)}};
+}
+
+/// ResponseMetrics of the run to the trajectory's manoeuvre, on the effect-time axis (the
+/// prediction for t_pred is scored against the truth at t_pred, so the change is at t_pred =
+/// manoeuvre time).
+ResponseMetrics responseOf(const ChannelExperimentResult& r, const Manoeuvre& man, const MetricsOptions& opt) {
+  std::vector<double> t, e, s;
+  for (const auto& row : r.trace) {
+    t.push_back(row.t_pred_s);
+    e.push_back(row.error);
+    s.push_back((row.predicted - row.truth).dot(man.direction));
+  }
+  return computeResponse(t, e, s, man.t_s, opt);
+}
+
+}  // namespace
+
+NamedValues openLoopRunValues(const ChannelExperimentResult& r, const PredictionExperimentConfig& config,
+                              const ChannelTrajectory& trajectory) {
+  NamedValues v;
+  for (const auto& kv : metricValues(r.metrics))
+    if (kv.first != "effort") v.push_back(kv);
+  const auto& channels = trajectory.channelNames();
+  for (size_t c = 0; c < channels.size(); ++c)
+    v.emplace_back("pos_mse_" + channels[c], r.position_mse(static_cast<Eigen::Index>(c)));
+  for (size_t c = 0; c < channels.size(); ++c)
+    v.emplace_back("vel_mse_" + channels[c], r.velocity_mse(static_cast<Eigen::Index>(c)));
+  if (!config.occlusions.empty())
+    for (const auto& kv : occlusionValues(r)) v.push_back(kv);
+
+  // Monitor alarms; an onset at or before the first frame cannot be seen, so it has no detection.
+  const double onset = trajectory.onsetTime();
+  const double frame_s = TimingModel(config.timing).framePeriod();
+  double delay_frames = kNaN;
+  if (onset > 0.0) {
+    const double first_frame = std::ceil(onset / frame_s - kTimeSlackS) * frame_s;
+    for (double t : r.alarm_t_acq_s)
+      if (t >= first_frame - kTimeSlackS && t < onset + kDetectWindowS) {
+        delay_frames = std::round((t - first_frame) / frame_s);
+        break;
+      }
+  }
+  const bool detected = std::isfinite(delay_frames);
+  const double alarms = static_cast<double>(r.alarm_t_acq_s.size());
+  v.emplace_back("alarms", alarms);
+  v.emplace_back("false_alarms_per_min", (alarms - (detected ? 1.0 : 0.0)) / (config.duration_s / 60.0));
+  if (onset > 0.0) {
+    v.emplace_back("detected", detected ? 1.0 : 0.0);
+    v.emplace_back("detect_delay_frames", delay_frames);
+  }
+
+  const Manoeuvre man = trajectory.manoeuvre();
+  if (man.exists()) {
+    const ResponseMetrics resp = responseOf(r, man, config.metrics);
+    v.insert(v.end(), {{"resp_max_lag", resp.max_lag},
+                       {"resp_overshoot", resp.overshoot},
+                       {"resp_mean_3s", resp.mean_after},
+                       {"resp_time_s", resp.response_s}});
+  }
+  return v;
+}
+
+std::string runMetricDefinition(const std::string& name) {
+  struct Definition {
+    const char* name;
+    const char* text;
+  };
+  static const Definition kExact[] = {
+      {"rmse", "sqrt(mean e^2) over the steady window (from metrics.steady_start_fraction of the run on)"},
+      {"final", "mean e over the last metrics.final_fraction of the run"},
+      {"max", "max e over the steady window"},
+      {"peak", "max e over the whole run"},
+      {"iae", "integral of e dt over the whole run (error units x s)"},
+      {"settling_s", "first time after which the trailing mean of e stays within final + max(settling_band (peak - "
+                     "final), 3 sd of the final window) (s; null if never)"},
+      {"effort", "sum of ||u||^2 dt of the applied command over the run (closed loop)"},
+      {"occl_rmse", "RMS of e over the ticks whose latest delivered frame was lost (occlusion)"},
+      {"occl_max", "max e over the ticks whose latest delivered frame was lost"},
+      {"occl_end_error", "e at the last tick before a frame is delivered again, mean over the occlusions"},
+      {"reacq_error", "e at the first tick after a frame is delivered again, mean over the occlusions"},
+      {"reacq_1s_rmse", "RMS of e over the 1 s from re-acquisition, mean over the occlusions"},
+      {"alarms", "discontinuity-monitor alarms in the run (st-akf family; 0 for the others)"},
+      {"false_alarms_per_min", "alarms that are not the detection of the onset, per minute of run"},
+      {"detected", "1 if an alarm came from a frame acquired within 0.5 s after the onset, else 0"},
+      {"detect_delay_frames", "frames from the first frame at or after the onset to the detecting one (null if none)"},
+      {"resp_max_lag", "largest lag behind the manoeuvre: -(error along its direction), 0.5 s trailing mean"},
+      {"resp_overshoot", "largest overshoot past the manoeuvre: +(error along its direction), 0.5 s trailing mean"},
+      {"resp_mean_3s", "mean e over the 3 s after the manoeuvre"},
+      {"resp_time_s", "time from the manoeuvre until e settles (s)"},
+  };
+  for (const auto& d : kExact)
+    if (name == d.name) return d.text;
+  auto channelOf = [&](const std::string& prefix) {
+    return name.rfind(prefix, 0) == 0 ? name.substr(prefix.size()) : std::string();
+  };
+  if (const std::string c = channelOf("pos_mse_"); !c.empty())
+    return "mean over the run of (predicted - true)^2 of channel " + c + " at the effect time (units^2)";
+  if (const std::string c = channelOf("vel_mse_"); !c.empty())
+    return "mean over the run of (predicted - true velocity)^2 of channel " + c + " at the effect time ((units/s)^2)";
+  return "";
+}
+
+}  // namespace predvs
