@@ -212,6 +212,47 @@ NamedValues featureErrorValues(const std::vector<double>& t_s, const std::vector
   return out;
 }
 
+NamedValues occlusionValues(const std::vector<double>& t_s, const std::vector<double>& e, const std::vector<bool>& lost) {
+  if (t_s.size() != e.size() || lost.size() != e.size())
+    throw std::invalid_argument("metrics: occlusion figures need one time, error and status per sample");
+  constexpr double kReacquisitionWindowS = 1.0;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto finiteMean = [nan](const std::vector<double>& xs) {
+    double sum = 0.0;
+    int n = 0;
+    for (double x : xs)
+      if (std::isfinite(x)) sum += x, ++n;
+    return n > 0 ? sum / n : nan;
+  };
+  double sq = 0.0, mx = nan;
+  int n = 0;
+  std::vector<double> end_errors, reacq_errors, reacq_rms;
+  for (size_t k = 0; k < e.size(); ++k) {
+    if (lost[k]) {
+      if (std::isfinite(e[k])) {
+        sq += e[k] * e[k];
+        ++n;
+        mx = std::isfinite(mx) ? std::max(mx, e[k]) : e[k];
+      }
+      continue;
+    }
+    if (k > 0 && lost[k - 1]) {  // first tick after a frame is delivered again
+      end_errors.push_back(e[k - 1]);
+      reacq_errors.push_back(e[k]);
+      double s2 = 0.0;
+      int m = 0;
+      for (size_t j = k; j < e.size() && t_s[j] < t_s[k] + kReacquisitionWindowS; ++j)
+        if (std::isfinite(e[j])) s2 += e[j] * e[j], ++m;
+      reacq_rms.push_back(m > 0 ? std::sqrt(s2 / m) : nan);
+    }
+  }
+  return {{"occl_rmse", n > 0 ? std::sqrt(sq / n) : nan},
+          {"occl_max", mx},
+          {"occl_end_error", finiteMean(end_errors)},
+          {"reacq_error", finiteMean(reacq_errors)},
+          {"reacq_1s_rmse", finiteMean(reacq_rms)}};
+}
+
 NamedValues metricValues(const Metrics& m) {
   return {{"rmse", m.rmse},       {"final", m.final_error},          {"max", m.max_error},     {"peak", m.peak_error},
           {"iae", m.iae},         {"settling_s", m.settling_time_s}, {"effort", m.control_effort}};

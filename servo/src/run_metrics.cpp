@@ -12,52 +12,10 @@ namespace predvs {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-/// Re-acquisition window of reacq_1s_rmse (s).
-constexpr double kReacquisitionWindowS = 1.0;
 /// Slack when comparing an acquisition time with a multiple of the frame period (s): the times are
 /// sums of periods, exact to well below this.
 constexpr double kTimeSlackS = 1e-9;
 
-/// Mean of the finite entries (NaN when there is none).
-double finiteMean(const std::vector<double>& xs) {
-  double sum = 0.0;
-  int n = 0;
-  for (double x : xs)
-    if (std::isfinite(x)) sum += x, ++n;
-  return n > 0 ? sum / n : kNaN;
-}
-
-/// occl_rmse, occl_max, occl_end_error, reacq_error, reacq_1s_rmse (header).
-NamedValues occlusionValues(const ChannelExperimentResult& r) {
-  double sq = 0.0, mx = kNaN;
-  int n = 0;
-  std::vector<double> end_errors, reacq_errors, reacq_rms;
-  const auto& tr = r.trace;
-  for (size_t k = 0; k < tr.size(); ++k) {
-    if (!tr[k].measured_valid) {
-      if (std::isfinite(tr[k].error)) {
-        sq += tr[k].error * tr[k].error;
-        ++n;
-        mx = std::isfinite(mx) ? std::max(mx, tr[k].error) : tr[k].error;
-      }
-      continue;
-    }
-    if (k > 0 && !tr[k - 1].measured_valid) {  // first tick after a frame is delivered again
-      end_errors.push_back(tr[k - 1].error);
-      reacq_errors.push_back(tr[k].error);
-      double s2 = 0.0;
-      int m = 0;
-      for (size_t j = k; j < tr.size() && tr[j].t_s < tr[k].t_s + kReacquisitionWindowS; ++j)
-        if (std::isfinite(tr[j].error)) s2 += tr[j].error * tr[j].error, ++m;
-      reacq_rms.push_back(m > 0 ? std::sqrt(s2 / m) : kNaN);
-    }
-  }
-  return {{"occl_rmse", n > 0 ? std::sqrt(sq / n) : kNaN},
-          {"occl_max", mx},
-          {"occl_end_error", finiteMean(end_errors)},
-          {"reacq_error", finiteMean(reacq_errors)},
-          {"reacq_1s_rmse", finiteMean(reacq_rms)}};
-}
 
 /// ResponseMetrics of the run to the trajectory's manoeuvre, on the effect-time axis (the
 /// prediction for t_pred is scored against the truth at t_pred, so the change is at t_pred =
@@ -85,7 +43,12 @@ NamedValues openLoopRunValues(const ChannelExperimentResult& r, const Prediction
   for (size_t c = 0; c < channels.size(); ++c)
     v.emplace_back("vel_mse_" + channels[c], r.velocity_mse(static_cast<Eigen::Index>(c)));
   if (!config.occlusions.empty())
-    for (const auto& kv : occlusionValues(r)) v.push_back(kv);
+  {
+    std::vector<double> t, e;
+    std::vector<bool> lost;
+    for (const auto& row : r.trace) t.push_back(row.t_s), e.push_back(row.error), lost.push_back(!row.measured_valid);
+    for (const auto& kv : occlusionValues(t, e, lost)) v.push_back(kv);
+  }
 
   // Monitor alarms; an onset at or before the first frame cannot be seen, so it has no detection.
   const double onset = trajectory.onsetTime();

@@ -3,6 +3,7 @@
 #include "predvs/predictors/named_enum.h"
 #include "predvs/tasks/point_task.h"
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -95,6 +96,7 @@ struct ServoLoop::Impl {
   std::deque<Command> commands;
   bool have_measurement = false;
   double t_acq_latest = kNaN;
+  bool frame_lost = false;
   Eigen::VectorXd latest;    // latest finite value of every feature channel
   Eigen::VectorXd depths;    // latest finite depth of every point
   Eigen::VectorXd ego;       // E(t)
@@ -118,6 +120,7 @@ struct ServoLoop::Impl {
     for (Eigen::Index i = 0; i < depths.size(); ++i)
       if (m.points.seen[static_cast<size_t>(i)] && std::isfinite(m.points.Z_m(i))) depths(i) = m.points.Z_m(i);
     t_acq_latest = m.t_acq_s;
+    frame_lost = std::none_of(m.points.seen.begin(), m.points.seen.end(), [](bool seen) { return seen; });
     have_measurement = true;
   }
 
@@ -140,6 +143,7 @@ struct ServoLoop::Impl {
     sample.truth = task().features(truth);
     sample.error = task().trackingError(sample.truth);
     sample.t_acq_s = have_measurement ? t_acq_latest : kNaN;
+    sample.frame_lost = frame_lost;
     sample.measured = have_measurement ? latest : Eigen::VectorXd::Constant(n_features, kNaN);
     sample.predicted = Eigen::VectorXd::Constant(n_features, kNaN);
 
@@ -253,6 +257,8 @@ std::vector<std::string> ServoLoop::valueNames() const {
     for (const char* prefix : {"mean_e_", "rms_e_", "max_e_"})
       for (const auto& f : features) names.push_back(prefix + f);
   }
+  if (!impl_->config.occlusions.empty())
+    for (const auto& kv : occlusionValues({}, {}, {})) names.push_back(kv.first);
   for (const auto& kv : task().runSummary()) names.push_back(kv.first);
   return names;
 }
@@ -304,6 +310,12 @@ ServoResult ServoLoop::run() {
     for (const auto& s : r.trace) truth.push_back(s.truth);
     for (auto& kv : featureErrorValues(ts, truth, r.desired, task().featureNames(), impl_->config.metrics))
       r.values.push_back(std::move(kv));
+  }
+  if (!impl_->config.occlusions.empty()) {
+    std::vector<bool> lost;
+    lost.reserve(r.trace.size());
+    for (const auto& s : r.trace) lost.push_back(s.frame_lost);
+    for (auto& kv : occlusionValues(ts, es, lost)) r.values.push_back(std::move(kv));
   }
   for (const auto& kv : task().runSummary()) r.values.push_back(kv);
   return r;

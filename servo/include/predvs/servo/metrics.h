@@ -71,6 +71,13 @@ NamedValues featureErrorValues(const std::vector<double>& t_s, const std::vector
                                const Eigen::VectorXd& desired, const std::vector<std::string>& names,
                                const MetricsOptions& options = {});
 
+/// Figures of a run with occlusions, from the error e and, per sample, whether the latest
+/// delivered frame was lost: occl_rmse, occl_max (RMS / max of e while it is lost),
+/// occl_end_error (e at the last tick before a frame is delivered again), reacq_error (e at the
+/// first tick after) and reacq_1s_rmse (RMS of e over the 1 s from there); the last three are
+/// means over the occlusions of the run. NaN entries of e are skipped.
+NamedValues occlusionValues(const std::vector<double>& t_s, const std::vector<double>& e, const std::vector<bool>& lost);
+
 /// The metrics as named values, the names every report uses (predvs servo and compare):
 /// rmse, final, max, peak, iae, settling_s, effort (the fields above, in that order).
 NamedValues metricValues(const Metrics& m);

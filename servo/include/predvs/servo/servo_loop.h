@@ -113,6 +113,7 @@ struct ServoConfig {
 struct ServoSample {
   double t_s = 0.0;            ///< control tick time t
   double t_acq_s = 0.0;        ///< acquisition time of the latest delivered measurement (NaN before)
+  bool frame_lost = false;     ///< the latest delivered frame saw no point (occlusion)
   Eigen::VectorXd measured;    ///< latest delivered (delayed, noisy) features; NaN before the first
   Eigen::VectorXd predicted;   ///< features the task acted on (= measured for hold / feedforward mode)
   Eigen::VectorXd truth;       ///< true features at t
@@ -153,7 +154,9 @@ class ServoLoop {
   const Task& task() const;
   const Robot& robot() const;
 
-  /// Names of ServoResult::values, in order (before the run: the task's run summary names are
+  /// Names of ServoResult::values, in order: metricValues(), with metrics.per_feature the
+  /// per-feature errors (featureErrorValues()), with occlusions occlusionValues(), then the task's
+  /// run summary (before the run: the task's run summary names are
   /// fixed per law).
   std::vector<std::string> valueNames() const;
   /// Column names of a trace row, in order: t_s, t_acq_s, meas_<f>.., pred_<f>.., true_<f>..
