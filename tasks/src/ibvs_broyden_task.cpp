@@ -77,7 +77,8 @@ void IbvsBroydenTask::observe(const TaskMeasurement& m) {
   if (has_prev_ && learning_) {
     const Eigen::VectorXd df = m.features - prev_features_;
     const Eigen::VectorXd dp = m.command_integral - prev_p_;
-    const Eigen::VectorXd ft = compensation_ ? last_target_rate_ : Eigen::VectorXd();
+    // While probing, the target term is left out (header: "Exploration and the target term").
+    const Eigen::VectorXd ft = compensation_ && !exploring_ ? last_target_rate_ : Eigen::VectorXd();
     if (estimator_.update(df, dp, ft, m.t_acq_s - prev_t_acq_s_)) updated_since_command_ = true;
   }
   prev_features_ = m.features;

@@ -35,6 +35,16 @@
 //    last axis has been seen despite the vision delay). Chosen as default because it is what a
 //    real uncalibrated system does (paper 002's ref. [3] also uses trial moves) and it needs no
 //    ground truth. Cost: 2 m probe_frames frames plus the delay before servoing starts.
+//    Exploration and the target term: increments observed while probing are learnt with ft = 0,
+//    in both modes. A probe pair (+dp then -dp, one frame each) cancels a target moving at a
+//    steady rate by itself: least squares over the pair gives J dp = (df+ - df-) / 2, in which the
+//    two ft T terms cancel (up to the change of ft over one frame). The loop's forecast rate, on
+//    the other hand, is then contaminated by the probes themselves: it is the rate of f - E with
+//    E = integral of J u, and J is still (close to) zero, so the probe motion is not compensated
+//    and part of it would be subtracted from the very increment that should teach it (measured on
+//    the E9 scenario, viper850, kf-cv, 20 seeds, K = 4 /s: steady RMSE 8.5 px with 4 of 20 runs
+//    diverging when the forecast rate was subtracted during probing, 7.2 px with none diverging
+//    without; docs/REPRODUCTION-E9.md).
 //  * `model`: EXPERIMENTAL initialisation for studies only. J0 = J_true .* (1 + model_error U),
 //    U uniform in [-1, 1] per entry (seeded with the context seed), J_true = in.true_point_jacobian
 //    of the first tick. TaskInput calls that matrix ground truth for diagnostics; this is the one
