@@ -87,8 +87,9 @@ class IbvsBroydenTask : public PointTask {
  public:
   enum class Init { Explore, Model };
 
-  /// Throws std::invalid_argument naming the key on a bad or unknown parameter, or on an empty
-  /// command space.
+  /// Throws std::invalid_argument naming the key in quotes ("parameter 'gain' must be > 0, got 0":
+  /// the app points a quoted key at its line in the scenario file) on a bad or unknown parameter,
+  /// or on an empty command space.
   IbvsBroydenTask(const Params& params, const TaskContext& context);
 
   std::string name() const override { return "ibvs-broyden"; }
