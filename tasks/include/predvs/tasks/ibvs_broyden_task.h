@@ -41,10 +41,10 @@
 //    two ft T terms cancel (up to the change of ft over one frame). The loop's forecast rate, on
 //    the other hand, is then contaminated by the probes themselves: it is the rate of f - E with
 //    E = integral of J u, and J is still (close to) zero, so the probe motion is not compensated
-//    and part of it would be subtracted from the very increment that should teach it (measured on
-//    the E9 scenario, viper850, kf-cv, 20 seeds, K = 4 /s: steady RMSE 8.5 px with 4 of 20 runs
-//    diverging when the forecast rate was subtracted during probing, 7.2 px with none diverging
-//    without; docs/REPRODUCTION-E9.md).
+//    and part of it would be subtracted from the very increment that should teach it. Measured on
+//    e9-broyden (viper850, seeds 900-919, median steady RMSE at K = 1 / 4 /s), subtracting the
+//    forecast rate while probing against not: kf-cv 21.1 / 8.4 px against 17.2 / 7.3 px, kf-ca
+//    15.0 / 5.8 px against 9.6 / 4.2 px (its final Jacobian error 1.34 / 0.96 against 0.54 / 0.43).
 //  * `model`: EXPERIMENTAL initialisation for studies only. J0 = J_true .* (1 + model_error U),
 //    U uniform in [-1, 1] per entry (seeded with the context seed), J_true = in.true_point_jacobian
 //    of the first tick. TaskInput calls that matrix ground truth for diagnostics; this is the one
