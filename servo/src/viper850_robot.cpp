@@ -58,12 +58,17 @@ void Viper850Robot::reset(const vpHomogeneousMatrix& wMc) {
 Eigen::VectorXd Viper850Robot::limit(const Eigen::VectorXd& command) const {
   requireSize6(command, "limit()");
   if (!allFinite(command)) return Eigen::VectorXd::Zero(6);
+  // A joint resting on a limit does not execute a velocity that pushes it further (step() would
+  // clamp it): drop that component, so that the command the loop integrates is the motion made.
+  Eigen::VectorXd executed = command;
+  for (int i = 0; i < 6; ++i)
+    if ((q_(i) >= q_max_(i) && executed(i) > 0.0) || (q_(i) <= q_min_(i) && executed(i) < 0.0)) executed(i) = 0.0;
   double scale = 1.0;
   for (int i = 0; i < 6; ++i) {
-    const double speed = std::abs(command(i));
+    const double speed = std::abs(executed(i));
     if (speed > qdot_max_(i)) scale = std::min(scale, qdot_max_(i) / speed);
   }
-  return scale * command;
+  return scale * executed;
 }
 
 void Viper850Robot::step(const Eigen::VectorXd& command, double dt_s) {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 
 namespace predvs {
@@ -27,15 +28,22 @@ int commandSize(const TaskContext& context) {
 
 JacobianEstimatorConfig estimatorConfig(const Params& params) {
   JacobianEstimatorConfig c;
-  c.method = parseJacobianMethod(params.text("method", "rls"), "method");
+  c.method = parseJacobianMethod(params.text("method", "rls"), "parameter 'method'");
   c.lambda = params.get("lambda", 0.99, 0.0, 1.0);
   c.min_dp = params.get("min_dp", 1e-3, 0.0, kInf);
-  return c;  // lambda = 0 is rejected by the estimator (naming "lambda")
+  return c;  // lambda = 0 is rejected by the estimator (naming 'lambda')
+}
+
+/// A value as the scenario file would spell it (0.5, not 0.500000).
+std::string spelled(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
 }
 
 double positive(const Params& params, const std::string& key, double fallback) {
   const double v = params.get(key, fallback, 0.0, kInf);
-  if (!(v > 0.0)) throw std::invalid_argument(key + " must be > 0, got " + std::to_string(v));
+  if (!(v > 0.0)) throw std::invalid_argument("parameter '" + key + "' must be > 0, got " + spelled(v));
   return v;
 }
 
@@ -46,7 +54,7 @@ IbvsBroydenTask::IbvsBroydenTask(const Params& params, const TaskContext& contex
       gain_(positive(params, "gain", 1.0)),
       damping_(params.get("damping", 1e-2, 0.0, 1.0)),
       compensation_(params.get("delay_compensation", 1.0, 0.0, 1.0) != 0.0),
-      init_(enumFromName(kInits, "init", params.text("init", "explore"))),
+      init_(enumFromName(kInits, "parameter 'init'", params.text("init", "explore"))),
       probe_speed_(positive(params, "probe_speed", 0.05)),
       probe_frames_(static_cast<int>(params.get("probe_frames", 1.0, 1.0, 1000.0))),
       model_error_(params.get("model_error", 0.2, 0.0, 10.0)),
@@ -55,9 +63,10 @@ IbvsBroydenTask::IbvsBroydenTask(const Params& params, const TaskContext& contex
       estimator_(featureSize(), inputs_, estimatorConfig(params)) {
   const double flag = params.get("delay_compensation", 1.0);
   if (flag != 0.0 && flag != 1.0)
-    throw std::invalid_argument("delay_compensation must be 0 or 1, got " + std::to_string(flag));
+    throw std::invalid_argument("parameter 'delay_compensation' must be 0 or 1, got " + spelled(flag));
   if (params.get("probe_frames", 1.0) != static_cast<double>(probe_frames_))
-    throw std::invalid_argument("probe_frames must be an integer >= 1");
+    throw std::invalid_argument("parameter 'probe_frames' must be an integer >= 1, got " +
+                                spelled(params.get("probe_frames", 1.0)));
   params.requireAllUsed("task 'ibvs-broyden'");
   estimator_.reset(Eigen::MatrixXd::Zero(featureSize(), inputs_), p0_);
 }
@@ -77,7 +86,8 @@ void IbvsBroydenTask::observe(const TaskMeasurement& m) {
   if (has_prev_ && learning_) {
     const Eigen::VectorXd df = m.features - prev_features_;
     const Eigen::VectorXd dp = m.command_integral - prev_p_;
-    const Eigen::VectorXd ft = compensation_ ? last_target_rate_ : Eigen::VectorXd();
+    // While probing, the target term is left out (header: "Exploration and the target term").
+    const Eigen::VectorXd ft = compensation_ && !exploring_ ? last_target_rate_ : Eigen::VectorXd();
     if (estimator_.update(df, dp, ft, m.t_acq_s - prev_t_acq_s_)) updated_since_command_ = true;
   }
   prev_features_ = m.features;

@@ -5,12 +5,20 @@
 #include <Eigen/Eigenvalues>
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
 namespace predvs {
 
 namespace {
+/// A value as the scenario file would spell it (0.5, not 0.500000).
+std::string spelled(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
 constexpr EnumName<JacobianMethod> kMethods[] = {{JacobianMethod::Broyden, "broyden"}, {JacobianMethod::Rls, "rls"}};
 }  // namespace
 
@@ -25,9 +33,10 @@ JacobianEstimator::JacobianEstimator(int features, int inputs, const JacobianEst
     throw std::invalid_argument("Jacobian estimator: needs >= 1 feature and >= 1 input, got " +
                                 std::to_string(features) + " x " + std::to_string(inputs));
   if (!(config.lambda > 0.0 && config.lambda <= 1.0))
-    throw std::invalid_argument("lambda (forgetting factor) must be in (0, 1], got " + std::to_string(config.lambda));
+    throw std::invalid_argument("parameter 'lambda' (forgetting factor) must be in (0, 1], got " +
+                                spelled(config.lambda));
   if (!(config.min_dp >= 0.0) || !std::isfinite(config.min_dp))
-    throw std::invalid_argument("min_dp must be finite and >= 0, got " + std::to_string(config.min_dp));
+    throw std::invalid_argument("parameter 'min_dp' must be finite and >= 0, got " + spelled(config.min_dp));
   reset(Eigen::MatrixXd::Zero(features, inputs), 1.0);
 }
 

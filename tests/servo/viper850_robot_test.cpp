@@ -175,6 +175,35 @@ TEST(Viper850Robot, JointLimitStopsTheJointOnly) {
   EXPECT_EQ(robot.jointPositions()(4), robot.jointMin()(4));
 }
 
+TEST(Viper850Robot, LimitDropsTheComponentPushingAJointAgainstItsLimit) {
+  // GIVEN the arm with joint 5 driven onto its upper limit and joint 2 onto its lower one
+  Viper850Robot robot;
+  robot.step((Eigen::VectorXd(6) << 0, 0, 0, 0, 0.7, 0).finished(), 10.0);
+  robot.step((Eigen::VectorXd(6) << 0, -0.7, 0, 0, 0, 0).finished(), 10.0);
+  ASSERT_EQ(robot.jointPositions()(4), robot.jointMax()(4));
+  ASSERT_EQ(robot.jointPositions()(1), robot.jointMin()(1));
+  // WHEN a command pushes both further while the other joints move
+  const Eigen::VectorXd u = (Eigen::VectorXd(6) << 0.1, -0.3, 0.2, -0.1, 0.5, 0.05).finished();
+  const Eigen::VectorXd l = robot.limit(u);
+  // THEN those two components are dropped and the others pass unchanged (all within the bounds)
+  const Eigen::VectorXd expected = (Eigen::VectorXd(6) << 0.1, 0.0, 0.2, -0.1, 0.0, 0.05).finished();
+  EXPECT_EQ(l, expected);
+  // AND the limited command is exactly the motion the arm makes, so that its integral (the loop's
+  // command integral p) stays equal to the joint displacement
+  const Joints before = robot.jointPositions();
+  robot.step(l, 0.1);
+  EXPECT_LT((robot.jointPositions() - before - 0.1 * l).norm(), kSameCodeTol);
+  // AND a command pulling the joints off their limits is executed in full
+  const Eigen::VectorXd back = (Eigen::VectorXd(6) << 0, 0.3, 0, 0, -0.5, 0).finished();
+  EXPECT_EQ(robot.limit(back), back);
+  // AND the speed scaling applies to what is left: the 1.4 rad/s of joint 1 is halved, the
+  // dropped joint 5 does not count
+  const Eigen::VectorXd fast = (Eigen::VectorXd(6) << 1.4, 0, 0, 0, 3.0, 0).finished();
+  robot.reset(someCameraPose());
+  robot.step((Eigen::VectorXd(6) << 0, 0, 0, 0, 0.7, 0).finished(), 10.0);
+  EXPECT_LT((robot.limit(fast) - (Eigen::VectorXd(6) << 0.7, 0, 0, 0, 0, 0).finished()).norm(), kLimitTol);
+}
+
 TEST(Viper850Robot, LimitKeepsTheDirectionAndRespectsEachBound) {
   // GIVEN per-joint bounds that differ
   Params p;

@@ -33,6 +33,14 @@
 //   q0_1 .. q0_6       initial joint positions, rad, within vpViper850's joint limits
 //   max_qdot_1 .. _6   per-joint speed bounds, rad/s, > 0 (default 0.7)
 //
+// Joint limits in limit(). A joint resting on a limit cannot execute a velocity pushing it further
+// (step() clamps it), so limit() sets that component to zero before the speed scaling: the command
+// the loop integrates (its command integral p, the ego-motion E = integral of J u, and the task's
+// online Jacobian increments, METHODS §7) is then the motion the arm made, not a motion it refused.
+// (Until this was added p kept growing while the joint stood still, which fed the Jacobian
+// estimator increments dp the image never saw.) A joint that reaches its limit within a step still
+// overshoots in p for that one step: limit() does not know the step's duration.
+//
 // A non-finite command (NaN, inf) is an expected fault inside the loop, not a configuration error:
 // limit() turns it into a zero command and step() treats it as zero (the arm holds still).
 #pragma once
@@ -61,8 +69,8 @@ class Viper850Robot : public Robot {
 
   /// q = q0, wMf = wMc fMc(q0)^-1: the camera is exactly at wMc. Never throws.
   void reset(const vpHomogeneousMatrix& wMc) override;
-  /// Uniform scaling to the per-joint speed bounds (see the file comment). Throws
-  /// std::invalid_argument if command is not of size 6.
+  /// Zero for a joint pushed against the limit it rests on, then uniform scaling to the per-joint
+  /// speed bounds (see the file comment). Throws std::invalid_argument if command is not of size 6.
   Eigen::VectorXd limit(const Eigen::VectorXd& command) const override;
   /// q <- clamp(q + command dt_s, q_min, q_max). Throws std::invalid_argument on a command of
   /// size other than 6 or a negative / non-finite dt_s.

@@ -35,6 +35,16 @@
 //    last axis has been seen despite the vision delay). Chosen as default because it is what a
 //    real uncalibrated system does (paper 002's ref. [3] also uses trial moves) and it needs no
 //    ground truth. Cost: 2 m probe_frames frames plus the delay before servoing starts.
+//    Exploration and the target term: increments observed while probing are learnt with ft = 0,
+//    in both modes. A probe pair (+dp then -dp, one frame each) cancels a target moving at a
+//    steady rate by itself: least squares over the pair gives J dp = (df+ - df-) / 2, in which the
+//    two ft T terms cancel (up to the change of ft over one frame). The loop's forecast rate, on
+//    the other hand, is then contaminated by the probes themselves: it is the rate of f - E with
+//    E = integral of J u, and J is still (close to) zero, so the probe motion is not compensated
+//    and part of it would be subtracted from the very increment that should teach it. Measured on
+//    e9-broyden (viper850, seeds 900-919, median steady RMSE at K = 1 / 4 /s), subtracting the
+//    forecast rate while probing against not: kf-cv 21.1 / 8.4 px against 17.2 / 7.3 px, kf-ca
+//    15.0 / 5.8 px against 9.6 / 4.2 px (its final Jacobian error 1.34 / 0.96 against 0.54 / 0.43).
 //  * `model`: EXPERIMENTAL initialisation for studies only. J0 = J_true .* (1 + model_error U),
 //    U uniform in [-1, 1] per entry (seeded with the context seed), J_true = in.true_point_jacobian
 //    of the first tick. TaskInput calls that matrix ground truth for diagnostics; this is the one
@@ -77,8 +87,9 @@ class IbvsBroydenTask : public PointTask {
  public:
   enum class Init { Explore, Model };
 
-  /// Throws std::invalid_argument naming the key on a bad or unknown parameter, or on an empty
-  /// command space.
+  /// Throws std::invalid_argument naming the key in quotes ("parameter 'gain' must be > 0, got 0":
+  /// the app points a quoted key at its line in the scenario file) on a bad or unknown parameter,
+  /// or on an empty command space.
   IbvsBroydenTask(const Params& params, const TaskContext& context);
 
   std::string name() const override { return "ibvs-broyden"; }

@@ -57,7 +57,7 @@ struct JacobianEstimatorConfig {
 class JacobianEstimator {
  public:
   /// n features, m inputs (both >= 1). Starts at J = 0, P = I. Throws std::invalid_argument on
-  /// sizes or on lambda outside (0, 1] ("lambda") or a negative / non-finite min_dp ("min_dp").
+  /// sizes or on lambda outside (0, 1] ('lambda', quoted) or a negative / non-finite min_dp ('min_dp').
   JacobianEstimator(int features, int inputs, const JacobianEstimatorConfig& config = {});
 
   /// Restarts from J0 (n x m) and P0 (m x m, symmetric positive definite; ignored by broyden but
