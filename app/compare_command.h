@@ -32,7 +32,7 @@
 // Aggregates over runs: n (finite values), mean, std (sample, 0 for one run), min, max.
 //
 // Output directory (default out/compare), created only when everything succeeded:
-//   leaderboard.csv   scenario,variant,predictor,metric,n,mean,std,min,max (one row per metric)
+//   leaderboard.csv   scenario,variant,predictor,metric,n,mean,std,min,max,median (one row per metric)
 //   leaderboard.json  the same, nested, with each scenario's runs, seeds, units, metric
 //                     definitions and sweep ({key, values, from}; each variant's sweep_value), the
 //                     --set overrides and the --sweep (applied to every scenario; null without)

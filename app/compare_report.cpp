@@ -40,7 +40,7 @@ MetricTable variantTable(const Plan& plan, const Results& res, size_t v) {
 
 std::string leaderboardCsv(const Plan& plan, const Results& res) {
   std::ostringstream csv;
-  csv << "scenario,variant,predictor,metric,n,mean,std,min,max\n";
+  csv << "scenario,variant,predictor,metric,n,mean,std,min,max,median\n";
   for (size_t v = 0; v < plan.variants.size(); ++v) {
     const Variant& var = plan.variants[v];
     for (size_t p : ranking(plan, res, v))
@@ -48,7 +48,7 @@ std::string leaderboardCsv(const Plan& plan, const Results& res) {
         const Stats& s = res.cells[v][p].stats[m];
         csv << var.scenario->name << "," << var.id << "," << var.scenario->predictors[p].name << ","
             << res.metrics[v][m] << "," << s.n << "," << csvNumber(s.mean) << "," << csvNumber(s.std) << ","
-            << csvNumber(s.min) << "," << csvNumber(s.max) << "\n";
+            << csvNumber(s.min) << "," << csvNumber(s.max) << "," << csvNumber(s.median) << "\n";
       }
   }
   return csv.str();
@@ -109,7 +109,8 @@ std::string leaderboardJson(const Plan& plan, const Results& res, const CompareO
                                               {"mean", jsonNumber(st.mean)},
                                               {"std", jsonNumber(st.std)},
                                               {"min", jsonNumber(st.min)},
-                                              {"max", jsonNumber(st.max)}};
+                                              {"max", jsonNumber(st.max)},
+                                              {"median", jsonNumber(st.median)}};
         }
         jv["predictors"].push_back(jp);
       }
@@ -243,8 +244,10 @@ void plotMseVsSigma(const Plan& plan, const Results& res, const StagedOutputDir&
   runGnuplot(dir.staging().string(), base + ".gp");
 }
 
-/// rmse_vs_<key>_<scenario>: any other sweep, mean ± std over the runs of the steady-window rmse
-/// versus the swept value, one line per predictor. Numeric values are the x axis; otherwise the
+/// rmse_vs_<key>_<scenario>: any other sweep, the median over the runs of the steady-window rmse
+/// with bars from the smallest to the largest run, versus the swept value, one line per predictor
+/// (the median, because a run that diverges would make the mean and its spread say nothing about
+/// the others; the bars still show it). Numeric values are the x axis; otherwise the
 /// values are placed at 0, 1, ... with their text as tic labels.
 void plotRmseVsKey(const Plan& plan, const Results& res, const StagedOutputDir& dir, size_t i) {
   const Scenario& sc = plan.scenarios[i];
@@ -253,23 +256,20 @@ void plotRmseVsKey(const Plan& plan, const Results& res, const StagedOutputDir& 
   for (size_t v : vs) numeric = numeric && std::isfinite(plan.variants[v].x);
   const std::string key = sc.sweep.shortKey();
   const std::string base = "rmse_vs_" + fileSafe(key) + "_" + fileSafe(sc.name);
-  bool positive = true;  // every mean - std > 0: a log axis, so that large and small errors both read
+  bool positive = true;  // every run's rmse > 0: a log axis, so that large and small errors both read
   for (size_t v : vs)
-    for (const auto& cell : res.cells[v]) {
-      const Stats& st = cell.stats[metricIndex(res, v, "rmse")];
-      positive = positive && st.mean - st.std > 0.0;
-    }
+    for (const auto& cell : res.cells[v]) positive = positive && cell.stats[metricIndex(res, v, "rmse")].min > 0.0;
   {
     std::ostringstream d;
     d << "# one block per predictor (separated by two blank lines): " << sc.sweep.key
-      << (numeric ? "" : " (as its index)") << ", mean rmse, std rmse over the runs\n";
+      << (numeric ? "" : " (as its index)") << ", median, min and max rmse over the runs\n";
     for (size_t p = 0; p < sc.predictors.size(); ++p) {
       d << "# " << sc.predictors[p].name << "\n";
       for (size_t k = 0; k < vs.size(); ++k) {
         const Variant& var = plan.variants[vs[k]];
         const Stats& st = res.cells[vs[k]][p].stats[metricIndex(res, vs[k], "rmse")];
-        d << datNumber(numeric ? var.x : static_cast<double>(k)) << " " << datNumber(st.mean) << " "
-          << datNumber(st.std) << "\n";
+        d << datNumber(numeric ? var.x : static_cast<double>(k)) << " " << datNumber(st.median) << " "
+          << datNumber(st.min) << " " << datNumber(st.max) << "\n";
       }
       d << "\n\n";
     }
@@ -277,8 +277,8 @@ void plotRmseVsKey(const Plan& plan, const Results& res, const StagedOutputDir& 
   }
   PlotFigure f;
   f.base = base;
-  f.title = sc.name + ": steady-window rmse versus " + sc.sweep.key + ", mean ± std over " +
-            std::to_string(plan.runs[i]) + " runs";
+  f.title = sc.name + ": steady-window rmse versus " + sc.sweep.key + ", median over " +
+            std::to_string(plan.runs[i]) + " runs, bars from the best to the worst run";
   PlotPanel p;
   p.xlabel = sc.sweep.key;
   p.ylabel = sc.kind == ScenarioKind::ClosedLoop ? "steady rmse of the tracking error [px]"
@@ -292,7 +292,7 @@ void plotRmseVsKey(const Plan& plan, const Results& res, const StagedOutputDir& 
     p.setup += ")\n";
   }
   for (size_t k = 0; k < sc.predictors.size(); ++k)
-    p.lines.push_back({base + ".dat", "1:2:3", std::string("yerrorlines lw 1.6 pt 7 ps 0.6") + (k < 6 ? "" : " dt 2"),
+    p.lines.push_back({base + ".dat", "1:2:3:4", std::string("yerrorlines lw 1.6 pt 7 ps 0.6") + (k < 6 ? "" : " dt 2"),
                        seriesColor(k), sc.predictors[k].name, "index " + std::to_string(k)});
   f.panels.push_back(p);
   f.panel_height_px = 650;

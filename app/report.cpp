@@ -35,6 +35,13 @@ Stats stats(const std::vector<double>& xs) {
   for (double x : xs)
     if (std::isfinite(x)) ss += (x - s.mean) * (x - s.mean);
   s.std = s.n > 1 ? std::sqrt(ss / (s.n - 1)) : 0.0;
+  std::vector<double> finite;
+  finite.reserve(static_cast<size_t>(s.n));
+  for (double x : xs)
+    if (std::isfinite(x)) finite.push_back(x);
+  std::sort(finite.begin(), finite.end());
+  const size_t h = finite.size() / 2;
+  s.median = finite.size() % 2 ? finite[h] : 0.5 * (finite[h - 1] + finite[h]);
   // Identical runs (no noise) differ only by the round-off of the sum: report a spread of 0.
   constexpr double kRoundOffSpread = 1e-9;
   if (s.std <= kRoundOffSpread * std::fabs(s.mean)) s.std = 0.0;

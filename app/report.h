@@ -35,6 +35,9 @@ struct Stats {
   double std = std::numeric_limits<double>::quiet_NaN();  ///< sample std (0 for one value)
   double min = std::numeric_limits<double>::quiet_NaN();
   double max = std::numeric_limits<double>::quiet_NaN();
+  /// Middle value (mean of the two middle ones for an even count): what a typical run gives even
+  /// when a few runs diverge (E9's unstable runs on the arm make the mean meaningless).
+  double median = std::numeric_limits<double>::quiet_NaN();
 };
 Stats stats(const std::vector<double>& xs);
 

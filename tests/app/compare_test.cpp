@@ -83,7 +83,7 @@ TEST_F(CompareTest, WritesTheLeaderboardAndPlots) {
   EXPECT_TRUE(j["scenarios"][1]["variants"][0]["predictors"][0]["metrics"]["effort"]["mean"].is_number());
   // AND the CSV has one row per (variant, predictor, metric)
   const std::string csv = slurp(out + "/leaderboard.csv");
-  EXPECT_EQ(csv.rfind("scenario,variant,predictor,metric,n,mean,std,min,max\n", 0), 0u);
+  EXPECT_EQ(csv.rfind("scenario,variant,predictor,metric,n,mean,std,min,max,median\n", 0), 0u);
   EXPECT_NE(csv.find("tiny-open,tiny-open@sigma=2,kf-cv,vel_mse_x_i,3,"), std::string::npos);
   // AND the markdown and the printed table name every predictor; progress went to stderr
   const std::string md = slurp(out + "/leaderboard.md");
