@@ -110,11 +110,12 @@ struct ServoLoop::Impl {
 
   void deliver(const Measurement& m) {
     const Eigen::VectorXd f = task().features(m.points);
-    task().observe(TaskMeasurement{m.t_acq_s, f, m.p});
     if (compensate)
       predictor.update(m.t_acq_s, f - m.ego);
     else
       predictor.update(m.t_acq_s, f);
+    const Eigen::VectorXd rate = compensate ? predictor.predictVelocities(m.t_acq_s) : Eigen::VectorXd();
+    task().observe(TaskMeasurement{m.t_acq_s, f, m.p, rate});
     for (int i = 0; i < n_features; ++i)
       if (std::isfinite(f(i))) latest(i) = f(i);
     for (Eigen::Index i = 0; i < depths.size(); ++i)

@@ -86,12 +86,16 @@ void IbvsBroydenTask::observe(const TaskMeasurement& m) {
   if (has_prev_ && learning_) {
     const Eigen::VectorXd df = m.features - prev_features_;
     const Eigen::VectorXd dp = m.command_integral - prev_p_;
-    // While probing, the target term is left out (header: "Exploration and the target term").
-    const Eigen::VectorXd ft = compensation_ && !exploring_ ? last_target_rate_ : Eigen::VectorXd();
+    // The target's own feature motion over the increment: the mean of the predictor's rates at
+    // its two ends. While probing it is left out (header: "Exploration and the target term").
+    Eigen::VectorXd ft;
+    if (compensation_ && !exploring_ && m.target_rate.size() == featureSize() && prev_rate_.size() == featureSize())
+      ft = 0.5 * (m.target_rate + prev_rate_);
     if (estimator_.update(df, dp, ft, m.t_acq_s - prev_t_acq_s_)) updated_since_command_ = true;
   }
   prev_features_ = m.features;
   prev_p_ = m.command_integral;
+  prev_rate_ = m.target_rate;
   prev_t_acq_s_ = m.t_acq_s;
   has_prev_ = true;
 }
@@ -136,7 +140,6 @@ Eigen::VectorXd IbvsBroydenTask::computeCommand(const TaskInput& in) {
       u = dampedSolve(estimator_.jacobian(), r, damping_);
     }
   }
-  last_target_rate_ = in.target_rate.size() == n ? in.target_rate : Eigen::VectorXd();
 
   updated_ = updated_since_command_;
   updated_since_command_ = false;

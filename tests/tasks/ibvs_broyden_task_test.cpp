@@ -21,6 +21,8 @@
 namespace predvs {
 namespace {
 
+const Eigen::VectorXd kNoRate;  // the plant tests feed no predictor rate
+
 constexpr double kPeriod = 0.1;  // delta = T (E9's frame period)
 
 CommandSpace commandSpace(int m) {
@@ -124,7 +126,7 @@ RunResult run(IbvsBroydenTask& task, Plant& plant, int ticks, int delay_frames, 
       for (Eigen::Index i = 0; i < z.size(); ++i) z(i) += noise(rng);
     queue.push_back({t, z, plant.p});
     while (!queue.empty() && queue.front().t <= t - delay_frames * kPeriod + 1e-9) {
-      task.observe(TaskMeasurement{queue.front().t, queue.front().s, queue.front().p});
+      task.observe(TaskMeasurement{queue.front().t, queue.front().s, queue.front().p, kNoRate});
       measured = queue.front().s;
       queue.pop_front();
     }
@@ -316,7 +318,7 @@ TEST(IbvsBroydenTask, ExplorationOnAMovingTargetIgnoresTheForecastRate) {
     queue.emplace_back(t, plant.features() + c * t);
     p_queue.emplace_back(t, plant.p);
     while (!queue.empty() && queue.front().first <= t - kDelay * kPeriod + 1e-9) {
-      task.observe(TaskMeasurement{queue.front().first, queue.front().second, p_queue.front().second});
+      task.observe(TaskMeasurement{queue.front().first, queue.front().second, p_queue.front().second, kNoRate});
       previous = measured;
       measured = queue.front().second;
       queue.pop_front();

@@ -16,10 +16,12 @@
 // (TaskMeasurement::command_integral) between the SAME acquisition times; the image is old but p
 // at its acquisition time is known, so the pair is consistent whatever the delay. Predicted
 // features are never fed to the estimator (a prediction already contains J dp: the update would
-// feed on itself). The target term of the update is ft dt with ft = the latest in.target_rate the
-// loop gave (zero when empty, or when delay compensation is off) and dt the time between the two
-// acquisitions; ft is the loop's forecast at the effect time, not at the increment's mid-time
-// (a lag of about the delay; documented approximation).
+// feed on itself). The target term of the update is ft dt with dt the time between the two
+// acquisitions and ft the mean of the predictor's target rates at them
+// (TaskMeasurement::target_rate, the filtered velocity of s - E once each frame is fused), i.e. the
+// target's own motion over the increment itself; zero when the loop gives none or when delay
+// compensation is off. (Until 2026-12-01 the law used its latest forecast at the effect time,
+// about the delay later than the increment: see docs/REPRODUCTION.md, E9.)
 //
 // Delay compensation (`delay_compensation`, 1 = on, default): act on in.used (the loop's forecast
 // of the features at the effect time) and feed forward in.target_rate. 0 = off, the uncompensated
@@ -129,7 +131,7 @@ class IbvsBroydenTask : public PointTask {
   bool has_prev_ = false;
   double prev_t_acq_s_ = 0.0;
   Eigen::VectorXd prev_features_, prev_p_;
-  Eigen::VectorXd last_target_rate_;
+  Eigen::VectorXd prev_rate_;  // TaskMeasurement::target_rate of the previous observed frame
   bool updated_since_command_ = false;
   bool updated_ = false;
   double jacobian_error_ = std::numeric_limits<double>::quiet_NaN();

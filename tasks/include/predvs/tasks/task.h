@@ -81,6 +81,9 @@ struct TaskMeasurement {
   double t_acq_s;
   const Eigen::VectorXd& features;   ///< task features (NaN where lost)
   const Eigen::VectorXd& command_integral;  ///< p(t_acq)
+  /// The predictor's estimate of the target-induced feature rate at t_acq, after fusing this
+  /// frame (the velocity of s - E); empty when the loop has no prediction path.
+  const Eigen::VectorXd& target_rate;
 };
 
 class Task {
