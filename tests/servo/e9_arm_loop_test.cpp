@@ -9,6 +9,7 @@
 #include "predvs/servo/servo_loop.h"
 #include "predvs/servo/viper850_robot.h"
 #include "predvs/tasks/point_task.h"
+#include "servo/visp_test_utils.h"
 
 #include <visp3/robot/vpViper850.h>
 
@@ -48,19 +49,6 @@ int column(const ServoLoop& loop, const std::string& name) {
   for (size_t i = 0; i < c.size(); ++i)
     if (c[i] == name) return static_cast<int>(i);
   return -1;
-}
-
-vpColVector toVisp(const Eigen::VectorXd& v) {
-  vpColVector out(static_cast<unsigned>(v.size()));
-  for (Eigen::Index i = 0; i < v.size(); ++i) out[static_cast<unsigned>(i)] = v(i);
-  return out;
-}
-
-double maxAbsDiff(const vpHomogeneousMatrix& a, const vpHomogeneousMatrix& b) {
-  double d = 0.0;
-  for (unsigned r = 0; r < 4; ++r)
-    for (unsigned c = 0; c < 4; ++c) d = std::max(d, std::abs(a[r][c] - b[r][c]));
-  return d;
 }
 
 // Round-off of the same kinematics evaluated along two paths (ViSP's fMc(q) against the robot's

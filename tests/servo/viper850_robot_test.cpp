@@ -1,6 +1,7 @@
 // Robot "viper850": kinematics against ViSP's vpViper850, the Jacobian against finite differences
 // of the pose, reset, joint limits, the velocity limit and the parameters.
 #include "predvs/servo/viper850_robot.h"
+#include "servo/visp_test_utils.h"
 
 #include <visp3/core/vpExponentialMap.h>
 #include <visp3/core/vpVelocityTwistMatrix.h>
@@ -39,19 +40,6 @@ Joints randomJoints(std::mt19937& rng, double margin = 0.3) {
     q(i) = u(rng);
   }
   return q;
-}
-
-vpColVector toVisp(const Eigen::VectorXd& v) {
-  vpColVector out(static_cast<unsigned>(v.size()));
-  for (int i = 0; i < v.size(); ++i) out[static_cast<unsigned>(i)] = v(i);
-  return out;
-}
-
-double maxAbsDiff(const vpHomogeneousMatrix& a, const vpHomogeneousMatrix& b) {
-  double d = 0.0;
-  for (unsigned r = 0; r < 4; ++r)
-    for (unsigned c = 0; c < 4; ++c) d = std::max(d, std::abs(a[r][c] - b[r][c]));
-  return d;
 }
 
 /// An arbitrary camera pose in the world: 1 m above the x-y plane, tilted.
