@@ -2,8 +2,9 @@
 // e8-ibvs, loaded as `predvs` loads them and run as `predvs compare` runs them (run r: seed S + r,
 // the same for every predictor). Checks the set-up they document, the headline comparison on
 // their 20 seeds, a static board driven to convergence through the ServoLoop, and the one-line
-// error for a bad vtc key. The 20-seed tests also print the per-channel and occlusion figures of
-// docs/REPRODUCTION-E8.md, which `predvs compare` does not report for a closed loop:
+// error for a bad vtc key. The 20-seed tests also print figures of docs/REPRODUCTION.md (E8) that
+// `predvs compare` does not report (the Lyapunov bound over the first 3 s, the estimate's error at
+// the end of the occlusion):
 //     build/tests/app_tests --gtest_filter='E8*'
 #include "cli_test_utils.h"
 #include "scenario.h"
@@ -168,7 +169,7 @@ std::string cell(const MeanStd& m) {
   return buf;
 }
 
-/// Prints the Markdown rows docs/REPRODUCTION-E8.md quotes.
+/// Prints the Markdown rows docs/REPRODUCTION.md (E8) quotes.
 void printFigures(const Scenario& sc, const std::map<std::string, std::vector<RunFigures>>& all) {
   std::printf("\n%s, %d runs, seeds %llu..%llu (mean ± std over runs):\n", sc.name.c_str(), sc.runs,
               static_cast<unsigned long long>(sc.seed()), static_cast<unsigned long long>(sc.seed() + sc.runs - 1));

@@ -4,7 +4,7 @@
 // uncompensated one where METHODS §11 says it should (near the delayed loop's stability limit, and
 // at a low gain only with a CA predictor); its online Jacobian stays 10-40 % off the true one while
 // tracking; a bad ibvs-broyden key in such a file is one error line naming the key and its line.
-// The figures over 20 seeds per gain are in docs/REPRODUCTION-E9.md.
+// The figures over 20 seeds per gain are in docs/REPRODUCTION.md (E9).
 #include "cli_test_utils.h"
 #include "scenario.h"
 #include "scenario_file.h"
@@ -102,7 +102,7 @@ TEST(E9Scenarios, HoldPaper002sSetUp) {
 //   1      17.2     9.9    14.3
 //   4       7.1     4.0    12.4
 //   6       5.7     3.3    25.6
-// (20 seeds: docs/REPRODUCTION-E9.md). The assertions keep a margin of ~1.4x or more.
+// (20 seeds: docs/REPRODUCTION.md (E9)). The assertions keep a margin of ~1.4x or more.
 
 TEST(E9Scenarios, CompensationWinsNearTheStabilityLimit) {
   for (const char* gain : {"4", "6"}) {

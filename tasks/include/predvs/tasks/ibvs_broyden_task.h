@@ -20,8 +20,8 @@
 // acquisitions and ft the mean of the predictor's target rates at them
 // (TaskMeasurement::target_rate, the filtered velocity of s - E once each frame is fused), i.e. the
 // target's own motion over the increment itself; zero when the loop gives none or when delay
-// compensation is off. (Until 2026-12-01 the law used its latest forecast at the effect time,
-// about the delay later than the increment: see docs/REPRODUCTION.md, E9.)
+// compensation is off. (An earlier version used its latest forecast at the effect time, about the
+// delay later than the increment; docs/REPRODUCTION.md, E9, says what the change bought.)
 //
 // Delay compensation (`delay_compensation`, 1 = on, default): act on in.used (the loop's forecast
 // of the features at the effect time) and feed forward in.target_rate. 0 = off, the uncompensated
@@ -43,10 +43,8 @@
 //    two ft T terms cancel (up to the change of ft over one frame). The loop's forecast rate, on
 //    the other hand, is then contaminated by the probes themselves: it is the rate of f - E with
 //    E = integral of J u, and J is still (close to) zero, so the probe motion is not compensated
-//    and part of it would be subtracted from the very increment that should teach it. Measured on
-//    e9-broyden (viper850, seeds 900-919, median steady RMSE at K = 1 / 4 /s), subtracting the
-//    forecast rate while probing against not: kf-cv 21.1 / 8.4 px against 17.2 / 7.3 px, kf-ca
-//    15.0 / 5.8 px against 9.6 / 4.2 px (its final Jacobian error 1.34 / 0.96 against 0.54 / 0.43).
+//    and part of it would be subtracted from the very increment that should teach it (measured on
+//    e9-broyden when the choice was made: a worse median error and final Jacobian error with it).
 //  * `model`: EXPERIMENTAL initialisation for studies only. J0 = J_true .* (1 + model_error U),
 //    U uniform in [-1, 1] per entry (seeded with the context seed), J_true = in.true_point_jacobian
 //    of the first tick. TaskInput calls that matrix ground truth for diagnostics; this is the one
