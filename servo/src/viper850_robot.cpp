@@ -44,6 +44,7 @@ Viper850Robot::Viper850Robot(const Params& params)
     if (!(qdot_max_(i) > 0.0))
       throw std::invalid_argument("robot 'viper850': parameter 'max_qdot_" + j + "' must be > 0");
   }
+  saturation_ = params.get("saturation", 1.0, 0.0, 1.0) != 0.0;
   params.requireAllUsed("robot 'viper850'");
   reset(vpHomogeneousMatrix());
 }
@@ -63,6 +64,7 @@ Eigen::VectorXd Viper850Robot::limit(const Eigen::VectorXd& command) const {
   Eigen::VectorXd executed = command;
   for (int i = 0; i < 6; ++i)
     if ((q_(i) >= q_max_(i) && executed(i) > 0.0) || (q_(i) <= q_min_(i) && executed(i) < 0.0)) executed(i) = 0.0;
+  if (!saturation_) return executed;
   double scale = 1.0;
   for (int i = 0; i < 6; ++i) {
     const double speed = std::abs(executed(i));
@@ -79,6 +81,8 @@ void Viper850Robot::step(const Eigen::VectorXd& command, double dt_s) {
   q_ = (q_ + command * dt_s).cwiseMax(q_min_).cwiseMin(q_max_);
   updateKinematics();
 }
+
+bool Viper850Robot::atLimit() const { return (q_.array() <= q_min_.array()).any() || (q_.array() >= q_max_.array()).any(); }
 
 std::vector<std::string> Viper850Robot::stateNames() const { return {"q1", "q2", "q3", "q4", "q5", "q6"}; }
 

@@ -223,6 +223,43 @@ TEST(Viper850Robot, LimitKeepsTheDirectionAndRespectsEachBound) {
   }
 }
 
+TEST(Viper850Robot, SaturationOffExecutesAnySpeedButKeepsTheJointLimits) {
+  // GIVEN the arm with `saturation: 0` and the default one
+  const Viper850Robot free_arm(Params{{"saturation", 0.0}});
+  const Viper850Robot bounded;
+  EXPECT_FALSE(free_arm.saturation());
+  EXPECT_TRUE(bounded.saturation());
+  // WHEN a command 10 times over the 0.7 rad/s bound is limited
+  const Eigen::VectorXd fast = (Eigen::VectorXd(6) << 7.0, -3.0, 0.5, 0.0, 2.0, -1.0).finished();
+  // THEN without saturation it is executed as it is, with saturation scaled down to the bound
+  EXPECT_EQ(free_arm.limit(fast), fast);
+  EXPECT_NEAR(bounded.limit(fast).cwiseAbs().maxCoeff(), 0.7, kLimitTol);
+  // AND without saturation the arm moves at that speed
+  Viper850Robot arm(Params{{"saturation", 0.0}});
+  const Joints q0 = arm.jointPositions();
+  arm.step(arm.limit(fast), 0.01);
+  EXPECT_LT((arm.jointPositions() - q0 - 0.01 * Joints(fast)).norm(), kSameCodeTol);
+  // AND a joint against its limit still does not take a command pushing it further
+  arm.step((Eigen::VectorXd(6) << 0, 0, 0, 0, 5.0, 0).finished(), 10.0);
+  ASSERT_EQ(arm.jointPositions()(4), arm.jointMax()(4));
+  EXPECT_EQ(arm.limit(fast)(4), 0.0);
+  EXPECT_EQ(arm.limit(fast)(0), 7.0);
+}
+
+TEST(Viper850Robot, AtLimitWhileAJointRestsOnItsStop) {
+  // GIVEN the arm at its rest position, inside every limit
+  Viper850Robot robot;
+  EXPECT_FALSE(robot.atLimit());
+  // WHEN joint 5 is driven onto its upper limit THEN it is at a limit
+  robot.step((Eigen::VectorXd(6) << 0, 0, 0, 0, 0.7, 0).finished(), 10.0);
+  EXPECT_TRUE(robot.atLimit());
+  // AND driving it back clears it
+  robot.step((Eigen::VectorXd(6) << 0, 0, 0, 0, -0.7, 0).finished(), 0.04);
+  EXPECT_FALSE(robot.atLimit());
+  // AND a start on a lower limit is at a limit from the start
+  EXPECT_TRUE(Viper850Robot(Params{{"q0_2", robot.jointMin()(1)}}).atLimit());
+}
+
 TEST(Viper850Robot, FaultyCommandHoldsStill) {
   // GIVEN a command with a NaN
   Viper850Robot robot;
@@ -256,6 +293,7 @@ TEST(Viper850Robot, BadParametersAreRejectedNamingTheKey) {
   expectRejected(Params{{"max_qdot", 1.0}}, "max_qdot");
   expectRejected(Params{{"q0_2", 1.0}}, "q0_2");  // joint 2 max is 45 deg
   expectRejected(Params{{"max_qdot_3", 0.0}}, "max_qdot_3");
+  expectRejected(Params{{"saturation", 2.0}}, "saturation");
   // AND good keys are taken
   const Viper850Robot robot(Params{{"q0_1", 0.2}, {"max_qdot_6", 2.0}});
   EXPECT_EQ(robot.jointPositions()(0), 0.2);

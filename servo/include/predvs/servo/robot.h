@@ -44,6 +44,11 @@ class Robot {
   virtual Eigen::VectorXd limit(const Eigen::VectorXd& command) const { return command; }
   /// Executes `command` (already limited) for dt seconds.
   virtual void step(const Eigen::VectorXd& command, double dt_s) = 0;
+  /// True while the robot rests against a hard limit of its configuration (an arm joint at its
+  /// stop), where it can no longer execute every command: the loop counts it as a failure of a
+  /// positioning run when the scenario asks for outcomes (metrics.h, Outcome). A robot without
+  /// hard limits (a velocity bound is not one) never is.
+  virtual bool atLimit() const { return false; }
 
   /// Camera pose in the world frame now.
   virtual vpHomogeneousMatrix cameraPose() const = 0;

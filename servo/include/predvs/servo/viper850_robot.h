@@ -29,9 +29,18 @@
 // arm's hardware can go faster; ViSP's sources give no per-joint datasheet speeds, so this
 // software bound is the documented default.
 //
+// `saturation: 0` switches the speed scaling off (the command is executed at any speed), as the
+// free camera's key of the same name does: METHODS §11 E10 shows that a velocity bound alone can
+// keep a single-rate loop convergent, so a reachability map is drawn without it. The joint limits
+// stay (they are the arm's geometry, not a software bound).
+//
 // Parameters (all numbers; unknown keys rejected):
 //   q0_1 .. q0_6       initial joint positions, rad, within vpViper850's joint limits
 //   max_qdot_1 .. _6   per-joint speed bounds, rad/s, > 0 (default 0.7)
+//   saturation         1 (default): scale to max_qdot_i; 0: no speed bound
+//
+// atLimit(): some joint rests on its limit (q_i == q_min_i or q_max_i, as step() clamps it); a
+// positioning run counts that as a failure when it asks for outcomes (metrics.h).
 //
 // Joint limits in limit(). A joint resting on a limit cannot execute a velocity pushing it further
 // (step() clamps it), so limit() sets that component to zero before the speed scaling: the command
@@ -69,12 +78,15 @@ class Viper850Robot : public Robot {
 
   /// q = q0, wMf = wMc fMc(q0)^-1: the camera is exactly at wMc. Never throws.
   void reset(const vpHomogeneousMatrix& wMc) override;
-  /// Zero for a joint pushed against the limit it rests on, then uniform scaling to the per-joint
-  /// speed bounds (see the file comment). Throws std::invalid_argument if command is not of size 6.
+  /// Zero for a joint pushed against the limit it rests on, then (with saturation) uniform scaling
+  /// to the per-joint speed bounds (see the file comment). Throws std::invalid_argument if command
+  /// is not of size 6.
   Eigen::VectorXd limit(const Eigen::VectorXd& command) const override;
   /// q <- clamp(q + command dt_s, q_min, q_max). Throws std::invalid_argument on a command of
   /// size other than 6 or a negative / non-finite dt_s.
   void step(const Eigen::VectorXd& command, double dt_s) override;
+  /// Some joint at its lower or upper limit.
+  bool atLimit() const override;
 
   vpHomogeneousMatrix cameraPose() const override { return wMc_; }
   /// cVe eJe(q), 6 x 6.
@@ -88,6 +100,8 @@ class Viper850Robot : public Robot {
   const Joints& jointMin() const { return q_min_; }
   const Joints& jointMax() const { return q_max_; }
   const Joints& maxJointSpeeds() const { return qdot_max_; }
+  /// Whether limit() scales the command to maxJointSpeeds() (parameter `saturation`).
+  bool saturation() const { return saturation_; }
   /// Pose of the robot's reference frame f in the world, set by reset().
   const vpHomogeneousMatrix& baseInWorld() const { return wMf_; }
   /// The ViSP kinematic model used (tool: PTGrey Flea2).
@@ -100,6 +114,7 @@ class Viper850Robot : public Robot {
   CommandSpace command_space_;
   vpViper850 model_;
   Joints q0_, q_min_, q_max_, qdot_max_;
+  bool saturation_ = true;
   Joints q_;
   vpHomogeneousMatrix wMf_;
   vpHomogeneousMatrix fMc_;
