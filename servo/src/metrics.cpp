@@ -253,6 +253,55 @@ NamedValues occlusionValues(const std::vector<double>& t_s, const std::vector<do
           {"reacq_1s_rmse", finiteMean(reacq_rms)}};
 }
 
+Outcome computeOutcome(const std::vector<double>& t_s, const std::vector<double>& error, FailureKind failure,
+                       double failure_time_s, const MetricsOptions& options) {
+  if (!(options.converge_px > 0.0) || !std::isfinite(options.converge_px)) {
+    std::ostringstream msg;
+    msg << "metrics.converge_px must be > 0, got " << options.converge_px;
+    throw std::invalid_argument(msg.str());
+  }
+  if (!(options.converge_hold_s >= 0.0) || !std::isfinite(options.converge_hold_s)) {
+    std::ostringstream msg;
+    msg << "metrics.converge_hold_s must be >= 0, got " << options.converge_hold_s;
+    throw std::invalid_argument(msg.str());
+  }
+  if (t_s.size() != error.size())
+    throw std::invalid_argument("metrics: " + std::to_string(t_s.size()) + " times but " +
+                                std::to_string(error.size()) + " errors");
+  Outcome o;
+  if (failure != FailureKind::None) {
+    o.failure = failure;
+    o.failure_time_s = failure_time_s;
+    return o;
+  }
+  // The final stretch at or below the threshold: walk back from the last sample.
+  size_t first_below = t_s.size();
+  while (first_below > 0 && error[first_below - 1] <= options.converge_px) --first_below;  // NaN stops it
+  if (first_below == t_s.size()) return o;  // ends above (or no samples)
+  if (t_s.back() - t_s[first_below] < options.converge_hold_s) return o;
+  o.converged = true;
+  o.convergence_time_s = t_s[first_below] - t_s.front();
+  return o;
+}
+
+NamedValues outcomeValues(const Outcome& o) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto is = [&](FailureKind k) { return o.failure == k ? 1.0 : 0.0; };
+  return {{"converged", o.converged ? 1.0 : 0.0},
+          {"convergence_time_s", o.converged ? o.convergence_time_s : nan},
+          {"failed", o.failed() ? 1.0 : 0.0},
+          {"failure_time_s", o.failed() ? o.failure_time_s : nan},
+          {"fail_behind", is(FailureKind::Behind)},
+          {"fail_image", is(FailureKind::OutsideImage)},
+          {"fail_robot", is(FailureKind::RobotLimit)}};
+}
+
+Metrics withoutSteadyState(Metrics m) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  m.rmse = m.final_error = m.max_error = m.settling_time_s = nan;
+  return m;
+}
+
 NamedValues metricValues(const Metrics& m) {
   return {{"rmse", m.rmse},       {"final", m.final_error},          {"max", m.max_error},     {"peak", m.peak_error},
           {"iae", m.iae},         {"settling_s", m.settling_time_s}, {"effort", m.control_effort}};

@@ -96,6 +96,16 @@ std::string runMetricDefinition(const std::string& name) {
       {"settling_s", "first time after which the trailing mean of e stays within final + max(settling_band (peak - "
                      "final), 3 sd of the final window) (s; null if never)"},
       {"effort", "sum of ||u||^2 dt of the applied command over the run (closed loop)"},
+      {"converged", "1 if the run did not fail and e stayed at or below metrics.converge_px from some time to the end, "
+                    "for at least metrics.converge_hold_s, else 0 (metrics.outcome)"},
+      {"convergence_time_s", "start of the final stretch of e at or below metrics.converge_px (s; null if not "
+                             "converged)"},
+      {"failed", "1 if the run stopped at a failing true state: a point behind the camera, a point outside the image "
+                 "(metrics.fail_outside_image), the robot at a hard limit (metrics.fail_robot_limit), else 0"},
+      {"failure_time_s", "time of the failing state (s; null if the run did not fail)"},
+      {"fail_behind", "1 if the run failed with a point at depth <= 0 (behind the camera), else 0"},
+      {"fail_image", "1 if the run failed with a point outside the camera.width x camera.height image, else 0"},
+      {"fail_robot", "1 if the run failed with the robot at a hard limit (an arm joint at its stop), else 0"},
       {"occl_rmse", "RMS of e over the ticks whose latest delivered frame was lost (occlusion)"},
       {"occl_max", "max e over the ticks whose latest delivered frame was lost"},
       {"occl_end_error", "e at the last tick before a frame is delivered again, mean over the occlusions"},

@@ -104,9 +104,34 @@ struct ServoLoop::Impl {
   Command active;
   Eigen::VectorXd no_rate;   // empty: no feed-forward
   ServoSample sample;
+  FailureKind failure = FailureKind::None;  // metrics.outcome: the first failing state
+  double failure_time_s = kNaN;
 
   Task& task() { return *parts.task; }
   Robot& robot() { return *parts.robot; }
+
+  /// metrics.outcome: the failure of the true state at t with the robot as it is now (metrics.h,
+  /// Outcome: behind the camera, then outside the image, then at a robot limit).
+  void checkFailure(double t) {
+    const MetricsOptions& o = config.metrics;
+    const PointFeatures& truth = parts.scene.project(t, robot().cameraPose(), config.camera);
+    FailureKind kind = FailureKind::None;
+    for (Eigen::Index i = 0; i < truth.Z_m.size() && kind == FailureKind::None; ++i)
+      if (!(truth.Z_m(i) > 0.0)) kind = FailureKind::Behind;
+    if (kind == FailureKind::None && o.fail_outside_image)
+      for (Eigen::Index i = 0; i < truth.Z_m.size(); ++i) {
+        const double u = truth.uv_px(2 * i), v = truth.uv_px(2 * i + 1);
+        if (!(u >= 0.0 && u < config.image_width_px && v >= 0.0 && v < config.image_height_px)) {
+          kind = FailureKind::OutsideImage;
+          break;
+        }
+      }
+    if (kind == FailureKind::None && o.fail_robot_limit && robot().atLimit()) kind = FailureKind::RobotLimit;
+    if (kind != FailureKind::None) {
+      failure = kind;
+      failure_time_s = t;
+    }
+  }
 
   void deliver(const Measurement& m) {
     const Eigen::VectorXd f = task().features(m.points);
@@ -191,6 +216,8 @@ struct ServoLoop::Impl {
     p += active.u * timing.basePeriod();
     sample.command = active.u;
     ++k;
+    // The state this step led to (the next tick's; the scene keeps the projection for it).
+    if (config.metrics.outcome && k <= last_tick) checkFailure(timing.tickTime(k));
     return sample;
   }
 };
@@ -239,11 +266,22 @@ ServoLoop::ServoLoop(const ServoConfig& config, Predictor& predictor) {
   m.active = Command{0, Eigen::VectorXd::Zero(m.n_command), Eigen::VectorXd::Zero(m.n_features)};
   m.sample.diagnostics = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(m.task().diagnostics().size()), kNaN);
   m.last_tick = m.timing.tickAtOrAfter(config.duration_s);
+  if (config.metrics.outcome) {
+    // The options' own range checks, before anything runs.
+    computeOutcome({}, {}, FailureKind::None, kNaN, config.metrics);
+    if (config.metrics.fail_outside_image) {
+      requirePositive("camera.width", config.image_width_px);
+      requirePositive("camera.height", config.image_height_px);
+    }
+    m.checkFailure(0.0);
+  }
 }
 
 ServoLoop::~ServoLoop() = default;
 
-bool ServoLoop::done() const { return impl_->k > impl_->last_tick; }
+bool ServoLoop::done() const { return impl_->k > impl_->last_tick || impl_->failure != FailureKind::None; }
+FailureKind ServoLoop::failure() const { return impl_->failure; }
+double ServoLoop::failureTime() const { return impl_->failure_time_s; }
 const ServoSample& ServoLoop::step() { return impl_->step(); }
 bool ServoLoop::predictionUsed() const { return impl_->compensate; }
 const Eigen::VectorXd& ServoLoop::desiredFeatures() const { return impl_->parts.task->desiredFeatures(); }
@@ -253,6 +291,8 @@ const Robot& ServoLoop::robot() const { return *impl_->parts.robot; }
 std::vector<std::string> ServoLoop::valueNames() const {
   std::vector<std::string> names;
   for (const auto& kv : metricValues(Metrics{})) names.push_back(kv.first);
+  if (impl_->config.metrics.outcome)
+    for (const auto& kv : outcomeValues(Outcome{})) names.push_back(kv.first);
   if (impl_->config.metrics.per_feature) {
     const auto features = task().featureNames();
     for (const char* prefix : {"mean_e_", "rms_e_", "max_e_"})
@@ -303,14 +343,23 @@ ServoResult ServoLoop::run() {
     es.push_back(s.error);
     us.push_back(s.command);
   }
-  r.metrics = computeMetrics(ts, es, impl_->config.metrics, &us);
+  const MetricsOptions& options = impl_->config.metrics;
+  r.metrics = computeMetrics(ts, es, options, &us);
+  if (options.outcome) {
+    r.outcome = computeOutcome(ts, es, impl_->failure, impl_->failure_time_s, options);
+    if (r.outcome.failed()) r.metrics = withoutSteadyState(r.metrics);  // no steady state (metrics.h)
+  }
   r.values = metricValues(r.metrics);
-  if (impl_->config.metrics.per_feature) {
+  if (options.outcome)
+    for (auto& kv : outcomeValues(r.outcome)) r.values.push_back(std::move(kv));
+  if (options.per_feature) {
     std::vector<Eigen::VectorXd> truth;
     truth.reserve(r.trace.size());
     for (const auto& s : r.trace) truth.push_back(s.truth);
-    for (auto& kv : featureErrorValues(ts, truth, r.desired, task().featureNames(), impl_->config.metrics))
+    for (auto& kv : featureErrorValues(ts, truth, r.desired, task().featureNames(), options)) {
+      if (r.outcome.failed()) kv.second = kNaN;
       r.values.push_back(std::move(kv));
+    }
   }
   if (!impl_->config.occlusions.empty()) {
     std::vector<bool> lost;

@@ -43,6 +43,14 @@ struct MetricsOptions {
   /// Closed loop: also report every feature's own error e_f = s_f - s*_f over the steady window
   /// (metrics.per_feature; see featureErrorValues()).
   bool per_feature = false;
+  /// Closed loop: the outcome of a positioning run, converged / failed (metrics.outcome; see
+  /// Outcome below). Off by default, so that the figures of a scenario that does not ask for it
+  /// are exactly those it had before (no added names, no early stop).
+  bool outcome = false;
+  double converge_px = 1.0;         ///< convergence threshold on e (metrics.converge_px), > 0
+  double converge_hold_s = 1.0;     ///< least time e stays at or below it before the end (metrics.converge_hold_s), >= 0
+  bool fail_outside_image = true;   ///< a true point outside the image is a failure (metrics.fail_outside_image)
+  bool fail_robot_limit = true;     ///< the robot at a hard limit is a failure (metrics.fail_robot_limit)
 };
 
 struct Metrics {
@@ -81,6 +89,57 @@ NamedValues occlusionValues(const std::vector<double>& t_s, const std::vector<do
 /// The metrics as named values, the names every report uses (predvs servo and compare):
 /// rmse, final, max, peak, iae, settling_s, effort (the fields above, in that order).
 NamedValues metricValues(const Metrics& m);
+
+/// The outcome of a closed-loop positioning run (metrics.outcome; paper 003 §4.1, METHODS §10 E10:
+/// "converges where ... fails", the reachable region over (lambda, frame period)).
+///
+/// Failure (divergence), checked by the loop on the TRUE state after every control step (and at
+/// t = 0), first match wins:
+///   behind     some target point has depth Z <= 0 in the camera frame (the camera came through the
+///              object plane: the failure of METHODS §11 E10);
+///   image      with fail_outside_image, some point's true projection (u, v) is outside the image
+///              0 <= u < width, 0 <= v < height (camera.width / camera.height, servo_loop.h);
+///   robot      with fail_robot_limit, the robot reports that it is at a hard limit (Robot::atLimit():
+///              an arm joint against its stop; robots without hard limits never are).
+/// The run stops at the first failing state: its trace ends at the last tick before it, and
+/// failure_time_s is the time of that state (0 when the initial pose already fails). A failed run
+/// has no steady state: its steady-window figures (rmse, final, max, settling_s and the per-feature
+/// errors) are NaN, while peak, iae and effort cover the run up to the failure. Aggregates over runs
+/// skip NaN, so a median rmse over runs is the median over the runs that did not fail (its n says
+/// how many).
+///
+/// Convergence: the run did not fail, and from some sample time t_c to the end of the run every
+/// error sample is at or below converge_px, with t_end - t_c >= converge_hold_s (the run's duration
+/// is the time limit; the hold keeps a dip at the last tick from counting). convergence_time_s =
+/// t_c - t_0, the start of that final stretch below the threshold (NaN when not converged). The
+/// error is of the true features (the loop's tracking error), so image noise does not make it cross
+/// the threshold by itself.
+enum class FailureKind { None, Behind, OutsideImage, RobotLimit };
+
+struct Outcome {
+  bool converged = false;
+  double convergence_time_s = std::numeric_limits<double>::quiet_NaN();
+  FailureKind failure = FailureKind::None;
+  double failure_time_s = std::numeric_limits<double>::quiet_NaN();
+  bool failed() const { return failure != FailureKind::None; }
+};
+
+/// The outcome of a run from its error samples e(t_i) (t_s increasing; NaN counts as above the
+/// threshold) and the failure the loop detected (None, or the kind and its time). Throws
+/// std::invalid_argument naming metrics.converge_px / metrics.converge_hold_s when out of range,
+/// or when t_s and error differ in size.
+Outcome computeOutcome(const std::vector<double>& t_s, const std::vector<double>& error, FailureKind failure,
+                       double failure_time_s, const MetricsOptions& options);
+
+/// The outcome as named values, in this order: converged (1/0), convergence_time_s (NaN unless
+/// converged), failed (1/0), failure_time_s (NaN unless failed), fail_behind, fail_image,
+/// fail_robot (1 for the kind of failure, else 0: their means over runs are the fraction of runs
+/// failing that way).
+NamedValues outcomeValues(const Outcome& outcome);
+
+/// The metrics of a failed run: the steady-window figures (rmse, final, max, settling_s) set to
+/// NaN, the others kept (see Outcome).
+Metrics withoutSteadyState(Metrics m);
 
 /// Response of a predictor to a manoeuvre, the figures paper 000 §6.1 compares on E1-E3 ("fastest
 /// response, smallest overshoot"). Input per sample: |e_i| and the signed error along the unit

@@ -2,8 +2,11 @@
 // predictor) and `predvs compare` (many seeded runs, aggregated) both print and write.
 //
 // Closed loop: ServoResult::values (servo_loop.h): metricValues() of the tracking error with the
-// control effort, then the task's run summary (Task::runSummary(), e.g. jacobian_error_final,
-// sliding_rms_final, lyap_bound_positive_fraction).
+// control effort; with metrics.outcome the outcome of a positioning run, outcomeValues() (metrics.h:
+// converged, convergence_time_s, failed, failure_time_s, fail_behind, fail_image, fail_robot; a
+// failed run stops there and its steady-window figures are NaN); with metrics.per_feature the
+// per-feature errors; with occlusions occlusionValues(); then the task's run summary
+// (Task::runSummary(), e.g. jacobian_error_final, sliding_rms_final, lyap_bound_positive_fraction).
 // Open loop: openLoopRunValues() of a runChannelExperiment() result, in this order (e is
 // ||predicted - true|| over the channels at the effect time, in the trajectory's units):
 //   rmse, final, max, peak, iae, settling_s   metricValues() of e (metrics.h); no effort (no command)

@@ -45,6 +45,15 @@
 //
 // Error per step: Task::trackingError of the true features (point tasks: RMS over the points of
 // the pixel distance ||s_i - s*_i||); metrics.h defines the metrics over the run.
+//
+// Outcome (only with metrics.outcome; metrics.h, Outcome): after every control step (and at t = 0)
+// the loop checks the true state the step led to, for a point behind the camera (Z <= 0), a point
+// outside the image_width_px x image_height_px image (metrics.fail_outside_image) and the robot at
+// a hard limit (Robot::atLimit(), metrics.fail_robot_limit). The first failing state ends the run
+// (done() turns true; the state itself is not a trace row: a point behind the camera has no
+// projection). Stopping saves the rest of a diverging run, which a large grid of runs would
+// otherwise spend; metrics.h says what the figures of a stopped run are. Without metrics.outcome
+// none of this runs: no check, no early stop, the figures exactly as before.
 #pragma once
 
 #include "predvs/predictors/params.h"
@@ -93,6 +102,11 @@ struct ServoConfig {
   double duration_s = 25.0;  ///< duration_s > 0
   std::uint64_t seed = 1;    ///< seeds the measurement noise and the task's random draws
   CameraIntrinsics camera;   ///< the true intrinsics (the task is given the same)
+  /// Image size in pixels (camera.width / camera.height; a scenario's default is 2 u0 x 2 v0, the
+  /// principal point at the centre). Used only by the outside-image failure check of
+  /// metrics.outcome, where both must be > 0; the feature source does not crop to it.
+  double image_width_px = 640.0;
+  double image_height_px = 480.0;
   /// Target and goal. Default: a 10 cm square, goal 0.5 m in front of it, moving on a 5 cm
   /// radius circle at 0.5 rad/s (2.5 cm/s, about 40 px/s in the image at 0.5 m).
   SceneConfig scene;
@@ -128,7 +142,8 @@ struct ServoResult {
   Eigen::VectorXd desired;       ///< s*
   std::vector<std::string> columns;  ///< trace columns (ServoLoop::traceColumns())
   std::vector<ServoSample> trace;
-  Metrics metrics;               ///< of the error, with control effort
+  Metrics metrics;               ///< of the error, with control effort (steady figures NaN after a failure)
+  Outcome outcome;               ///< with metrics.outcome: converged / failed (metrics.h); default otherwise
   NamedValues values;            ///< metricValues(metrics), then the task's run summary
 };
 
@@ -143,8 +158,11 @@ class ServoLoop {
   ServoLoop(const ServoLoop&) = delete;
   ServoLoop& operator=(const ServoLoop&) = delete;
 
-  /// True once the run has covered duration_s.
+  /// True once the run has covered duration_s, or (metrics.outcome) has failed.
   bool done() const;
+  /// With metrics.outcome: the failure detected so far (None otherwise) and its time (NaN if none).
+  FailureKind failure() const;
+  double failureTime() const;
   /// Advances one control tick and returns its trace row.
   const ServoSample& step();
   /// Steps until done() and returns the trace and metrics.
@@ -154,7 +172,8 @@ class ServoLoop {
   const Task& task() const;
   const Robot& robot() const;
 
-  /// Names of ServoResult::values, in order: metricValues(), with metrics.per_feature the
+  /// Names of ServoResult::values, in order: metricValues(), with metrics.outcome
+  /// outcomeValues(), with metrics.per_feature the
   /// per-feature errors (featureErrorValues()), with occlusions occlusionValues(), then the task's
   /// run summary (before the run: the task's run summary names are
   /// fixed per law).
