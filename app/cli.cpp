@@ -308,7 +308,11 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       "--sweep PATH=V1,V2,... (or PATH=[V1, V2]) runs every chosen scenario once per value of the scenario "
       "path PATH, replacing the scenarios' own sweeps, e.g. --scenarios ibvs-moving-target --sweep "
       "timing.delay_frames=0,1,2 or --sweep predictors.cs-akf.params.a_max=5,20,50; the variants are named "
-      "SCENARIO@KEY=VALUE (KEY: the last segment of PATH). "
+      "SCENARIO@KEY=VALUE (KEY: the last segment of PATH). Several --sweep options make a grid: the product of "
+      "their values (the first varies slowest), variants SCENARIO@KEY1=V1,KEY2=V2, the same seeds in every cell, "
+      "grid_<scenario>.csv (converged and failed fractions, median convergence time and rmse per cell and predictor; "
+      "the outcome needs metrics.outcome: true, e.g. --set metrics.outcome=true) and heatmap_<scenario>.png "
+      "(convergence time over the first two keys, failures marked; one per value of any further key). "
       "--set PATH=VALUE changes one value of every chosen scenario file before it is validated (so a key "
       "that a scenario kind does not have is an error for that scenario), e.g. "
       "--scenarios e2-accel-jump --predictors cs-akf --set predictors.cs-akf.params.a_max=100; the overrides "
@@ -330,9 +334,10 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                       "override a value in every chosen scenario (repeatable): PATH is a dotted YAML path, "
                       "VALUE is YAML")
       ->type_name("PATH=VALUE");
-  std::string cmp_sweep;
-  compare->add_option("--sweep", cmp_sweep,
-                      "run every chosen scenario once per value of a scenario path (replaces their own sweep:)")
+  std::vector<std::string> cmp_sweeps;
+  compare->add_option("--sweep", cmp_sweeps,
+                      "run every chosen scenario once per value of a scenario path (replaces their own sweep:); "
+                      "repeated: a grid over the product of the values")
       ->type_name("PATH=V1,V2,...");
   compare->add_option("--out", co.out_dir, "output directory, replaced only when the run succeeds")
       ->capture_default_str()
@@ -361,7 +366,8 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
         co.seed = static_cast<unsigned long>(parseIntegerArg("--seed", cmp_seed, 0, 2147483647L));
       }
       for (const auto& text : cmp_sets) co.overrides.push_back(parseScenarioOverride(text));
-      if (compare->count("--sweep")) co.sweep = parseSweepOption(cmp_sweep);
+      for (const auto& text : cmp_sweeps) co.sweeps.push_back(parseSweepOption(text));
+      checkSweepAxes(co.sweeps);
       if (!cmp_jobs.empty()) co.jobs = static_cast<int>(parseIntegerArg("--jobs", cmp_jobs, 1, 1024));
       co.plots = !cmp_no_plots;
       co.progress_bar = &err == &std::cerr && ::isatty(STDERR_FILENO);

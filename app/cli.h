@@ -6,7 +6,8 @@
 //   predvs servo   [--scenario NAME|FILE] [--predictors a,b,c] [--seed N] [--set PATH=VALUE]...
 //                  [--out DIR] [--no-plots]
 //   predvs compare [--scenarios a,b|all] [--predictors x,y|all] [--runs N] [--seed S] [--jobs J]
-//                  [--set PATH=VALUE]... [--sweep PATH=V1,V2] [--out DIR=out/compare] [--no-plots]   (compare_command.h)
+//                  [--set PATH=VALUE]... [--sweep PATH=V1,V2]... [--out DIR=out/compare] [--no-plots]
+//                  (compare_command.h; several --sweep: a grid over the product of their values)
 //   --set overrides any scenario key before the strict parse (scenario_override.h).
 //
 // `predvs servo` runs any scenario file once per predictor on one seed (servo_command.h): a closed

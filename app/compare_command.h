@@ -14,6 +14,13 @@
 // one is the error "ORIGIN PATH=value (scenario NAME): ..." (ORIGIN "FILE:LINE: sweep" or
 // "--sweep"), before anything runs. Every run builds its own trajectory, noise generator,
 // predictor (or servo loop), so the numbers do not depend on --jobs or on the order of the runs.
+// Grids: several --sweep options (or a `sweep:` block with several keys) run the product of their
+// values; each cell is a variant named <scenario>@<KEY1>=<v1>,<KEY2>=<v2> (e10@lambda=1.4,
+// frame_period_n=8; the whole paths when two keys share their last segment), the scenario loaded
+// with every KEY=value of the cell, in the order of the keys (the first varies slowest), with the
+// same seeds in every cell; a bad cell is "ORIGIN KEY1=v1, KEY2=v2 (scenario NAME): ...". A run is
+// thus identified by (scenario, cell values, predictor, seed) and computed from them alone (the
+// basis for sharding and resuming a grid, issue #9).
 // Predictors: --predictors all (the registry) or a list; each uses the parameters the scenario
 // gives it when the scenario lists it, its defaults otherwise; without --predictors, each
 // scenario's own list.
@@ -26,17 +33,23 @@
 // occl_end_error, reacq_error, reacq_1s_rmse; alarms, false_alarms_per_min; with an onset after
 // t = 0 (E12) detected, detect_delay_frames; with a manoeuvre (E1-E3, E12) resp_max_lag,
 // resp_overshoot, resp_mean_3s, resp_time_s. Closed loop (e is the task's tracking error, px):
-// rmse, final, max, peak, iae, settling_s, effort, then the task's run summary (e.g.
+// rmse, final, max, peak, iae, settling_s, effort, with metrics.outcome converged,
+// convergence_time_s, failed, failure_time_s, fail_behind, fail_image, fail_robot (servo/metrics.h,
+// Outcome; a failed run stops early and has NaN steady figures), then the task's run summary (e.g.
 // jacobian_error_final for ibvs-broyden, sliding_rms_final for vsc, lyap_bound_positive_fraction
 // for vtc).
 // Aggregates over runs: n (finite values), mean, std (sample, 0 for one run), min, max.
 //
 // Output directory (default out/compare), created only when everything succeeded:
 //   leaderboard.csv   scenario,variant,predictor,metric,n,mean,std,min,max,median (one row per metric)
+//                     (a variant id with a comma, a grid cell's, is quoted)
 //   leaderboard.json  the same, nested, with each scenario's runs, seeds, units, metric
-//                     definitions and sweep ({key, values, from}; each variant's sweep_value), the
-//                     --set overrides and the --sweep (applied to every scenario; null without)
-//   leaderboard.md    one table per variant (for a sweep: its first and last value), predictors
+//                     definitions and sweep ({key, values, from}; each variant's sweep_value) or, for
+//                     a grid, grid (a list of them; each variant's grid_values {key: value}), the
+//                     --set overrides and the --sweep (applied to every scenario: its text, a list
+//                     of texts for a grid, null without)
+//   leaderboard.md    one table per variant (for a sweep: its first and last value; for a grid:
+//                     its first and last cell), predictors
 //                     ranked by mean rmse, mean ± std, the columns of report.h (tableMetrics(): the
 //                     same columns `predvs servo` prints); the terminal shows the same tables
 //                     (means) with "vs hold" when hold is among the predictors
@@ -46,9 +59,23 @@
 //                     <scenario>_<KEY><value> (error_e6-noise-study_sigma10.png)
 //   mse_vs_sigma_<scenario>.png  open-loop noise.sigma sweeps: position and velocity MSE per
 //                     channel versus sigma_n, one line per predictor (paper 001 Fig. 8 analogue)
-//   rmse_vs_<KEY>_<scenario>.png  any other sweep: mean ± std over the runs of rmse versus the
-//                     swept value, one line per predictor (values that are not numbers are placed
-//                     in order, labelled with their text)
+//   rmse_vs_<KEY>_<scenario>.png  any other one-key sweep: median over the runs of rmse (bars
+//                     from the best to the worst run) versus the swept value, one line per
+//                     predictor (values that are not numbers are placed in order, labelled with
+//                     their text)
+//   grid_<scenario>.csv  every swept scenario (one key or a grid): one row per cell and predictor,
+//                     scenario,variant,<every swept path>,predictor,n,converged_fraction,
+//                     convergence_time_median_s,failed_fraction,fail_behind_fraction,
+//                     fail_image_fraction,fail_robot_fraction,rmse_median,rmse_n (fractions over the
+//                     n runs; the median convergence time over the converged runs, the median rmse
+//                     over the rmse_n runs that have one, i.e. did not fail; the outcome columns are
+//                     empty without metrics.outcome)
+//   heatmap_<scenario>[_<KEY><value>..].png  a grid of two or more keys (paper 003 Fig. 4
+//                     analogue): the first key across, the second up, one panel per predictor,
+//                     coloured by the median convergence time, grey where no run converged (dark
+//                     when some failed), a cross where some run failed, each cell labelled; one
+//                     figure per combination of the values of the further keys (task.type as a
+//                     third key: one heat map per task)
 #pragma once
 
 #include "scenario.h"
@@ -67,7 +94,9 @@ struct CompareOptions {
   bool seed_given = false;
   unsigned long seed = 0;               ///< base seed S when seed_given
   std::vector<ScenarioOverride> overrides;  ///< --set PATH=VALUE, applied to every scenario
-  ScenarioSweep sweep;                  ///< --sweep PATH=V1,V2 (parseSweepOption); empty = the scenarios' own
+  /// --sweep PATH=V1,V2 (parseSweepOption), once per axis (several: a grid, checkSweepAxes());
+  /// empty = the scenarios' own
+  std::vector<ScenarioSweep> sweeps;
   int jobs = 0;                         ///< worker threads; 0 = std::thread::hardware_concurrency()
   std::string out_dir = "out/compare";
   bool plots = true;

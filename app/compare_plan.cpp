@@ -88,6 +88,21 @@ std::vector<std::string> chosenPredictors(const CompareOptions& o) {
   return chosen;
 }
 
+/// The names of the axes in variant ids: the last segment of each key, or the whole keys when two
+/// axes share their last segment (task.lambda and predictors.x.params.lambda).
+std::vector<std::string> axisLabels(const std::vector<ScenarioSweep>& axes) {
+  std::vector<std::string> labels;
+  std::set<std::string> seen;
+  bool unique = true;
+  for (const auto& a : axes) {
+    labels.push_back(a.shortKey());
+    unique = unique && seen.insert(labels.back()).second;
+  }
+  if (!unique)
+    for (size_t a = 0; a < axes.size(); ++a) labels[a] = axes[a].key;
+  return labels;
+}
+
 }  // namespace
 
 Plan makePlan(const CompareOptions& o) {
@@ -99,7 +114,7 @@ Plan makePlan(const CompareOptions& o) {
     Scenario sc = loadScenario(path, o.overrides);
     if (!names.insert(sc.name).second)
       throw std::invalid_argument("--scenarios: two scenarios named '" + sc.name + "'");
-    if (!o.sweep.empty()) setScenarioSweep(sc, o.sweep);
+    if (!o.sweeps.empty()) setScenarioSweeps(sc, o.sweeps);
     choosePredictors(sc, chosen, "--predictors");
     plan.runs.push_back(o.runs > 0 ? o.runs : sc.runs > 0 ? sc.runs : kDefaultRuns);
     plan.seeds.push_back(o.seed_given ? o.seed : sc.seed());
@@ -107,7 +122,7 @@ Plan makePlan(const CompareOptions& o) {
   }
   for (size_t i = 0; i < plan.scenarios.size(); ++i) {
     const Scenario& sc = plan.scenarios[i];
-    if (sc.sweep.empty()) {
+    if (sc.sweeps.empty()) {
       Variant v;
       v.scenario = &plan.scenarios[i];
       v.scenario_index = i;
@@ -116,31 +131,40 @@ Plan makePlan(const CompareOptions& o) {
       plan.variants.push_back(v);
       continue;
     }
-    // Each value: the scenario file loaded again with the --set overrides and KEY=value.
+    // Each cell: the scenario file loaded again with the --set overrides and KEY=value per axis.
     std::vector<Scenario> at = loadSweepVariants(sc, o.overrides);
-    const std::string key = sc.sweep.shortKey();
+    const std::vector<std::string> keys = axisLabels(sc.sweeps);
     for (auto& a : at) choosePredictors(a, chosen, "--predictors");
     // A sweep of predictors.NAME.params.KEY adds NAME when the scenario lacks it: every value does.
     plan.scenarios[i].predictors = at.front().predictors;
     const auto names_at_first = predictorNames(at.front());
     for (size_t k = 0; k < at.size(); ++k) {
+      Variant v;
+      v.indices = gridIndices(sc.sweeps, k);
+      std::string text, label, file;
+      for (size_t a = 0; a < sc.sweeps.size(); ++a) {
+        v.values.push_back(sc.sweeps[a].values[v.indices[a]]);
+        v.xs.push_back(numberOf(v.values.back()));
+        text += (a ? ", " : "") + sc.sweeps[a].key + "=" + v.values.back();
+        label += (a ? "," : "") + keys[a] + "=" + valueLabel(v.values.back());
+        file += "_" + keys[a] + valueLabel(v.values.back());
+      }
       if (predictorNames(at[k]) != names_at_first)
-        throw std::invalid_argument(sc.sweep.origin + " " + sc.sweep.key + "=" + sc.sweep.values[k] + " (scenario " +
-                                    sc.name + "): the value changes the list of predictors; list them in the "
+        throw std::invalid_argument(sc.sweeps.front().origin + " " + text + " (scenario " + sc.name +
+                                    "): the value changes the list of predictors; list them in the "
                                     "scenario or with --predictors");
       plan.variant_scenarios.push_back(std::move(at[k]));
       const Scenario& vs = plan.variant_scenarios.back();
-      Variant v;
       v.scenario = &vs;
       v.scenario_index = i;
       v.swept = true;
       v.sweep_index = k;
       v.shown = k == 0 || k + 1 == at.size();
-      v.value = sc.sweep.values[k];
-      v.x = numberOf(v.value);
+      v.value = v.values.front();
+      v.x = v.xs.front();
       v.sigma = noiseSigma(vs);
-      v.id = sc.name + "@" + key + "=" + valueLabel(v.value);
-      v.file_id = fileSafe(sc.name + "_" + key + valueLabel(v.value));
+      v.id = sc.name + "@" + label;
+      v.file_id = fileSafe(sc.name + file);
       plan.variants.push_back(v);
     }
   }

@@ -15,18 +15,23 @@
 
 namespace predvs {
 
-/// One scenario at one sweep value.
+/// One scenario at one sweep value, or at one cell of a grid (one value per axis).
 struct Variant {
-  const Scenario* scenario = nullptr;  ///< the scenario loaded with this sweep value applied
+  const Scenario* scenario = nullptr;  ///< the scenario loaded with this sweep value (cell) applied
   size_t scenario_index = 0;
   bool swept = false;
-  size_t sweep_index = 0;  ///< position of the value in the sweep
+  size_t sweep_index = 0;  ///< position of the value in the sweep (of the cell in the grid, gridIndices())
   bool shown = true;       ///< in leaderboard.md, the printed table and the error plots
-                           ///< (a sweep's first and last value only)
-  std::string value;       ///< the swept value as YAML text ("" without a sweep)
-  double x = std::numeric_limits<double>::quiet_NaN();      ///< the swept value as a number (NaN when it is not one)
+                           ///< (a sweep's first and last value, a grid's first and last cell, only)
+  std::vector<size_t> indices;      ///< per axis: the index of the cell's value
+  std::vector<std::string> values;  ///< per axis: the value as YAML text
+  std::vector<double> xs;           ///< per axis: the value as a number (NaN when it is not one)
+  std::string value;       ///< the first axis' value as YAML text ("" without a sweep)
+  double x = std::numeric_limits<double>::quiet_NaN();      ///< the first axis' value as a number (NaN when it is not one)
   double sigma = std::numeric_limits<double>::quiet_NaN();  ///< noise.sigma of this variant
-  std::string id;       ///< "e6-noise-study@sigma=10", "delay-study@delay_frames=1" or the scenario name
+  /// "e6-noise-study@sigma=10", "delay-study@delay_frames=1", "e10@lambda=1.4,frame_period_n=8" (the
+  /// last segment of each key; the whole keys when two axes share it) or the scenario name
+  std::string id;
   std::string file_id;  ///< file-name-safe id
 };
 
@@ -48,7 +53,9 @@ struct Job {
   size_t predictor;
   int run;
 };
-/// Every run of the plan: variants in order, then predictors, then runs.
+/// Every run of the plan: variants in order, then predictors, then runs. A run is identified by
+/// (scenario, cell values, predictor, seed) and computed from them alone, so any subset of the
+/// jobs can run anywhere, in any order (the grid of issue #9: shards, resume).
 std::vector<Job> planJobs(const Plan& plan);
 /// The seed of a job: the scenario's base seed S + r.
 std::uint64_t jobSeed(const Plan& plan, const Job& job);

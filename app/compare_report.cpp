@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -38,6 +39,14 @@ MetricTable variantTable(const Plan& plan, const Results& res, size_t v) {
   return t;
 }
 
+/// A CSV field: quoted (with "" for ") when it holds a comma, a quote or a line break.
+std::string csvField(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string q = "\"";
+  for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
 std::string leaderboardCsv(const Plan& plan, const Results& res) {
   std::ostringstream csv;
   csv << "scenario,variant,predictor,metric,n,mean,std,min,max,median\n";
@@ -46,7 +55,7 @@ std::string leaderboardCsv(const Plan& plan, const Results& res) {
     for (size_t p : ranking(plan, res, v))
       for (size_t m = 0; m < res.metrics[v].size(); ++m) {
         const Stats& s = res.cells[v][p].stats[m];
-        csv << var.scenario->name << "," << var.id << "," << var.scenario->predictors[p].name << ","
+        csv << var.scenario->name << "," << csvField(var.id) << "," << var.scenario->predictors[p].name << ","
             << res.metrics[v][m] << "," << s.n << "," << csvNumber(s.mean) << "," << csvNumber(s.std) << ","
             << csvNumber(s.min) << "," << csvNumber(s.max) << "," << csvNumber(s.median) << "\n";
       }
@@ -62,12 +71,19 @@ std::string leaderboardJson(const Plan& plan, const Results& res, const CompareO
   nlohmann::json j;
   j["command"] = o.command_line;
   j["overrides"] = overrideTexts(o.overrides);
-  if (!o.sweep.empty()) {
+  // --sweep, applied to every scenario: its text, a list of them for a grid, null without
+  auto optionText = [](const ScenarioSweep& sw) {
     std::string values;
-    for (const auto& v : o.sweep.values) values += (values.empty() ? "" : ", ") + v;
-    j["sweep"] = o.sweep.key + "=[" + values + "]";  // --sweep, applied to every scenario
-  } else {
+    for (const auto& v : sw.values) values += (values.empty() ? "" : ", ") + v;
+    return sw.key + "=[" + values + "]";
+  };
+  if (o.sweeps.size() == 1) {
+    j["sweep"] = optionText(o.sweeps.front());
+  } else if (o.sweeps.empty()) {
     j["sweep"] = nullptr;
+  } else {
+    j["sweep"] = nlohmann::json::array();
+    for (const auto& sw : o.sweeps) j["sweep"].push_back(optionText(sw));
   }
   j["error_definition"] = {{"open-loop", errorDefinition(ScenarioKind::OpenLoop)},
                            {"closed-loop", errorDefinition(ScenarioKind::ClosedLoop)}};
@@ -82,11 +98,23 @@ std::string leaderboardJson(const Plan& plan, const Results& res, const CompareO
     s["runs"] = plan.runs[i];
     s["seeds"] = {plan.seeds[i], plan.seeds[i] + static_cast<std::uint64_t>(plan.runs[i]) - 1};
     s["error_units"] = errorUnits(sc);
-    if (!sc.sweep.empty()) {
-      s["sweep"] = {{"key", sc.sweep.key}, {"values", nlohmann::json::array()},
-                    {"from", sc.sweep.origin == "--sweep" ? "--sweep" : "scenario file"}};
-      for (size_t v : variantsOf(plan, i))
-        s["sweep"]["values"].push_back(sweepValueJson(plan.variants[v].value, plan.variants[v].x));
+    // One axis: "sweep" {key, values, from}; several: "grid", a list of them (first axis slowest).
+    auto axisJson = [&](const ScenarioSweep& sw) {
+      nlohmann::json a = {{"key", sw.key}, {"values", nlohmann::json::array()},
+                          {"from", sw.origin == "--sweep" ? "--sweep" : "scenario file"}};
+      for (const auto& text : sw.values) {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        a["values"].push_back(end != text.c_str() && *end == '\0' && std::isfinite(x) ? nlohmann::json(x)
+                                                                                       : nlohmann::json(text));
+      }
+      return a;
+    };
+    if (sc.sweeps.size() == 1) {
+      s["sweep"] = axisJson(sc.sweeps.front());
+    } else if (sc.sweeps.size() > 1) {
+      s["grid"] = nlohmann::json::array();
+      for (const auto& sw : sc.sweeps) s["grid"].push_back(axisJson(sw));
     }
     const std::vector<size_t> vs = variantsOf(plan, i);
     s["metric_definitions"] = metricDefinitionsJson(res.metrics[vs.front()], sc);
@@ -96,7 +124,10 @@ std::string leaderboardJson(const Plan& plan, const Results& res, const CompareO
       nlohmann::json jv;
       jv["id"] = var.id;
       jv["noise_sigma"] = jsonNumber(var.sigma);
-      if (var.swept) jv["sweep_value"] = sweepValueJson(var.value, var.x);
+      if (var.swept && sc.sweeps.size() == 1) jv["sweep_value"] = sweepValueJson(var.value, var.x);
+      if (var.swept && sc.sweeps.size() > 1)
+        for (size_t a = 0; a < sc.sweeps.size(); ++a)
+          jv["grid_values"][sc.sweeps[a].key] = sweepValueJson(var.values[a], var.xs[a]);
       jv["predictors"] = nlohmann::json::array();
       const auto& preds = var.scenario->predictors;  // a sweep may change their parameters
       for (size_t p : ranking(plan, res, v)) {
@@ -139,11 +170,15 @@ std::string leaderboardMarkdown(const Plan& plan, const Results& res, const Comp
        << sc.description << "  \n"
        << scenarioKindName(sc.kind) << ", " << plan.runs[i] << " runs, seeds " << plan.seeds[i] << ".."
        << plan.seeds[i] + static_cast<std::uint64_t>(plan.runs[i]) - 1 << ", noise sigma " << sigmaText(var.sigma);
-    if (var.swept && sc.sweep.key != "noise.sigma") md << ", " << sc.sweep.key << " = " << var.value;
+    const bool lone_sigma = sc.sweeps.size() == 1 && sc.sweeps.front().key == "noise.sigma";
+    if (var.swept && !lone_sigma)
+      for (size_t a = 0; a < sc.sweeps.size(); ++a) md << ", " << sc.sweeps[a].key << " = " << var.values[a];
     md << ", error in " << errorUnits(sc);
     if (var.swept)
-      md << (sc.sweep.key == "noise.sigma" ? std::string(" (every sigma in leaderboard.csv)")
-                                           : " (every " + sc.sweep.key + " in leaderboard.csv)");
+      md << (lone_sigma ? std::string(" (every sigma in leaderboard.csv)")
+                        : sc.sweeps.size() == 1 ? " (every " + sc.sweeps.front().key + " in leaderboard.csv)"
+                                                : " (every cell of the " + sweepKeysText(sc.sweeps) +
+                                                      " grid in leaderboard.csv and grid_" + fileSafe(sc.name) + ".csv)");
     md << "\n\n" << markdownMetricTable(variantTable(plan, res, v));
   }
   return md.str();
@@ -254,14 +289,15 @@ void plotRmseVsKey(const Plan& plan, const Results& res, const StagedOutputDir& 
   const std::vector<size_t> vs = variantsOf(plan, i);
   bool numeric = true;
   for (size_t v : vs) numeric = numeric && std::isfinite(plan.variants[v].x);
-  const std::string key = sc.sweep.shortKey();
+  const ScenarioSweep& sweep = sc.sweeps.front();
+  const std::string key = sweep.shortKey();
   const std::string base = "rmse_vs_" + fileSafe(key) + "_" + fileSafe(sc.name);
   bool positive = true;  // every run's rmse > 0: a log axis, so that large and small errors both read
   for (size_t v : vs)
     for (const auto& cell : res.cells[v]) positive = positive && cell.stats[metricIndex(res, v, "rmse")].min > 0.0;
   {
     std::ostringstream d;
-    d << "# one block per predictor (separated by two blank lines): " << sc.sweep.key
+    d << "# one block per predictor (separated by two blank lines): " << sweep.key
       << (numeric ? "" : " (as its index)") << ", median, min and max rmse over the runs\n";
     for (size_t p = 0; p < sc.predictors.size(); ++p) {
       d << "# " << sc.predictors[p].name << "\n";
@@ -277,10 +313,10 @@ void plotRmseVsKey(const Plan& plan, const Results& res, const StagedOutputDir& 
   }
   PlotFigure f;
   f.base = base;
-  f.title = sc.name + ": steady-window rmse versus " + sc.sweep.key + ", median over " +
+  f.title = sc.name + ": steady-window rmse versus " + sweep.key + ", median over " +
             std::to_string(plan.runs[i]) + " runs, bars from the best to the worst run";
   PlotPanel p;
-  p.xlabel = sc.sweep.key;
+  p.xlabel = sweep.key;
   p.ylabel = sc.kind == ScenarioKind::ClosedLoop ? "steady rmse of the tracking error [px]"
                                                  : "steady rmse of ||predicted - true|| [" + errorUnits(sc) + "]";
   p.log_y = positive;
@@ -299,6 +335,151 @@ void plotRmseVsKey(const Plan& plan, const Results& res, const StagedOutputDir& 
   drawFigure(dir, f);
 }
 
+/// The Stats of metric `name` of variant v and predictor p (empty Stats when the variant has no
+/// such figure, e.g. the outcome without metrics.outcome).
+Stats metricStats(const Results& res, size_t v, size_t p, const std::string& name) {
+  const auto& m = res.metrics[v];
+  const auto at = std::find(m.begin(), m.end(), name);
+  return at == m.end() ? Stats{} : res.cells[v][p].stats[static_cast<size_t>(at - m.begin())];
+}
+
+/// grid_<scenario>.csv: one row per cell (variant) and predictor, the outcome of the cell's runs
+/// (fractions are means of the runs' 0/1 values; medians over the runs where the figure is finite).
+void writeGridCsv(const Plan& plan, const Results& res, const StagedOutputDir& dir, size_t i) {
+  const Scenario& sc = plan.scenarios[i];
+  std::ostringstream csv;
+  csv << "scenario,variant";
+  for (const auto& axis : sc.sweeps) csv << "," << csvField(axis.key);
+  csv << ",predictor,n,converged_fraction,convergence_time_median_s,failed_fraction,fail_behind_fraction,"
+         "fail_image_fraction,fail_robot_fraction,rmse_median,rmse_n\n";
+  for (size_t v : variantsOf(plan, i)) {
+    const Variant& var = plan.variants[v];
+    for (size_t p = 0; p < var.scenario->predictors.size(); ++p) {
+      csv << csvField(sc.name) << "," << csvField(var.id);
+      for (const auto& value : var.values) csv << "," << csvField(value);
+      const Stats rmse = metricStats(res, v, p, "rmse");
+      csv << "," << csvField(var.scenario->predictors[p].name) << "," << plan.runs[i] << ","
+          << csvNumber(metricStats(res, v, p, "converged").mean) << ","
+          << csvNumber(metricStats(res, v, p, "convergence_time_s").median) << ","
+          << csvNumber(metricStats(res, v, p, "failed").mean) << ","
+          << csvNumber(metricStats(res, v, p, "fail_behind").mean) << ","
+          << csvNumber(metricStats(res, v, p, "fail_image").mean) << ","
+          << csvNumber(metricStats(res, v, p, "fail_robot").mean) << "," << csvNumber(rmse.median) << "," << rmse.n
+          << "\n";
+    }
+  }
+  writeTextFile(dir, "grid_" + fileSafe(sc.name) + ".csv", csv.str());
+}
+
+/// A number for a heat-map label: two significant digits ("2.3", "0.56", "12").
+std::string shortNumber(double x) {
+  std::ostringstream s;
+  s << std::setprecision(2) << x;
+  return s.str();
+}
+
+/// heatmap_<scenario>[_<KEY><value>...].png for a grid of two or more axes (paper 003 Fig. 4
+/// analogue): the first axis across, the second up, one panel per predictor; every combination of
+/// the further axes' values is its own figure. Colour: the median over the converged runs of the
+/// convergence time; grey: no run converged; a cross: some runs failed. Each cell's label gives
+/// the median time and, when not every run converged, the failed (F) and not converged (NC) runs.
+/// Values are placed at their index (a grid is rarely uniform), labelled with their text.
+void plotGridHeatMaps(const Plan& plan, const Results& res, const StagedOutputDir& dir, size_t i) {
+  const Scenario& sc = plan.scenarios[i];
+  const std::vector<ScenarioSweep>& axes = sc.sweeps;
+  const std::vector<size_t> vs = variantsOf(plan, i);
+  const size_t nx = axes[0].values.size(), ny = axes[1].values.size();
+  // Cells are ordered with the first axis slowest (gridIndices); group them by the values of
+  // the axes after the second.
+  std::vector<std::vector<size_t>> figures;  // variant indices per combination of the further axes
+  std::vector<std::string> suffixes, titles;
+  for (size_t v : vs) {
+    const Variant& var = plan.variants[v];
+    std::string suffix, title;
+    for (size_t a = 2; a < axes.size(); ++a) {
+      suffix += "_" + axes[a].shortKey() + var.values[a];
+      title += ", " + axes[a].key + " = " + var.values[a];
+    }
+    const auto at = std::find(suffixes.begin(), suffixes.end(), suffix);
+    if (at == suffixes.end()) {
+      suffixes.push_back(suffix);
+      titles.push_back(title);
+      figures.push_back({v});
+    } else {
+      figures[static_cast<size_t>(at - suffixes.begin())].push_back(v);
+    }
+  }
+  const int runs = plan.runs[i];
+  const size_t n_pred = sc.predictors.size();
+  for (size_t f = 0; f < figures.size(); ++f) {
+    const std::string base = "heatmap_" + fileSafe(sc.name + suffixes[f]);
+    double t_max = 0.0;
+    std::ostringstream d;
+    d << "# one block per predictor (separated by two blank lines): index of " << axes[0].key << ", index of "
+      << axes[1].key << ", median convergence time over the converged runs (s), converged fraction, failed "
+         "fraction, label of the time, label of the runs that did not converge\n";
+    for (size_t p = 0; p < n_pred; ++p) {
+      d << "# " << sc.predictors[p].name << "\n";
+      for (size_t v : figures[f]) {
+        const Variant& var = plan.variants[v];
+        const double t = metricStats(res, v, p, "convergence_time_s").median;
+        const double conv = metricStats(res, v, p, "converged").mean;
+        const double fail = metricStats(res, v, p, "failed").mean;
+        if (std::isfinite(t)) t_max = std::max(t_max, t);
+        const long n_fail = std::isfinite(fail) ? std::lround(fail * runs) : 0;
+        const long n_nc = std::isfinite(conv) ? runs - std::lround(conv * runs) - n_fail : 0;
+        std::string other;
+        if (n_fail > 0) other += "F " + std::to_string(n_fail) + "/" + std::to_string(runs);
+        if (n_nc > 0) other += (other.empty() ? "" : " ") + std::string("NC ") + std::to_string(n_nc) + "/" + std::to_string(runs);
+        d << var.indices[0] << " " << var.indices[1] << " " << datNumber(t) << " " << datNumber(conv) << " "
+          << datNumber(fail) << " \"" << (std::isfinite(t) ? shortNumber(t) : "-") << "\" \"" << other << "\"\n";
+      }
+      d << "\n\n";
+    }
+    writeTextFile(dir, base + ".dat", d.str());
+
+    const size_t cols = std::min<size_t>(n_pred, 3), rows = (n_pred + cols - 1) / cols;
+    const int pw = static_cast<int>(std::max<size_t>(560, 70 * nx + 220));
+    const int ph = static_cast<int>(std::max<size_t>(400, 50 * ny + 180));
+    auto tics = [](const ScenarioSweep& axis) {
+      std::string t = "(";
+      for (size_t k = 0; k < axis.values.size(); ++k) t += (k ? ", " : "") + gnuplotQuote(axis.values[k]) + " " + std::to_string(k);
+      return t + ")";
+    };
+    std::ostringstream gp;
+    gp << "# Regenerate with: gnuplot " << base << ".gp\n"
+       << "set terminal pngcairo size " << static_cast<int>(cols) * pw << "," << static_cast<int>(rows) * ph + 70
+       << " noenhanced font 'Sans,10'\nset output '" << base << ".png'\n"
+       << "set datafile missing 'NaN'\nunset key\nset style fill solid 1.0 noborder\n"
+       << "set palette defined (0 '#2c7bb6', 0.5 '#ffffbf', 1 '#d7191c')\n"
+       << "set cbrange [0:" << (t_max > 0.0 ? t_max : 1.0) << "]\nset cblabel 'median convergence time [s]'\n"
+       << "set xrange [-0.5:" << nx - 0.5 << "]\nset yrange [-0.5:" << ny - 0.5 << "]\n"
+       << "set xtics " << tics(axes[0]) << "\nset ytics " << tics(axes[1]) << "\n"
+       << "set xlabel " << gnuplotQuote(axes[0].key) << "\nset ylabel " << gnuplotQuote(axes[1].key) << "\n";
+    // Two title lines: gnuplot turns \n inside a double-quoted string into a line break.
+    const std::string line1 = gnuplotQuote(sc.name + titles[f] + ": median convergence time of the converged runs, " +
+                                           std::to_string(runs) + " runs per cell");
+    const std::string line2 = gnuplotQuote(
+        "light grey: none converged; dark grey: none converged, some failed; x: some failed "
+        "(F failed, NC not converged, of the runs)");
+    gp << "set multiplot layout " << rows << "," << cols << " title " << line1.substr(0, line1.size() - 1) << "\\n"
+       << line2.substr(1) << "\n";
+    for (size_t p = 0; p < n_pred; ++p) {
+      const std::string data = "'" + base + ".dat' index " + std::to_string(p);
+      gp << "set title " << gnuplotQuote(sc.predictors[p].name) << "\n"
+         << "plot " << data << " using ($4 > 0 || $5 > 0 ? 1/0 : $1):2:(0.5):(0.5) with boxxyerror lc rgb 'gray85', \\\n"
+         << "     " << data << " using ($4 > 0 || $5 == 0 ? 1/0 : $1):2:(0.5):(0.5) with boxxyerror lc rgb 'gray60', \\\n"
+         << "     " << data << " using 1:2:(0.5):(0.5):3 with boxxyerror lc palette, \\\n"
+         << "     " << data << " using ($1 + 0.36):($5 > 0 ? $2 + 0.3 : 1/0) with points pt 2 ps 1.2 lw 1.5 lc rgb 'black', \\\n"
+         << "     " << data << " using 1:2:6 with labels offset 0,0.5 font ',9', \\\n"
+         << "     " << data << " using 1:2:7 with labels offset 0,-0.6 font ',8'\n";
+    }
+    gp << "unset multiplot\n";
+    writeTextFile(dir, base + ".gp", gp.str());
+    runGnuplot(dir.staging().string(), base + ".gp");
+  }
+}
+
 }  // namespace
 
 void writeCompareReport(const Plan& plan, const Results& res, const CompareOptions& o, const CompareRunInfo& info,
@@ -306,12 +487,16 @@ void writeCompareReport(const Plan& plan, const Results& res, const CompareOptio
   writeTextFile(dir, "leaderboard.csv", leaderboardCsv(plan, res));
   writeTextFile(dir, "leaderboard.json", leaderboardJson(plan, res, o));
   writeTextFile(dir, "leaderboard.md", leaderboardMarkdown(plan, res, o, info));
+  for (size_t i = 0; i < plan.scenarios.size(); ++i)
+    if (!plan.scenarios[i].sweeps.empty()) writeGridCsv(plan, res, dir, i);
   if (!o.plots) return;
   plotErrors(plan, res, dir);
   for (size_t i = 0; i < plan.scenarios.size(); ++i) {
     const Scenario& sc = plan.scenarios[i];
-    if (sc.sweep.empty()) continue;
-    if (sc.sweep.key == "noise.sigma" && sc.kind == ScenarioKind::OpenLoop && !sc.sigma_sweep.empty())
+    if (sc.sweeps.empty()) continue;
+    if (sc.sweeps.size() > 1)
+      plotGridHeatMaps(plan, res, dir, i);
+    else if (sc.sweeps.front().key == "noise.sigma" && sc.kind == ScenarioKind::OpenLoop && !sc.sigma_sweep.empty())
       plotMseVsSigma(plan, res, dir, i);
     else
       plotRmseVsKey(plan, res, dir, i);

@@ -78,7 +78,9 @@ std::string fileSafe(const std::string& s) {
 
 std::vector<std::string> tableMetrics(const std::vector<std::string>& names, const Scenario& sc) {
   const bool open = sc.kind == ScenarioKind::OpenLoop;
-  const bool channel_mse = open && (sc.sweep.key == "noise.sigma" || sc.channels != 2);
+  bool sweeps_sigma = false;
+  for (const auto& axis : sc.sweeps) sweeps_sigma = sweeps_sigma || axis.key == "noise.sigma";
+  const bool channel_mse = open && (sweeps_sigma || sc.channels != 2);
   const bool onset =
       open && std::isfinite(makeChannelTrajectory(sc.trajectory, sc.trajectory_params)->onsetTime());
   std::vector<std::string> shown;
@@ -87,6 +89,9 @@ std::vector<std::string> tableMetrics(const std::vector<std::string>& names, con
     if (startsWith(k, "pos_mse_") || startsWith(k, "vel_mse_")) show = channel_mse;
     if (k == "false_alarms_per_min" || k == "detected" || k == "detect_delay_frames") show = onset;
     if (k == "alarms" || k == "occl_max") show = false;
+    // Outcome (metrics.outcome): the fractions converged and failed and the convergence time in
+    // the tables; the failure time and kinds in CSV / JSON.
+    if (k == "failure_time_s" || startsWith(k, "fail_")) show = false;
     if (show) shown.push_back(k);
   }
   return shown;

@@ -10,7 +10,8 @@
 // the task's run summary values (closed loop), and in open loop the occlusion figures but occl_max,
 // the manoeuvre response, the per-channel pos_mse_/vel_mse_ when the scenario sweeps noise.sigma or
 // does not have 2 channels, and false_alarms_per_min, detected, detect_delay_frames when the
-// trajectory declares an onset; every figure is in the CSV / JSON. With a predictor named `hold`
+// trajectory declares an onset, and with metrics.outcome converged, convergence_time_s and failed
+// (not failure_time_s and the fail_* kinds); every figure is in the CSV / JSON. With a predictor named `hold`
 // among the rows, the terminal table adds "vs hold" = rmse of hold / rmse of the row.
 #pragma once
 

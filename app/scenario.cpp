@@ -115,7 +115,7 @@ void readNoise(YamlSection& root, NoiseConfig& n) {
   withLocation(s.file(), s.line(), {}, [&] { return NoiseModel(n, 1).standardDeviation(); });
 }
 
-void readMetrics(YamlSection& root, MetricsOptions& m) {
+void readMetrics(YamlSection& root, MetricsOptions& m, bool closed_loop) {
   if (!root.has("metrics")) {
     root.allow("metrics");
     return;
@@ -125,8 +125,16 @@ void readMetrics(YamlSection& root, MetricsOptions& m) {
   m.final_fraction = s.number("final_fraction", m.final_fraction, 0.0, 1.0);
   m.settling_band = s.number("settling_band", m.settling_band, 0.0, 1.0);
   m.per_feature = s.boolean("per_feature", m.per_feature);
+  m.outcome = s.boolean("outcome", m.outcome);
+  if (m.outcome && !closed_loop)
+    s.fail("outcome", "the outcome of a positioning run (converged / failed) is for closed-loop scenarios only");
+  m.converge_px = s.number("converge_px", m.converge_px, 0.0, 1e9);
+  m.converge_hold_s = s.number("converge_hold_s", m.converge_hold_s, 0.0, 1e9);
+  m.fail_outside_image = s.boolean("fail_outside_image", m.fail_outside_image);
+  m.fail_robot_limit = s.boolean("fail_robot_limit", m.fail_robot_limit);
   s.finish();
   withLocation(s.file(), s.line(), {}, [&] { return computeMetrics({}, {}, m); });  // the layer's own range checks
+  withLocation(s.file(), s.line(), {}, [&] { return computeOutcome({}, {}, FailureKind::None, 0.0, m).converged; });
 }
 
 /// trajectory: {type: NAME, key: number, ...}; returns the type and fills params (validated).
@@ -219,58 +227,62 @@ void checkSweepValues(const ScenarioSweep& sw, Fail&& fail) {
     if (!seen.insert(v).second) fail("value '" + v + "' is listed twice");
 }
 
-/// sweep: {PATH: [v1, v2, ...]} (any kind; the values are checked when compare loads them).
+/// The axes under `node` (a mapping of the sweep block): a key whose value is a list is an axis;
+/// a key whose value is a mapping continues the path (the nested spelling {noise: {sigma: [...]}},
+/// what `--set sweep.noise.sigma=[...]` writes, is the dotted key noise.sigma), in file order.
+void readSweepAxes(const YAML::Node& node, const std::string& prefix, const std::string& file,
+                   std::vector<ScenarioSweep>& axes) {
+  if (node.size() == 0)
+    throwAt(file, yamlLine(node), "'sweep" + (prefix.empty() ? "" : "." + prefix) +
+                                      "': expected a mapping {PATH: [v1, v2, ...], ...} of dotted scenario paths");
+  for (const auto& kv : node) {
+    const std::string key = (prefix.empty() ? "" : prefix + ".") + kv.first.Scalar();
+    if (kv.second.IsMap()) {
+      readSweepAxes(kv.second, key, file, axes);
+      continue;
+    }
+    ScenarioSweep sw;
+    sw.key = key;
+    const int line = yamlLine(kv.first);
+    sw.origin = fileLocation(file, line, "sweep");
+    const std::string problem = sweepKeyProblem(sw.key);
+    if (!problem.empty()) throwAt(file, line, "'sweep': " + problem);
+    if (!kv.second.IsSequence()) throwAt(file, yamlLine(kv.second), "'sweep." + sw.key + "': expected a list of values");
+    for (const auto& v : kv.second) sw.values.push_back(yamlText(v));
+    checkSweepValues(sw, [&](const std::string& what) { throwAt(file, line, "'sweep." + sw.key + "': " + what); });
+    axes.push_back(std::move(sw));
+  }
+}
+
+/// sweep: {PATH: [v1, v2, ...], PATH2: [...]} (any kind; the values are checked when compare
+/// loads them): one key is a sweep, several a grid over the product of their values.
 void readSweep(YamlSection& root, Scenario& sc) {
   root.allow("sweep");
   if (!root.has("sweep")) return;
   const YAML::Node node = root.node("sweep");
   const std::string& file = root.file();
-  if (!node.IsMap() || node.size() == 0)
-    throwAt(file, yamlLine(node), "'sweep': expected a mapping {PATH: [v1, v2, ...]} with one dotted scenario path");
-  if (node.size() > 1) {
-    std::string keys;
-    for (const auto& kv : node) keys += (keys.empty() ? "" : ", ") + kv.first.Scalar();
-    throwAt(file, yamlLine(node), "'sweep': one key per scenario, got " + std::to_string(node.size()) + " (" + keys +
-                                      "); sweep one and fix the others with --set");
-  }
-  const auto kv = *node.begin();
-  ScenarioSweep sw;
-  sw.key = kv.first.Scalar();
-  const int line = yamlLine(kv.first);
-  sw.origin = fileLocation(file, line, "sweep");
-  // The nested spelling {noise: {sigma: [...]}} (what `--set sweep.noise.sigma=[...]` writes into a
-  // scenario without a sweep) is the dotted key noise.sigma.
-  YAML::Node list = kv.second;
-  while (list.IsMap()) {
-    if (list.size() != 1)
-      throwAt(file, yamlLine(list), "'sweep." + sw.key + "': one key per scenario, expected {" + sw.key +
-                                        ".KEY: [v1, v2, ...]}");
-    const auto inner = *list.begin();
-    sw.key += "." + inner.first.Scalar();
-    list.reset(inner.second);
-  }
-  const std::string problem = sweepKeyProblem(sw.key);
-  if (!problem.empty()) throwAt(file, line, "'sweep': " + problem);
-  if (!list.IsSequence()) throwAt(file, yamlLine(list), "'sweep." + sw.key + "': expected a list of values");
-  for (const auto& v : list) sw.values.push_back(yamlText(v));
-  checkSweepValues(sw, [&](const std::string& what) { throwAt(file, line, "'sweep." + sw.key + "': " + what); });
-  setScenarioSweep(sc, sw);
+  if (!node.IsMap())
+    throwAt(file, yamlLine(node), "'sweep': expected a mapping {PATH: [v1, v2, ...], ...} of dotted scenario paths");
+  std::vector<ScenarioSweep> axes;
+  readSweepAxes(node, "", file, axes);
+  checkSweepAxes(axes);
+  setScenarioSweeps(sc, axes);
 }
 
 /// The keys both kinds share, into PredictionExperimentConfig or ServoConfig (same field names).
 template <class Config>
-void readCommon(YamlSection& root, Config& c) {
+void readCommon(YamlSection& root, Config& c, bool closed_loop) {
   c.duration_s = root.number("duration_s", c.duration_s, 1e-6, 1e6);
   readTiming(root, c.timing);
   readNoise(root, c.noise);
-  readMetrics(root, c.metrics);
+  readMetrics(root, c.metrics, closed_loop);
 }
 
 void readOcclusions(YamlSection& root, std::vector<OcclusionInterval>& out);
 
 void readOpenLoop(YamlSection& root, Scenario& sc) {
   PredictionExperimentConfig& c = sc.open_loop;
-  readCommon(root, c);
+  readCommon(root, c, false);
   if (!root.has("trajectory"))
     throwAt(root.file(), root.line(), "missing required key 'trajectory' ({type: line|accel-jump|zigzag|circle|...})");
   sc.trajectory = readTrajectory(root.node("trajectory"), root.file(), "trajectory", sc.trajectory_params, &sc.channels);
@@ -325,13 +337,16 @@ void readOcclusions(YamlSection& root, std::vector<OcclusionInterval>& out) {
 
 void readClosedLoop(YamlSection& root, Scenario& sc) {
   ServoConfig& c = sc.closed_loop;
-  readCommon(root, c);
+  readCommon(root, c, true);
   const std::string& file = root.file();
   readSection(root, "camera", [&](YamlSection& s) {
     c.camera.px = s.number("px", c.camera.px, 1e-6, 1e7);
     c.camera.py = s.number("py", c.camera.py, 1e-6, 1e7);
     c.camera.u0 = s.number("u0", c.camera.u0, -1e7, 1e7);
     c.camera.v0 = s.number("v0", c.camera.v0, -1e7, 1e7);
+    // The principal point at the image centre unless the size is given (640 x 480 by default).
+    c.image_width_px = s.number("width", 2.0 * c.camera.u0, 1.0, 1e7);
+    c.image_height_px = s.number("height", 2.0 * c.camera.v0, 1.0, 1e7);
   });
   readSection(root, "target", [&](YamlSection& s) {
     SceneConfig& t = c.scene;
@@ -435,11 +450,47 @@ std::string ScenarioSweep::shortKey() const {
 
 ScenarioOverride ScenarioSweep::valueOverride(size_t i) const { return parseScenarioOverride(key + "=" + values.at(i)); }
 
-void setScenarioSweep(Scenario& sc, const ScenarioSweep& sweep) {
-  sc.sweep = sweep;
+void checkSweepAxes(const std::vector<ScenarioSweep>& axes) {
+  auto segments = [](const std::string& key) { return parseScenarioOverride(key + "=0").path; };
+  for (size_t b = 0; b < axes.size(); ++b)
+    for (size_t a = 0; a < b; ++a) {
+      if (axes[a].key == axes[b].key)
+        throw std::invalid_argument(axes[b].origin + ": '" + axes[b].key + "' is swept twice (one axis per key)");
+      // A later axis that contains an earlier one would overwrite it in every cell.
+      const auto pa = segments(axes[a].key), pb = segments(axes[b].key);
+      if (pb.size() < pa.size() && std::equal(pb.begin(), pb.end(), pa.begin()))
+        throw std::invalid_argument(axes[b].origin + ": '" + axes[b].key + "' would replace '" + axes[a].key +
+                                    "', swept before it; give '" + axes[b].key + "' first");
+    }
+}
+
+size_t gridCells(const std::vector<ScenarioSweep>& axes) {
+  if (axes.empty()) return 0;
+  size_t n = 1;
+  for (const auto& a : axes) n *= a.values.size();
+  return n;
+}
+
+std::vector<size_t> gridIndices(const std::vector<ScenarioSweep>& axes, size_t cell) {
+  std::vector<size_t> idx(axes.size());
+  for (size_t a = axes.size(); a-- > 0;) {
+    idx[a] = cell % axes[a].values.size();
+    cell /= axes[a].values.size();
+  }
+  return idx;
+}
+
+std::string sweepKeysText(const std::vector<ScenarioSweep>& axes) {
+  std::string text;
+  for (const auto& a : axes) text += (text.empty() ? "" : " x ") + a.key;
+  return text;
+}
+
+void setScenarioSweeps(Scenario& sc, const std::vector<ScenarioSweep>& axes) {
+  sc.sweeps = axes;
   sc.sigma_sweep.clear();
-  if (sweep.key != "noise.sigma") return;
-  for (const auto& v : sweep.values) {
+  if (axes.size() != 1 || axes.front().key != "noise.sigma") return;
+  for (const auto& v : axes.front().values) {
     char* end = nullptr;
     const double x = std::strtod(v.c_str(), &end);
     if (end == v.c_str() || *end != '\0') {  // not a number: the variant's load will say so
@@ -492,27 +543,38 @@ ScenarioSweep parseSweepOption(const std::string& text) {
 
 std::vector<Scenario> loadSweepVariants(const Scenario& sc, const std::vector<ScenarioOverride>& overrides) {
   std::vector<Scenario> out;
-  for (size_t i = 0; i < sc.sweep.values.size(); ++i) {
-    const std::string text = sc.sweep.key + "=" + sc.sweep.values[i];
-    const std::string prefix = sc.sweep.origin + " " + text + " (scenario " + sc.name + "): ";
+  const std::vector<ScenarioSweep>& axes = sc.sweeps;
+  for (size_t cell = 0; cell < gridCells(axes); ++cell) {
+    const std::vector<size_t> idx = gridIndices(axes, cell);
+    std::vector<ScenarioOverride> all = overrides;
+    std::vector<std::string> texts;
+    std::string text;
+    for (size_t a = 0; a < axes.size(); ++a) {
+      all.push_back(axes[a].valueOverride(idx[a]));
+      texts.push_back(axes[a].key + "=" + axes[a].values[idx[a]]);
+      text += (a ? ", " : "") + texts.back();
+    }
     try {
-      std::vector<ScenarioOverride> all = overrides;
-      all.push_back(sc.sweep.valueOverride(i));
       Scenario v = loadScenario(sc.path, all);
-      setScenarioSweep(v, sc.sweep);
+      setScenarioSweeps(v, axes);
       out.push_back(std::move(v));
     } catch (const std::invalid_argument& e) {
-      // loadScenario blames the first override that breaks the parse: here the sweep value, since
-      // the scenario loaded without it ("--set TEXT (scenario NAME): WHAT" or "--set TEXT: WHAT").
+      // loadScenario blames the first override that breaks the parse: here one of the cell's
+      // values, since the scenario loaded without them ("--set TEXT (scenario NAME): WHAT" or
+      // "--set TEXT: WHAT"); the error names the origin of that axis and the whole cell.
       std::string what = e.what();
-      const std::vector<std::string> heads = {"--set " + text + " (scenario " + sc.name + "): ",
-                                              "--set " + text + ": ", "--set: "};
-      for (const auto& head : heads)
-        if (what.rfind(head, 0) == 0) {
-          what = what.substr(head.size());
-          break;
-        }
-      throw std::invalid_argument(prefix + what);
+      size_t blamed = 0;
+      bool found = false;
+      for (size_t a = 0; a < texts.size() && !found; ++a)
+        for (const auto& head : {"--set " + texts[a] + " (scenario " + sc.name + "): ", "--set " + texts[a] + ": "})
+          if (what.rfind(head, 0) == 0) {
+            what = what.substr(head.size());
+            blamed = a;
+            found = true;
+            break;
+          }
+      if (!found && what.rfind("--set: ", 0) == 0) what = what.substr(7);
+      throw std::invalid_argument(axes[blamed].origin + " " + text + " (scenario " + sc.name + "): " + what);
     }
   }
   return out;

@@ -17,7 +17,11 @@
 //     motion_lag_s: 0, model_motion_lag: false, pipeline: parallel | serial
 //   noise: {model: gaussian | uniform | none, sigma: px, round: false}
 //   metrics: {steady_start_fraction: 0.5, final_fraction: 0.1, settling_band: 0.05,
-//             per_feature: false}   closed loop: also mean_e_<f>, rms_e_<f>, max_e_<f> per feature
+//             per_feature: false,   closed loop: also mean_e_<f>, rms_e_<f>, max_e_<f> per feature
+//             outcome: false,       closed loop: converged / failed figures and the stop at a failure
+//                                   (servo/metrics.h, Outcome), with converge_px: 1 (threshold on
+//                                   the error, px), converge_hold_s: 1, fail_outside_image: true,
+//                                   fail_robot_limit: true}
 //   predictors:                  list of names or {name: NAME, params: {key: value}}
 //                                (REQUIRED, at least one; names from the predictor registry)
 //   runs: N                      integer >= 1, runs per predictor in `predvs compare` (run r uses
@@ -26,8 +30,13 @@
 //                                it being the file loaded with `--set PATH=v` (so every value is
 //                                validated like the key itself); PATH is any dotted scenario path
 //                                (scenario_override.h): noise.sigma (E6), timing.delay_frames,
-//                                task.lambda, predictors.cs-akf.params.a_max, ... One key per
-//                                scenario; not kind, seed, runs, description or sweep itself.
+//                                task.lambda, predictors.cs-akf.params.a_max, ...; not kind, seed,
+//                                runs, description or sweep itself. Several keys make a grid: the
+//                                product of their values, in file order (the first key varies
+//                                slowest), each cell the file loaded with every KEY=v of the cell,
+//                                in that order; a key twice, or a key that contains an earlier one
+//                                (task after task.lambda), is an error. The nested spelling
+//                                {timing: {frame_period_n: [...]}} is timing.frame_period_n.
 //                                `predvs servo` ignores it (it runs the value the file gives)
 //   -- open-loop only (prediction experiment E1-E4, units: px) --
 //   trajectory: {type: line | accel-jump | zigzag | circle | sinusoid | static | e6-target |
@@ -37,7 +46,8 @@
 //                                2 for the planar ones, 3 for e6-target, 1 for onset-sinusoid)
 //   occlusions: [{start_s: a, end_s: b}, ...]
 //   -- closed-loop only (servo/servo_loop.h: a feature source, the predictor, a task and a robot) --
-//   camera: {px: 800, py: 800, u0: 320, v0: 240}
+//   camera: {px: 800, py: 800, u0: 320, v0: 240, width: 2 u0, height: 2 v0}   (width x height: the
+//                                image, px; only the outside-image failure of metrics.outcome uses it)
 //   target: {square_side_m: 0.1 | points: [[x, y, z], ...] (m, object frame),
 //            desired_depth_m: 0.5 | desired_pose: [tx, ty, tz, tux, tuy, tuz] (cdMo),
 //            pose: [6] (wMo at t = 0; default identity),
@@ -74,7 +84,8 @@ struct ScenarioPredictor {
 };
 
 /// A parameter sweep (`sweep:` in a scenario, or `predvs compare --sweep`): the scenario is run
-/// once per value, each value applied as the override KEY=VALUE to the scenario document.
+/// once per value, each value applied as the override KEY=VALUE to the scenario document. Several
+/// sweeps are the axes of a grid (the product of their values).
 struct ScenarioSweep {
   std::string key;                  ///< dotted scenario path, as in --set ("timing.delay_frames")
   std::vector<std::string> values;  ///< each value as YAML text (flow style), in the given order
@@ -98,8 +109,8 @@ struct Scenario {
   std::string trajectory;   ///< trajectory type (open loop)
   Params trajectory_params;
   int channels = 8;         ///< predictor channels: the trajectory's (open loop), the task's features (closed loop)
-  ScenarioSweep sweep;      ///< `sweep:` (empty: none)
-  std::vector<double> sigma_sweep;  ///< the values of sweep when its key is noise.sigma (else empty)
+  std::vector<ScenarioSweep> sweeps;  ///< `sweep:` axes, in order (empty: none; several: a grid)
+  std::vector<double> sigma_sweep;  ///< the values of a lone noise.sigma sweep (else empty)
   int runs = 0;             ///< `runs:` (0 when absent)
   // closed loop
   ServoConfig closed_loop;
@@ -121,12 +132,26 @@ Scenario loadScenario(const std::string& path, const std::vector<ScenarioOverrid
 /// the path is malformed or forbidden (see `sweep:` above), the list is empty or a value repeats.
 ScenarioSweep parseSweepOption(const std::string& text);
 
-/// Replaces the sweep of `scenario` (and sigma_sweep) by `sweep` (empty: no sweep).
-void setScenarioSweep(Scenario& scenario, const ScenarioSweep& sweep);
+/// Checks the axes of a grid: no key twice, no key that contains an earlier one (it would replace
+/// it in every cell). Throws std::invalid_argument "ORIGIN: ..." naming the key.
+void checkSweepAxes(const std::vector<ScenarioSweep>& axes);
 
-/// The scenario at each value of its sweep: loadScenario(scenario.path, overrides + {KEY=value}),
-/// with the same `sweep` member. A value that the scenario rejects throws std::invalid_argument
-/// "ORIGIN KEY=VALUE (scenario NAME): <what was expected>". An empty sweep gives no scenarios.
+/// Replaces the sweep axes of `scenario` (and sigma_sweep) by `axes` (empty: no sweep).
+void setScenarioSweeps(Scenario& scenario, const std::vector<ScenarioSweep>& axes);
+
+/// Number of cells of a grid: the product of the axes' value counts (0 without axes).
+size_t gridCells(const std::vector<ScenarioSweep>& axes);
+/// The value index on every axis of cell `cell` (0 <= cell < gridCells()): the first axis varies
+/// slowest, the last fastest.
+std::vector<size_t> gridIndices(const std::vector<ScenarioSweep>& axes, size_t cell);
+/// "task.lambda x timing.frame_period_n".
+std::string sweepKeysText(const std::vector<ScenarioSweep>& axes);
+
+/// The scenario at each cell of its sweep axes, in cell order: loadScenario(scenario.path,
+/// overrides + {KEY1=v1, KEY2=v2, ...}), with the same `sweeps` member. A cell that the scenario
+/// rejects throws std::invalid_argument "ORIGIN KEY1=v1, KEY2=v2 (scenario NAME): <what was
+/// expected>" (ORIGIN that of the axis whose value broke the parse; one axis: "ORIGIN KEY=VALUE
+/// (scenario NAME): ..."). No axes give no scenarios.
 std::vector<Scenario> loadSweepVariants(const Scenario& scenario, const std::vector<ScenarioOverride>& overrides);
 
 std::string scenarioKindName(ScenarioKind kind);

@@ -63,7 +63,7 @@ std::string summaryJson(const ServoReport& r) {
   j["duration_s"] = sc.durationS();
   j["command"] = r.command_line;
   j["overrides"] = overrideTexts(r.overrides);
-  j["sweep_not_run"] = sc.sweep.empty() ? nlohmann::json(nullptr) : nlohmann::json(sc.sweep.key);
+  j["sweep_not_run"] = sc.sweeps.empty() ? nlohmann::json(nullptr) : nlohmann::json(sweepKeysText(sc.sweeps));
   j["error_definition"] = errorDefinition(sc.kind);
   j["error_units"] = errorUnits(sc);
   j["metric_definitions"] = metricDefinitionsJson(metricNames(r), sc);

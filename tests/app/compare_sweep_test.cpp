@@ -132,8 +132,8 @@ TEST_F(CompareSweepTest, NestedSpellingAndHelp) {
   // mapping {noise: {sigma: [...]}}) THEN it is the sweep of noise.sigma
   const auto sc = predvs::loadScenario(
       delay_, {predvs::parseScenarioOverride("sweep="), predvs::parseScenarioOverride("sweep.noise.sigma=[0, 1]")});
-  EXPECT_EQ(sc.sweep.key, "noise.sigma");
-  EXPECT_EQ(sc.sweep.values, (std::vector<std::string>{"0", "1"}));
+  EXPECT_EQ(sc.sweeps.at(0).key, "noise.sigma");
+  EXPECT_EQ(sc.sweeps.at(0).values, (std::vector<std::string>{"0", "1"}));
   EXPECT_EQ(sc.sigma_sweep, (std::vector<double>{0.0, 1.0}));
   // AND compare --help documents --sweep
   const CliRun r = run({"compare", "--help"});
@@ -173,7 +173,7 @@ TEST_F(CompareSweepTest, NoiseSigmaSweepKeepsItsNamesAndPlot) {
                                "sweep: {noise.sigma: [0, 2.0]}\ntrajectory: {type: e6-target}\n"
                                "predictors: [hold, kf-cv]\n");
   const auto sc = predvs::loadScenario(e6);
-  EXPECT_EQ(sc.sweep.key, "noise.sigma");
+  EXPECT_EQ(sc.sweeps.at(0).key, "noise.sigma");
   EXPECT_EQ(sc.sigma_sweep, (std::vector<double>{0.0, 2.0}));
   const std::string out = path("out");
   std::vector<std::string> a = {"compare", "--scenarios", e6, "--out", out};
@@ -208,11 +208,11 @@ TEST_F(CompareSweepTest, BadSweepsAreOneLineExit2AndNoDirectory) {
   // a key the scenario kind does not have
   expectError(run({"compare", "--scenarios", delay_, "--sweep", "task.lambda=1,2", "--out", out}),
               "--sweep task.lambda=1 (scenario tiny-delay): unknown key 'task'", out);
-  // two keys in one sweep
+  // two keys in one sweep are a grid (compare_grid_test.cpp); the same key twice is an error
   const std::string two = write("two-keys.yaml",
                                 "kind: open-loop\ntrajectory: {type: line}\npredictors: [hold]\n"
-                                "sweep: {noise.sigma: [0, 1], timing.delay_frames: [0, 1]}\n");
-  expectError(run({"compare", "--scenarios", two, "--out", out}), "two-keys.yaml:4: 'sweep': one key per scenario",
+                                "sweep: {noise.sigma: [0, 1], noise: {sigma: [2]}}\n");
+  expectError(run({"compare", "--scenarios", two, "--out", out}), "two-keys.yaml:4: sweep: 'noise.sigma' is swept twice",
               out);
   // malformed option, an empty list, a repeated value, a key that cannot be swept
   expectError(run({"compare", "--scenarios", delay_, "--sweep", "noise.sigma", "--out", out}), "--sweep: expected PATH=",
@@ -232,8 +232,8 @@ TEST(CompareSweepScenarios, DelayStudySweepsTheDefaultClosedLoopOverTheVisionDel
   const auto sc = predvs::loadScenario(predvs::resolveScenario("delay-study"));
   // THEN it is the closed loop swept over H = 0, 1, 2 frames with the four predictors of the brief
   EXPECT_EQ(sc.kind, predvs::ScenarioKind::ClosedLoop);
-  EXPECT_EQ(sc.sweep.key, "timing.delay_frames");
-  EXPECT_EQ(sc.sweep.values, (std::vector<std::string>{"0", "1", "2"}));
+  EXPECT_EQ(sc.sweeps.at(0).key, "timing.delay_frames");
+  EXPECT_EQ(sc.sweeps.at(0).values, (std::vector<std::string>{"0", "1", "2"}));
   ASSERT_EQ(sc.predictors.size(), 4u);
   EXPECT_EQ(sc.predictors[0].name, "hold");
   EXPECT_EQ(sc.predictors[3].name, "cs-akf-adaptive");

@@ -75,11 +75,11 @@ TEST(E9Scenarios, HoldPaper002sSetUp) {
     EXPECT_EQ(c.duration_s, 40.0);
     EXPECT_EQ(c.seed, 900u);
     EXPECT_EQ(sc->runs, 20);
-    EXPECT_EQ(sc->sweep.values, (std::vector<std::string>{"0.5", "1", "2", "3", "4", "5", "6", "7"}));
+    EXPECT_EQ(sc->sweeps.at(0).values, (std::vector<std::string>{"0.5", "1", "2", "3", "4", "5", "6", "7"}));
   }
   // AND the uncalibrated pair differ only in the compensation and the predictors
-  EXPECT_EQ(comp.sweep.key, "task.gain");
-  EXPECT_EQ(uncomp.sweep.key, "task.gain");
+  EXPECT_EQ(comp.sweeps.at(0).key, "task.gain");
+  EXPECT_EQ(uncomp.sweeps.at(0).key, "task.gain");
   EXPECT_EQ(comp.closed_loop.task.name, "ibvs-broyden");
   EXPECT_EQ(comp.closed_loop.task.params.values().at("delay_compensation"), 1.0);
   EXPECT_EQ(uncomp.closed_loop.task.params.values().at("delay_compensation"), 0.0);
@@ -93,7 +93,7 @@ TEST(E9Scenarios, HoldPaper002sSetUp) {
   EXPECT_EQ(uncomp.predictors[0].name, "hold");
   // AND the classic law runs hold, kf-cv and kf-ca, swept over lambda
   EXPECT_EQ(classic.closed_loop.task.name, "ibvs");
-  EXPECT_EQ(classic.sweep.key, "task.lambda");
+  EXPECT_EQ(classic.sweeps.at(0).key, "task.lambda");
   EXPECT_EQ(classic.predictors.size(), 3u);
 }
 

@@ -151,8 +151,8 @@ TEST_F(ServoReportTest, EveryListedScenarioRunsInServo) {
     for (const auto& p : j["predictors"]) EXPECT_TRUE(p["metrics"].contains("rmse")) << s.name;
     // and a scenario with a sweep says on stderr and in the summary that the sweep was not run
     const auto sc = predvs::loadScenario(predvs::resolveScenario(s.name));
-    EXPECT_EQ(j["sweep_not_run"].is_string(), !sc.sweep.empty()) << s.name;
-    EXPECT_EQ(r.err.find("is not run by `predvs servo`") != std::string::npos, !sc.sweep.empty()) << s.name;
+    EXPECT_EQ(j["sweep_not_run"].is_string(), !sc.sweeps.empty()) << s.name;
+    EXPECT_EQ(r.err.find("is not run by `predvs servo`") != std::string::npos, !sc.sweeps.empty()) << s.name;
   }
 }
 
