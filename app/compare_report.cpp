@@ -439,6 +439,7 @@ void plotGridHeatMaps(const Plan& plan, const Results& res, const StagedOutputDi
     writeTextFile(dir, base + ".dat", d.str());
 
     const size_t cols = std::min<size_t>(n_pred, 3), rows = (n_pred + cols - 1) / cols;
+    constexpr int kTitleWidthPx = 880;  // the two title lines fit
     const int pw = static_cast<int>(std::max<size_t>(560, 70 * nx + 220));
     const int ph = static_cast<int>(std::max<size_t>(400, 50 * ny + 180));
     auto tics = [](const ScenarioSweep& axis) {
@@ -448,11 +449,12 @@ void plotGridHeatMaps(const Plan& plan, const Results& res, const StagedOutputDi
     };
     std::ostringstream gp;
     gp << "# Regenerate with: gnuplot " << base << ".gp\n"
-       << "set terminal pngcairo size " << static_cast<int>(cols) * pw << "," << static_cast<int>(rows) * ph + 70
+       << "set terminal pngcairo size " << std::max(static_cast<int>(cols) * pw, kTitleWidthPx) << ","
+       << static_cast<int>(rows) * ph + 70
        << " noenhanced font 'Sans,10'\nset output '" << base << ".png'\n"
        << "set datafile missing 'NaN'\nunset key\nset style fill solid 1.0 noborder\n"
        << "set palette defined (0 '#2c7bb6', 0.5 '#ffffbf', 1 '#d7191c')\n"
-       << "set cbrange [0:" << (t_max > 0.0 ? t_max : 1.0) << "]\nset cblabel 'median convergence time [s]'\n"
+       << "set cbrange [0:" << (t_max > 0.0 ? t_max : 1.0) << "]\nset cblabel 'median convergence time [s]' offset 1.5,0\n"
        << "set xrange [-0.5:" << nx - 0.5 << "]\nset yrange [-0.5:" << ny - 0.5 << "]\n"
        << "set xtics " << tics(axes[0]) << "\nset ytics " << tics(axes[1]) << "\n"
        << "set xlabel " << gnuplotQuote(axes[0].key) << "\nset ylabel " << gnuplotQuote(axes[1].key) << "\n";
