@@ -262,7 +262,8 @@ TEST(ScenarioOutcomeKeys, ImageSizeDefaultsToTwiceThePrincipalPointAndE5DoesNotF
   EXPECT_EQ(plain.closed_loop.image_width_px, 1280.0);
   EXPECT_EQ(plain.closed_loop.image_height_px, 960.0);
   EXPECT_FALSE(plain.closed_loop.metrics.outcome);
-  // WHEN E5's line runs with metrics.outcome (its leader ends about 20 px from the image's edge)
+  // WHEN E5's line runs with metrics.outcome (its leader, at v = 480 px, would sit on the border of
+  // a 640 x 480 image)
   const auto with = predvs::loadScenario(predvs::resolveScenario("e5-line"),
                                          {predvs::parseScenarioOverride("metrics.outcome=true")});
   EXPECT_TRUE(with.closed_loop.metrics.outcome);
