@@ -190,6 +190,11 @@ void plotErrors(const Plan& plan, const Results& res, const StagedOutputDir& dir
     const Variant& var = plan.variants[v];
     const Scenario& sc = *var.scenario;
     if (!var.shown) continue;
+    // Runs that fail at t = 0 (metrics.outcome) have no error samples: no plot for such a variant.
+    bool any = false;
+    for (const auto& c : res.cells[v])
+      for (double e : c.mean_error) any = any || std::isfinite(e);
+    if (!any) continue;
     const std::string base = "error_" + var.file_id;
     {
       std::ostringstream d;
@@ -293,8 +298,14 @@ void plotRmseVsKey(const Plan& plan, const Results& res, const StagedOutputDir& 
   const std::string key = sweep.shortKey();
   const std::string base = "rmse_vs_" + fileSafe(key) + "_" + fileSafe(sc.name);
   bool positive = true;  // every run's rmse > 0: a log axis, so that large and small errors both read
+  bool any = false;      // some rmse at all (every run of a metrics.outcome sweep may fail)
   for (size_t v : vs)
-    for (const auto& cell : res.cells[v]) positive = positive && cell.stats[metricIndex(res, v, "rmse")].min > 0.0;
+    for (const auto& cell : res.cells[v]) {
+      const Stats& st = cell.stats[metricIndex(res, v, "rmse")];
+      positive = positive && (st.n == 0 || st.min > 0.0);
+      any = any || st.n > 0;
+    }
+  if (!any) return;
   {
     std::ostringstream d;
     d << "# one block per predictor (separated by two blank lines): " << sweep.key

@@ -348,7 +348,9 @@ std::vector<std::string> writeServoReport(const ServoReport& r, bool plots, cons
   writeTextFile(dir, "log.csv", logCsv(r));
   writeTextFile(dir, "summary.json", summaryJson(r));
   std::vector<std::string> written = {"log.csv", "summary.json"};
-  if (!plots) return written;
+  // A run that fails at t = 0 (metrics.outcome) has no trace row: nothing to plot when none has.
+  const bool any_rows = std::any_of(r.runs.begin(), r.runs.end(), [](const RunRecord& run) { return !run.rows.empty(); });
+  if (!plots || !any_rows) return written;
   writeTraceData(r, dir);
   plotError(r, dir);
   written.push_back("error.png");

@@ -224,6 +224,32 @@ TEST_F(CompareGridTest, AThirdKeyMakesOneHeatMapPerValue) {
   EXPECT_EQ(gridRows(out + "/grid_tiny-grid.csv").size(), 8u);
 }
 
+TEST_F(CompareGridTest, RunsThatAllFailAtTheStartStillGiveTheirReports) {
+  // GIVEN an image too small for the initial view (the square spans u = 240..400 px): every run
+  // fails at t = 0 with no trace row
+  const std::string out = path("out");
+  const CliRun r = run(args(out, {"--set", "camera.width=200", "--sweep", "task.lambda=2,4", "--sweep",
+                                  "timing.frame_period_n=1,16"}));
+  // THEN compare writes its files (no error plot for a variant without samples) with every run failed
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const auto& row : gridRows(out + "/grid_tiny-grid.csv")) {
+    EXPECT_EQ(row.at("failed_fraction"), "1");
+    EXPECT_EQ(row.at("fail_image_fraction"), "1");
+  }
+  EXPECT_FALSE(fs::exists(out + "/error_tiny-grid_lambda2_frame_period_n1.png"));
+  if (predvs::gnuplotAvailable()) {
+    EXPECT_GT(fs::file_size(out + "/heatmap_tiny-grid.png"), 1000u);
+  }
+  // AND so does `predvs servo` (its summary and log, no plot of an empty trace), and a one-key
+  // sweep without any rmse has no rmse plot
+  const CliRun s = run({"servo", "--scenario", scenario_, "--set", "camera.width=200", "--out", path("servo")});
+  ASSERT_EQ(s.code, 0) << s.err;
+  EXPECT_EQ(readJson(path("servo") + "/summary.json")["predictors"][0]["metrics"]["failed"], 1.0);
+  EXPECT_FALSE(fs::exists(path("servo") + "/error.png"));
+  ASSERT_EQ(run(args(path("one"), {"--set", "camera.width=200", "--sweep", "task.lambda=2,4"})).code, 0);
+  EXPECT_FALSE(fs::exists(path("one") + "/rmse_vs_lambda_tiny-grid.png"));
+}
+
 TEST_F(CompareGridTest, BadGridsAreOneLineExit2AndNoDirectory) {
   const std::string out = path("out");
   // a key twice on the command line
