@@ -35,13 +35,18 @@
 //                     of the coming frame; the DR-EKFS (Algorithm 3) smooths the references
 //                     s_hat*(t+i|T), i = 1..N, from the prediction at the current tick; the DR-IBVS
 //                     (Algorithm 5) computes N commands
-//                         u_i = -lambda J^+(s(t+i|t_acq)) H (s(t+i+1|t_acq) - s_hat*(t+i+1|T)),
+//                      u_i = -lambda (H J(s(t+i|t_acq)))^+ H (s(t+i+1|t_acq) - s_hat*(t+i+1|T)),
 //                     applied one per base period (inverse lifting, eq. 22). Latency: the frame
 //                     acquired at t_acq is used at the tick t it is delivered, and the predictions
 //                     run from t_acq over t - t_acq + i delta (the timing model's horizon, not a
 //                     constant). Without a new frame after N base periods it plans again from the
 //                     KF's prediction (predict-only). It acts on the delivered measurement
-//                     (TaskInput::measured), being its own predictor.
+//                     (TaskInput::measured), being its own predictor. The KF's constant-velocity
+//                     model does not know the law's own commands (paper Algorithm 2): its
+//                     extrapolation over the latency and the frame is what limits the gain at
+//                     long frame periods (measured on E10 with one frame of latency, gains in
+//                     steps of 0.2: converges up to 4, the largest tried, at N = 8; up to 2.6 at
+//                     N = 12 and 1.8 at N = 16).
 // Every command of a frame is computed with the robot Jacobian at the tick of the plan (the
 // paper's J(s, q_t)). The EKFS covariances (eqs. 18-21) use J of the same `interaction` choice,
 // evaluated where the filter starts, with Qc = qc I_m and Rc = diag(rc, rc, rc_z) per point.
@@ -50,9 +55,14 @@
 //   lambda = 1 (1/s, > 0); interaction = current (current | desired | mean);
 //   depth = 0 (m; 0 = the measured depth, > 0 = this constant for every point);
 //   depth_rows = 0 (1: invert L J_c with its depth rows, see above);
-//   EKFS laws: horizon = 8 (h, frames, >= 1); qc = 1 (command noise density, (command unit)^2/s,
-//     > 0); rc = 1 (normalised^2 s, > 0); rc_z = rc (m^2 s, > 0);
-//   dr-ekfs-ibvs: kf_accel = 2000 (px/s^2, sigma_a of x and y, >= 0); kf_sigma = 0.5 (px, > 0);
+//   EKFS laws: horizon = 8 (h, frames, >= 1; paper E10); qc = 1 (command noise density,
+//     (command unit)^2/s, > 0); rc = 1 (normalised^2 s, > 0); rc_z = rc (m^2 s, > 0). With these
+//     the forward pass reaches the R-weighted projection of s* onto s_t + range(J) within a few
+//     steps, so h hardly matters (measured on E10 at N = 16: h = 2, 8, 16 give the same runs);
+//     a smaller qc / rc makes the reference advance over the horizon and the law slower (qc =
+//     0.01: 17.6 s instead of 8.2 s to 1 px at lambda = 1).
+//   dr-ekfs-ibvs: kf_accel = 2000 (px/s^2, sigma_a of x and y, >= 0: the order of lambda^2 times
+//     an error of a few hundred pixels); kf_sigma = 0.5 (px, > 0: the geometric source's noise);
 //     kf_accel_z = 2 (m/s^2, >= 0); kf_sigma_z = 0.001 (m, > 0); the initial velocity standard
 //     deviation is kf_accel x 1 s.
 // Diagnostics: feature_error_norm (|H (s - s*)| of the features the command acted on,
