@@ -2,6 +2,7 @@
 #include "predvs/predictors/registry.h"
 #include "predvs/tasks/ibvs_broyden_task.h"
 #include "predvs/tasks/ibvs_task.h"
+#include "predvs/tasks/reference_filtering_task.h"
 #include "predvs/tasks/vsc_task.h"
 #include "predvs/tasks/vtc_task.h"
 #include "predvs/tasks/task.h"
@@ -23,6 +24,11 @@ const Tasks& tasks() {
                    Tasks::factory<VscTask>()},
                   {{"vtc", "visual tracking law u = B_i^-1 (K_g X_e - Xdot_t) for a unicycle with a tilt camera (paper 001)"},
                    Tasks::factory<VtcTask>()},
+                  {{"sr-lf-ibvs", "IBVS on (x, y, Z) points once per frame, command held for the frame (paper 003)"}, Tasks::factory<SrLfIbvsTask>()},
+                  {{"sr-hf-ibvs", "IBVS on (x, y, Z) points every base period on the latest frame (paper 003)"}, Tasks::factory<SrHfIbvsTask>()},
+                  {{"sr-lf-ekfs-ibvs", "IBVS to the EKF/RTS-filtered reference, once per frame (paper 003 Alg. 4)"}, Tasks::factory<SrLfEkfsIbvsTask>()},
+                  {{"sr-hf-ekfs-ibvs", "IBVS to the EKF/RTS-filtered reference, every base period (paper 003 Alg. 4)"}, Tasks::factory<SrHfEkfsIbvsTask>()},
+                  {{"dr-ekfs-ibvs", "dual-rate KF + dual-rate EKF/RTS reference + one command per base period (paper 003 Alg. 1-5)"}, Tasks::factory<DrEkfsIbvsTask>()},
               });
   return table;
 }
