@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <sstream>
 
 namespace predvs {
@@ -58,6 +59,15 @@ template <class M>
     return ::testing::AssertionFailure() << msg.str();
   }
   return ::testing::AssertionSuccess();
+}
+
+/// A matrix of independent N(0, scale^2) entries from `rng` (seeded by the test).
+inline Eigen::MatrixXd randomMatrix(Eigen::Index r, Eigen::Index c, std::mt19937& rng, double scale = 1.0) {
+  std::normal_distribution<double> g(0.0, scale);
+  Eigen::MatrixXd M(r, c);
+  for (Eigen::Index i = 0; i < r; ++i)
+    for (Eigen::Index j = 0; j < c; ++j) M(i, j) = g(rng);
+  return M;
 }
 
 }  // namespace predvs

@@ -17,13 +17,6 @@ constexpr double kSolutionTol = 1e-9;
 // Covariance identities on O(1) matrices: round-off only.
 constexpr double kCovTol = 1e-12;
 
-Eigen::MatrixXd randomMatrix(Eigen::Index r, Eigen::Index c, std::mt19937& rng, double scale = 1.0) {
-  std::normal_distribution<double> g(0.0, scale);
-  Eigen::MatrixXd M(r, c);
-  for (Eigen::Index i = 0; i < r; ++i)
-    for (Eigen::Index j = 0; j < c; ++j) M(i, j) = g(rng);
-  return M;
-}
 Eigen::MatrixXd randomSpd(Eigen::Index n, std::mt19937& rng, double floor) {
   const Eigen::MatrixXd G = randomMatrix(n, n, rng);
   return G * G.transpose() + floor * Eigen::MatrixXd::Identity(n, n);

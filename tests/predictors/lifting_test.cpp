@@ -13,13 +13,6 @@ namespace {
 // The lifted matrices are sums of at most N products of O(1) matrices: round-off only.
 constexpr double kLiftTol = 1e-12;
 
-Eigen::MatrixXd randomMatrix(Eigen::Index r, Eigen::Index c, std::mt19937& rng, double scale = 1.0) {
-  std::normal_distribution<double> g(0.0, scale);
-  Eigen::MatrixXd M(r, c);
-  for (Eigen::Index i = 0; i < r; ++i)
-    for (Eigen::Index j = 0; j < c; ++j) M(i, j) = g(rng);
-  return M;
-}
 
 /// Brute force: runs the base-period system tick by tick over `frames` frames, inputs set where
 /// the pattern says and held otherwise; returns the state at every frame start and the sampled
