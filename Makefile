@@ -46,6 +46,8 @@ reproduce: build
 	$(PREDVS) compare --scenarios e8-vtc,e8-vtc-occlusion,e8-ibvs --out out/reproduction/paper001-e8
 	$(PREDVS) compare --scenarios e8-vtc --sweep timing.delay_frames=0,1,2 --out out/reproduction/paper001-e8-delay
 	$(PREDVS) compare --scenarios e9-broyden,e9-broyden-uncompensated,e9-ibvs --out out/reproduction/paper002-e9
+	$(PREDVS) compare --scenarios e10-rotation-150,e10-rotation-30 --out out/reproduction/paper003-e10
+	$(PREDVS) compare --scenarios e11-depth-error --out out/reproduction/paper003-e11
 	$(PREDVS) compare --scenarios e12-discontinuity,e12-discontinuity-2ms,e12-smooth --out out/reproduction/paper004
 	$(PREDVS) compare --scenarios ibvs-moving-target --predictors $(CLOSED) --out out/reproduction/closed-loop
 	$(PREDVS) compare --scenarios delay-study --out out/reproduction/delay-study
