@@ -14,6 +14,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev
   libbenchmark-dev
   gnuplot-nox          # PNG plots (pngcairo terminal)
+  visp-images-data     # ViSP's image sets (mire-2, AprilTag, calibration grids): track, tests
+  libceres-dev         # offline noise fitting (predvs fit-noise)
 )
 
 missing=()
