@@ -276,6 +276,13 @@ void readCommon(YamlSection& root, Config& c, bool closed_loop) {
   readTiming(root, c.timing);
   readNoise(root, c.noise);
   readMetrics(root, c.metrics, closed_loop);
+  readSection(root, "lost", [&](YamlSection& s) {
+    c.lost.timeout_s = s.number("timeout_s", c.lost.timeout_s, 1e-6, 1e6);
+    c.lost.action = s.enumValue("action", c.lost.action, parseLostAction);
+    if (c.lost.action == LostAction::Drop && !closed_loop)
+      s.fail("action", "'drop' needs a closed loop (a task that runs without the feature); an open-loop scenario "
+                       "takes 'hold' or 'extrapolate'");
+  });
 }
 
 void readOcclusions(YamlSection& root, std::vector<OcclusionInterval>& out);
@@ -415,7 +422,7 @@ Scenario parseScenario(const YAML::Node& doc, const std::string& path) {
   }
   // Unknown top-level keys first (a misspelt 'trajectory' is reported as such, not as missing).
   static const std::set<std::string> kCommon = {"description", "kind", "seed", "duration_s", "timing",
-                                                "noise", "metrics", "predictors", "runs", "sweep"};
+                                                "noise", "metrics", "predictors", "runs", "sweep", "lost"};
   static const std::set<std::string> kOpen = {"trajectory", "occlusions"};
   static const std::set<std::string> kClosed = {"camera", "target", "initial_pose", "task", "servo", "robot",
                                                 "source", "occlusions"};

@@ -22,6 +22,13 @@
 //                                   (servo/metrics.h, Outcome), with converge_px: 1 (threshold on
 //                                   the error, px), converge_hold_s: 1, fail_outside_image: true,
 //                                   fail_robot_limit: true}
+//   lost: {timeout_s: 1, action: hold | drop | extrapolate}
+//                                a feature channel without a measurement for timeout_s (> 0,
+//                                acquisition times, s) or more is no longer extrapolated: held at
+//                                its last measured value, or (closed loop, a law that can) dropped
+//                                from the task; extrapolate = the policy off; a whole target lost
+//                                past timeout_s restarts the predictor at re-acquisition
+//                                (servo/lost_feature_policy.h)
 //   predictors:                  list of names or {name: NAME, params: {key: value}}
 //                                (REQUIRED, at least one; names from the predictor registry)
 //   runs: N                      integer >= 1, runs per predictor in `predvs compare` (run r uses

@@ -46,6 +46,10 @@ ChannelExperimentResult runChannelExperiment(const PredictionExperimentConfig& c
     throw std::invalid_argument("prediction experiment: predictor '" + predictor.name() + "' has " +
                                 std::to_string(predictor.channels()) + " channels, trajectory '" + trajectory.name() +
                                 "' has " + std::to_string(n));
+  if (config.lost.action == LostAction::Drop)
+    throw std::invalid_argument("lost.action: 'drop' needs a closed loop (a task that runs without the feature); "
+                                "the open-loop experiment takes 'hold' or 'extrapolate'");
+  LostFeatureTracker lost(config.lost, n);
   const TimingModel timing(config.timing);
   NoiseModel noise(config.noise, config.seed);
   predictor.reset();
@@ -75,6 +79,8 @@ ChannelExperimentResult runChannelExperiment(const PredictionExperimentConfig& c
     }
     while (!pending.empty() && pending.front().release_tick <= k) {
       const PendingFrame& f = pending.front();
+      // The whole target lost past lost.timeout_s and back: restart the predictor from this frame.
+      if (lost.observe(f.t_acq_s, f.z)) predictor.reset();
       if (f.lost)
         predictor.update(f.t_acq_s);
       else
@@ -96,7 +102,13 @@ ChannelExperimentResult runChannelExperiment(const PredictionExperimentConfig& c
     s.measured = z_latest;
     s.predicted.resize(n);
     s.predicted_velocity.resize(n);
+    s.lost_expired = lost.anyExpired();
     for (int c = 0; c < n; ++c) {
+      if (lost.expired(c)) {  // held: the last measured value, standing still
+        s.predicted(c) = lost.lastValue(c);
+        s.predicted_velocity(c) = 0.0;
+        continue;
+      }
       const ChannelEstimate e = predictor.predict(c, s.t_pred_s);
       s.predicted(c) = e.position();
       s.predicted_velocity(c) = e.velocity();

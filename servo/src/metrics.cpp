@@ -308,3 +308,13 @@ NamedValues metricValues(const Metrics& m) {
 }
 
 }  // namespace predvs
+
+namespace predvs {
+
+std::pair<std::string, double> lostPolicyValue(const std::vector<bool>& expired, double period_s) {
+  double n = 0.0;
+  for (bool e : expired) n += e ? 1.0 : 0.0;
+  return {"lost_policy_s", n * period_s};
+}
+
+}  // namespace predvs

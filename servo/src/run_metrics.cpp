@@ -48,6 +48,9 @@ NamedValues openLoopRunValues(const ChannelExperimentResult& r, const Prediction
     std::vector<bool> lost;
     for (const auto& row : r.trace) t.push_back(row.t_s), e.push_back(row.error), lost.push_back(!row.measured_valid);
     for (const auto& kv : occlusionValues(t, e, lost)) v.push_back(kv);
+    std::vector<bool> expired;
+    for (const auto& row : r.trace) expired.push_back(row.lost_expired);
+    v.push_back(lostPolicyValue(expired, TimingModel(config.timing).basePeriod()));
   }
 
   // Monitor alarms; an onset at or before the first frame cannot be seen, so it has no detection.
@@ -111,6 +114,8 @@ std::string runMetricDefinition(const std::string& name) {
       {"occl_end_error", "e at the last tick before a frame is delivered again, mean over the occlusions"},
       {"reacq_error", "e at the first tick after a frame is delivered again, mean over the occlusions"},
       {"reacq_1s_rmse", "RMS of e over the 1 s from re-acquisition, mean over the occlusions"},
+      {"lost_policy_s", "time during which the lost-feature policy held or dropped at least one channel "
+                        "(lost.timeout_s, lost.action; s)"},
       {"alarms", "discontinuity-monitor alarms in the run (st-akf family; 0 for the others)"},
       {"false_alarms_per_min", "alarms that are not the detection of the onset, per minute of run"},
       {"detected", "1 if an alarm came from a frame acquired within 0.5 s after the onset, else 0"},

@@ -78,12 +78,14 @@ std::string compensationName(Compensation c) { return enumToName(kCompensations,
 int servoChannels(const ServoConfig& config) { return Composition(config).task->featureSize(); }
 
 struct ServoLoop::Impl {
-  Impl(const ServoConfig& c, Predictor& p) : config(c), timing(c.timing), parts(c), predictor(p) {}
+  Impl(const ServoConfig& c, Predictor& p)
+      : config(c), timing(c.timing), parts(c), predictor(p), lost(c.lost, parts.task->featureSize()) {}
 
   ServoConfig config;
   TimingModel timing;
   Composition parts;
   Predictor& predictor;
+  LostFeatureTracker lost;
   std::unique_ptr<FeatureSource> source;
   bool compensate = false;
   bool wants_truth_jacobian = false;
@@ -103,6 +105,7 @@ struct ServoLoop::Impl {
   Eigen::VectorXd p;         // integral of the applied command
   Command active;
   Eigen::VectorXd no_rate;   // empty: no feed-forward
+  Eigen::VectorXd measured_dropped;  // lost.action drop: latest with the dropped channels NaN
   ServoSample sample;
   FailureKind failure = FailureKind::None;  // metrics.outcome: the first failing state
   double failure_time_s = kNaN;
@@ -135,11 +138,14 @@ struct ServoLoop::Impl {
 
   void deliver(const Measurement& m) {
     const Eigen::VectorXd f = task().features(m.points);
-    if (compensate)
-      predictor.update(m.t_acq_s, f - m.ego);
-    else
-      predictor.update(m.t_acq_s, f);
-    const Eigen::VectorXd rate = compensate ? predictor.predictVelocities(m.t_acq_s) : Eigen::VectorXd();
+    const Eigen::VectorXd fed = compensate ? Eigen::VectorXd(f - m.ego) : f;
+    // The whole target lost past lost.timeout_s and back: restart the predictor from this frame.
+    if (lost.observe(m.t_acq_s, fed)) predictor.reset();
+    predictor.update(m.t_acq_s, fed);
+    Eigen::VectorXd rate = compensate ? predictor.predictVelocities(m.t_acq_s) : Eigen::VectorXd();
+    if (rate.size())
+      for (int i = 0; i < n_features; ++i)
+        if (lost.expired(i)) rate(i) = 0.0;
     task().observe(TaskMeasurement{m.t_acq_s, f, m.p, rate});
     for (int i = 0; i < n_features; ++i)
       if (std::isfinite(f(i))) latest(i) = f(i);
@@ -172,17 +178,19 @@ struct ServoLoop::Impl {
     sample.frame_lost = frame_lost;
     sample.measured = have_measurement ? latest : Eigen::VectorXd::Constant(n_features, kNaN);
     sample.predicted = Eigen::VectorXd::Constant(n_features, kNaN);
+    sample.lost_expired = lost.anyExpired();
 
     // Control at t_c = t (no command before the first image: the robot waits).
     if (have_measurement) {
       const double t_eff = timing.effectTime(t);
       Eigen::VectorXd s_used = latest;
       Eigen::VectorXd rate;
+      Eigen::VectorXd ego_eff;
       if (!compensate) {
         s_used = predictor.predictPositions(t_eff);
       } else {
         // E(t_eff): the displacement so far plus that of the queued commands acting before t_eff.
-        Eigen::VectorXd ego_eff = ego;
+        ego_eff = ego;
         const long eff_tick = timing.tickAtOrAfter(t_eff);
         for (const Command& c : commands)
           if (c.apply_tick < eff_tick) ego_eff += c.dego;
@@ -192,12 +200,31 @@ struct ServoLoop::Impl {
       // A channel the predictor has not seen yet acts on its latest value.
       for (int i = 0; i < n_features; ++i)
         if (!std::isfinite(s_used(i))) s_used(i) = latest(i);
+      // The lost-feature policy (lost_feature_policy.h): an expired channel is held or dropped.
+      const Eigen::VectorXd* measured_in = &latest;
+      if (sample.lost_expired) {
+        const bool drop = config.lost.action == LostAction::Drop;
+        if (drop) measured_dropped = latest;
+        for (int i = 0; i < n_features; ++i) {
+          if (!lost.expired(i)) continue;
+          if (rate.size()) rate(i) = 0.0;
+          if (drop) {
+            s_used(i) = kNaN;
+            measured_dropped(i) = kNaN;
+          } else if (!compensate) {
+            s_used(i) = lost.lastValue(i);  // = latest(i): the raw last measurement
+          } else if (config.forecast != ForecastMode::Feedforward) {
+            s_used(i) = lost.lastValue(i) + ego_eff(i);
+          }  // feedforward: s_used(i) is latest(i) already
+        }
+        if (drop) measured_in = &measured_dropped;
+      }
       sample.predicted = s_used;
       const Eigen::MatrixXd Jc = robot().cameraJacobian();
       const Eigen::VectorXd q = robot().state();
       Eigen::MatrixXd J_true;
       if (wants_truth_jacobian) J_true = PointTask::pixelInteraction(truth.uv_px, truth.Z_m, config.camera) * Jc;
-      const TaskInput in{t, t_acq_latest, latest, s_used, rate.size() ? rate : no_rate, depths, Jc, q, J_true};
+      const TaskInput in{t, t_acq_latest, *measured_in, s_used, rate.size() ? rate : no_rate, depths, Jc, q, J_true};
       const Eigen::VectorXd u = robot().limit(task().computeCommand(in));
       Command c{timing.commandApplyTick(k), u, Eigen::VectorXd::Zero(n_features)};
       if (compensate) c.dego = task().featureJacobian() * (u * timing.basePeriod());
@@ -236,6 +263,9 @@ ServoLoop::ServoLoop(const ServoConfig& config, Predictor& predictor) {
     throw std::invalid_argument("servo loop: predictor '" + predictor.name() + "' has " +
                                 std::to_string(predictor.channels()) + " channels, task '" + m.task().name() +
                                 "' has " + std::to_string(m.n_features) + " features");
+  if (config.lost.action == LostAction::Drop && !m.task().canDropFeatures())
+    throw std::invalid_argument("lost.action: 'drop' needs a law that runs without some of its features; task '" +
+                                m.task().name() + "' cannot (use lost.action: hold)");
   m.compensate = config.compensation == Compensation::On ||
                  (config.compensation == Compensation::Auto && predictor.extrapolates());
   predictor.reset();
@@ -298,8 +328,10 @@ std::vector<std::string> ServoLoop::valueNames() const {
     for (const char* prefix : {"mean_e_", "rms_e_", "max_e_"})
       for (const auto& f : features) names.push_back(prefix + f);
   }
-  if (!impl_->config.occlusions.empty())
+  if (!impl_->config.occlusions.empty()) {
     for (const auto& kv : occlusionValues({}, {}, {})) names.push_back(kv.first);
+    names.push_back(lostPolicyValue({}, 0.0).first);
+  }
   for (const auto& kv : task().runSummary()) names.push_back(kv.first);
   return names;
 }
@@ -366,6 +398,10 @@ ServoResult ServoLoop::run() {
     lost.reserve(r.trace.size());
     for (const auto& s : r.trace) lost.push_back(s.frame_lost);
     for (auto& kv : occlusionValues(ts, es, lost)) r.values.push_back(std::move(kv));
+    std::vector<bool> expired;
+    expired.reserve(r.trace.size());
+    for (const auto& s : r.trace) expired.push_back(s.lost_expired);
+    r.values.push_back(lostPolicyValue(expired, impl_->timing.basePeriod()));
   }
   for (const auto& kv : task().runSummary()) r.values.push_back(kv);
   return r;

@@ -6,6 +6,8 @@
 #include <visp3/visual_features/vpFeaturePoint.h>
 #include <visp3/vs/vpServo.h>
 
+#include <Eigen/SVD>
+
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -90,6 +92,10 @@ Eigen::VectorXd IbvsTask::computeCommand(const TaskInput& in) {
   if (in.target_rate.size() != 0 && in.target_rate.size() != 2 * n)
     throw std::invalid_argument("task 'ibvs': feed-forward has " + std::to_string(in.target_rate.size()) +
                                 " entries, expected " + std::to_string(2 * n));
+  std::vector<Eigen::Index> active;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (in.used.segment<2>(2 * i).allFinite()) active.push_back(i);
+  if (static_cast<Eigen::Index>(active.size()) < n) return commandOnPoints(in, active);
   for (Eigen::Index i = 0; i < n; ++i)
     impl_->s[i].buildFrom((in.used(2 * i) - cam.u0) / cam.px, (in.used(2 * i + 1) - cam.v0) / cam.py, in.depths_m(i));
 
@@ -128,6 +134,46 @@ Eigen::VectorXd IbvsTask::computeCommand(const TaskInput& in) {
     }
   }
   return out;
+}
+
+Eigen::VectorXd IbvsTask::commandOnPoints(const TaskInput& in, const std::vector<Eigen::Index>& active) {
+  const CameraIntrinsics& cam = context().camera;
+  const Eigen::Index m = in.robot_jacobian.cols();
+  const Eigen::Index rows = 2 * static_cast<Eigen::Index>(active.size());
+  if (rows == 0) return Eigen::VectorXd::Zero(m);
+  const PointFeatures& desired = context().desired_points;
+  const Eigen::VectorXd xy_d = cam.toNormalized(desired.uv_px);
+  Eigen::MatrixXd L(rows, 6);
+  Eigen::VectorXd e(rows), ff = Eigen::VectorXd::Zero(rows);
+  for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(active.size()); ++k) {
+    const Eigen::Index i = active[static_cast<size_t>(k)];
+    const double x = (in.used(2 * i) - cam.u0) / cam.px, y = (in.used(2 * i + 1) - cam.v0) / cam.py;
+    const double xd = xy_d(2 * i), yd = xy_d(2 * i + 1);
+    const Eigen::Matrix<double, 2, 6> Lc = pointInteraction(x, y, in.depths_m(i));
+    const Eigen::Matrix<double, 2, 6> Ld = pointInteraction(xd, yd, desired.Z_m(i));
+    L.middleRows<2>(2 * k) = interaction_ == InteractionMatrixType::Current   ? Lc
+                             : interaction_ == InteractionMatrixType::Desired ? Ld
+                                                                              : Eigen::Matrix<double, 2, 6>(0.5 * (Lc + Ld));
+    e.segment<2>(2 * k) << x - xd, y - yd;
+    if (in.target_rate.size() != 0)
+      ff.segment<2>(2 * k) << in.target_rate(2 * i) / cam.px, in.target_rate(2 * i + 1) / cam.py;
+    L_.middleRows<2>(2 * i) = L.middleRows<2>(2 * k);
+    error_.segment<2>(2 * i) = e.segment<2>(2 * k);
+  }
+  // (L J_c)^+ as vpMatrix::pseudoInverse() forms it: singular values below 1e-6 of the largest are zeroed.
+  const Eigen::MatrixXd J = L * in.robot_jacobian;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& sv = svd.singularValues();
+  Eigen::VectorXd inv = Eigen::VectorXd::Zero(sv.size());
+  for (Eigen::Index i = 0; i < sv.size(); ++i)
+    if (sv(i) > 1e-6 * sv(0)) inv(i) = 1.0 / sv(i);
+  const Eigen::MatrixXd Jp = svd.matrixV() * inv.asDiagonal() * svd.matrixU().transpose();
+  for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(active.size()); ++k) {
+    const Eigen::Index i = active[static_cast<size_t>(k)];
+    J_px_.row(2 * i) = cam.px * J.row(2 * k);
+    J_px_.row(2 * i + 1) = cam.py * J.row(2 * k + 1);
+  }
+  return -lambda_ * (Jp * e) - Jp * ff;
 }
 
 Eigen::Matrix<double, 2, 6> IbvsTask::pointInteraction(double x, double y, double Z) {

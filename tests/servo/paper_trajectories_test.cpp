@@ -112,6 +112,7 @@ TEST(ChannelExperiment, OnTwoChannelsEqualsThePlanarExperiment) {
   cfg.noise = {NoiseKind::Gaussian, 1.0, false};
   cfg.seed = 42;
   cfg.occlusions.push_back({2.0, 3.0});
+  cfg.lost.action = LostAction::Extrapolate;  // predict-only through the gap (the policy would hold at 1 s)
   const Params p{{"vx", 10}, {"vy", -5}};
   auto a = makePredictor("kf-cv", 2), b = makePredictor("kf-cv", 2);
   // WHEN both experiments run THEN every row has the same prediction and error

@@ -65,6 +65,7 @@ TEST(PredictionExperiment, OcclusionIsPredictOnly) {
   // GIVEN the line hidden between 3 and 5 s
   PredictionExperimentConfig c = noiseless();
   c.occlusions.push_back({3.0, 5.0});
+  c.lost.action = LostAction::Extrapolate;  // the lost-feature policy off: predict-only throughout
   const auto line = makeTrajectory("line");
   auto kf = makePredictor("kf-cv", 2);
   const PredictionResult r = runPredictionExperiment(c, *line, *kf);

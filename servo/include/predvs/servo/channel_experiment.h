@@ -37,6 +37,7 @@ struct ChannelSample {
   Eigen::VectorXd truth;        ///< true position at t_pred
   Eigen::VectorXd true_velocity;  ///< true velocity at t_pred
   double error = 0.0;           ///< ||predicted - truth|| over the channels
+  bool lost_expired = false;    ///< some channel was held by the lost-feature policy (lost.timeout_s)
 };
 
 struct ChannelExperimentResult {

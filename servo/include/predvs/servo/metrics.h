@@ -31,6 +31,7 @@
 
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace predvs {
@@ -85,6 +86,10 @@ NamedValues featureErrorValues(const std::vector<double>& t_s, const std::vector
 /// first tick after) and reacq_1s_rmse (RMS of e over the 1 s from there); the last three are
 /// means over the occlusions of the run. NaN entries of e are skipped.
 NamedValues occlusionValues(const std::vector<double>& t_s, const std::vector<double>& e, const std::vector<bool>& lost);
+/// {"lost_policy_s", T}: T = the time (s) during which the lost-feature policy held or dropped at
+/// least one channel (lost_feature_policy.h): the number of samples flagged in `expired` times the
+/// sample period `period_s`. 0 with lost.action extrapolate.
+std::pair<std::string, double> lostPolicyValue(const std::vector<bool>& expired, double period_s);
 
 /// The metrics as named values, the names every report uses (predvs servo and compare):
 /// rmse, final, max, peak, iae, settling_s, effort (the fields above, in that order).

@@ -8,6 +8,8 @@
 //  2. every frame whose release tick (t_acq + t_ac + t_p, rounded up to a tick) has come is
 //     delivered in acquisition order: predictor.update(t_acq, z) (predict-only update(t_acq) for
 //     a lost frame, so the filter keeps running through an occlusion);
+//     A channel without a measurement for lost.timeout_s or more is then held at its last measured
+//     value (lost_feature_policy.h; lost.action extrapolate: the predictor's extrapolation);
 //  3. the predictor is queried at the effect time t_eff = effectTime(t) (horizon
 //     (t - t_acq) + t_c1 + t_c2 (+ t_m/2) from the latest delivered frame); the error is
 //     ||p_hat(t_eff) - p(t_eff)||.
@@ -16,6 +18,7 @@
 #pragma once
 
 #include "predvs/predictors/predictor.h"
+#include "predvs/servo/lost_feature_policy.h"
 #include "predvs/servo/metrics.h"
 #include "predvs/servo/noise.h"
 #include "predvs/servo/timing_model.h"
@@ -44,6 +47,10 @@ struct PredictionExperimentConfig {
   std::uint64_t seed = 1;
   std::vector<OcclusionInterval> occlusions;  ///< each needs start_s < end_s
   MetricsOptions metrics;
+  /// lost: {timeout_s: 1, action: hold | extrapolate} (lost_feature_policy.h): a channel lost for
+  /// timeout_s or more is predicted at its last measured value, velocity 0, instead of the
+  /// predictor's extrapolation; `drop` is refused (no task to drop it from).
+  LostFeatureConfig lost;
 };
 
 /// One row of the trace, per control tick after the first delivered frame.

@@ -5,7 +5,7 @@
 // control effort; with metrics.outcome the outcome of a positioning run, outcomeValues() (metrics.h:
 // converged, convergence_time_s, failed, failure_time_s, fail_behind, fail_image, fail_robot; a
 // failed run stops there and its steady-window figures are NaN); with metrics.per_feature the
-// per-feature errors; with occlusions occlusionValues(); then the task's run summary
+// per-feature errors; with occlusions occlusionValues() and lost_policy_s; then the task's run summary
 // (Task::runSummary(), e.g. jacobian_error_final, sliding_rms_final, lyap_bound_positive_fraction).
 // Open loop: openLoopRunValues() of a runChannelExperiment() result, in this order (e is
 // ||predicted - true|| over the channels at the effect time, in the trajectory's units):
@@ -19,6 +19,8 @@
 //   reacq_error, reacq_1s_rmse                with occlusions: e at the first tick after a frame is
 //                                             delivered again, and its RMS over the following 1 s
 //                                             (these three: means over the occlusions of the run)
+//   lost_policy_s                             with occlusions: time during which the lost-feature
+//                                             policy held at least one channel (lostPolicyValue())
 //   alarms, false_alarms_per_min              discontinuity-monitor alarms (st-akf family; 0 for the
 //                                             others), and those that are not the detection of the
 //                                             onset, per minute of run

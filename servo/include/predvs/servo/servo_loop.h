@@ -34,6 +34,16 @@
 //         feature      acts on s_hat(t_eff), no feed-forward
 //         feedforward  acts on the latest measurement, feeds the target rate forward (default)
 //         both         acts on s_hat(t_eff) and feeds the target rate forward;
+//     A channel lost for lost.timeout_s or more (acquisition times; lost_feature_policy.h) is no
+//     longer extrapolated: with lost.action hold the predictor's position for it is replaced by the
+//     last value it was fed (with the prediction path the last ego-compensated measurement, so
+//     s_hat = that + E(t_eff): the target held where it was last seen, the camera's own motion
+//     still counted; in feedforward mode the task acts on the last measurement as for every
+//     channel) and its target rate by 0; with drop the feature is NaN in both TaskInput::measured
+//     and ::used (and its rate 0), so the law runs on the others (Task::canDropFeatures(); the
+//     loop refuses drop for a law that cannot, naming lost.action); the trace's pred_<f> is NaN
+//     then. When every channel had expired, the predictor is reset() at the first frame that
+//     measures one again (lost_feature_policy.h says why);
 //  5. the robot limits the command (velocity limits, quantisation); the limited command is
 //     queued and applied from commandApplyTick(k); E and p integrate the applied command.
 // Why feedforward is the default (measured on the default scenario, `predvs servo --predictors
@@ -59,6 +69,7 @@
 #include "predvs/predictors/params.h"
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/feature_source.h"
+#include "predvs/servo/lost_feature_policy.h"
 #include "predvs/servo/metrics.h"
 #include "predvs/servo/noise.h"
 #include "predvs/servo/robot.h"
@@ -120,6 +131,7 @@ struct ServoConfig {
   ComponentSpec source{"geometric", {}};      ///< source.type and its keys
   ForecastMode forecast = ForecastMode::Feedforward;  ///< servo.forecast
   Compensation compensation = Compensation::Auto;     ///< servo.compensation
+  LostFeatureConfig lost;     ///< lost: {timeout_s: 1, action: hold} (lost_feature_policy.h)
   MetricsOptions metrics;
 };
 
@@ -128,6 +140,7 @@ struct ServoSample {
   double t_s = 0.0;            ///< control tick time t
   double t_acq_s = 0.0;        ///< acquisition time of the latest delivered measurement (NaN before)
   bool frame_lost = false;     ///< the latest delivered frame saw no point (occlusion)
+  bool lost_expired = false;   ///< some channel was past lost.timeout_s (held or dropped) at this tick
   Eigen::VectorXd measured;    ///< latest delivered (delayed, noisy) features; NaN before the first
   Eigen::VectorXd predicted;   ///< features the task acted on (= measured for hold / feedforward mode)
   Eigen::VectorXd truth;       ///< true features at t
@@ -174,7 +187,8 @@ class ServoLoop {
 
   /// Names of ServoResult::values, in order: metricValues(), with metrics.outcome
   /// outcomeValues(), with metrics.per_feature the
-  /// per-feature errors (featureErrorValues()), with occlusions occlusionValues(), then the task's
+  /// per-feature errors (featureErrorValues()), with occlusions occlusionValues() and
+  /// lost_policy_s (lostPolicyValue(), metrics.h), then the task's
   /// run summary (before the run: the task's run summary names are
   /// fixed per law).
   std::vector<std::string> valueNames() const;

@@ -97,6 +97,8 @@ class IbvsBroydenTask : public PointTask {
   Eigen::VectorXd computeCommand(const TaskInput& in) override;
   /// The current estimate J_hat (2N x m).
   const Eigen::MatrixXd& featureJacobian() const override { return estimator_.jacobian(); }
+  /// NaN rows of the error (dropped features) are left out of the damped solve.
+  bool canDropFeatures() const override { return true; }
   NamedValues diagnostics() const override;
   bool needsTrueJacobian() const override { return true; }
   NamedValues runSummary() const override;

@@ -17,6 +17,11 @@
 //
 // Parameters: lambda (1/s, default 1), interaction (current | desired | mean, default current).
 // featureJacobian() is diag(px, py) L J_c with the L vpServo used.
+// Dropped points (NaN in TaskInput::used, the loop's lost.action: drop): vpServo's feature list is
+// fixed at construction, so with any point dropped the same law (the same L: current, desired or
+// mean; the same Moore-Penrose pseudo-inverse) is computed in Eigen on the remaining points' rows;
+// the rows of a dropped point in featureJacobian(), error() and interactionMatrix() keep their
+// values from the last command that used the point. No point left: the command is zero.
 #pragma once
 
 #include "predvs/tasks/point_task.h"
@@ -25,6 +30,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace predvs {
 
@@ -47,6 +53,7 @@ class IbvsTask : public PointTask {
   std::string name() const override { return "ibvs"; }
   Eigen::VectorXd computeCommand(const TaskInput& in) override;
   const Eigen::MatrixXd& featureJacobian() const override { return J_px_; }
+  bool canDropFeatures() const override { return true; }
 
   double lambda() const { return lambda_; }
   InteractionMatrixType interaction() const { return interaction_; }
@@ -59,6 +66,9 @@ class IbvsTask : public PointTask {
   static Eigen::Matrix<double, 2, 6> pointInteraction(double x, double y, double Z);
 
  private:
+  /// The law on the points in `active` only (some point dropped; header comment).
+  Eigen::VectorXd commandOnPoints(const TaskInput& in, const std::vector<Eigen::Index>& active);
+
   struct Impl;
   double lambda_;
   InteractionMatrixType interaction_;

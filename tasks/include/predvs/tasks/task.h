@@ -61,6 +61,8 @@ struct TaskContext {
 };
 
 /// Everything the loop hands the task at one control tick (references valid during the call).
+/// A feature the loop drops (lost.action: drop, servo/lost_feature_policy.h) is NaN in both
+/// `measured` and `used` (its target rate 0); only a law with canDropFeatures() gets such input.
 struct TaskInput {
   double t_s;                          ///< control tick time
   double t_acq_s;                      ///< acquisition time of `measured`
@@ -118,6 +120,11 @@ class Task {
   /// Whether the law's diagnostics need TaskInput::true_point_jacobian (computing it costs a
   /// matrix product per tick, so the loop fills it only for a law that asks; otherwise empty).
   virtual bool needsTrueJacobian() const { return false; }
+  /// Whether computeCommand() runs on the remaining features when some are NaN in
+  /// TaskInput::measured / ::used (the loop's lost.action: drop): a point law then leaves out every
+  /// point with a NaN coordinate. The loop refuses lost.action drop for a law that returns false
+  /// (the default: a law whose features are all needed, e.g. a centroid and a width).
+  virtual bool canDropFeatures() const { return false; }
   /// Per-run figures the law computes over the run (e.g. the fraction of time a Lyapunov bound
   /// holds); reported beside the loop's metrics.
   virtual NamedValues runSummary() const { return {}; }

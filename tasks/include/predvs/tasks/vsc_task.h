@@ -71,6 +71,7 @@ class VscTask : public PointTask {
   std::string name() const override { return "vsc"; }
   Eigen::VectorXd computeCommand(const TaskInput& in) override;
   const Eigen::MatrixXd& featureJacobian() const override { return J_; }
+  bool canDropFeatures() const override { return true; }  ///< a point with a NaN coordinate is left out
   /// sliding_norm (|S|, px), s_u, s_v (S of the first point, px; 0 when lost), gain_q (1/s).
   NamedValues diagnostics() const override;
   /// sliding_rms_final: RMS of |S| over the last 10 % of the ticks (px; NaN before any tick).
