@@ -123,8 +123,16 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   if (a.predictor == "all") {
     for (const auto& p : predictorRegistry()) specs.push_back({p.name, {}});
   } else {
-    requirePredictor("--predictor", a.predictor);
-    specs.push_back({a.predictor, {}});
+    // A comma list, like --predictors of servo and compare.
+    const auto names = splitList(a.predictor);
+    if (names.empty()) throw std::invalid_argument("--predictor: expected NAME, a comma list NAME,NAME,... or 'all'");
+    for (const auto& name : names) {
+      if (name == "all") throw std::invalid_argument("--predictor: 'all' stands alone, not in a list");
+      requirePredictor("--predictor", name);
+      for (const auto& s : specs)
+        if (s.name == name) throw std::invalid_argument("--predictor: '" + name + "' is listed twice");
+      specs.push_back({name, {}});
+    }
   }
   for (const auto& kv : a.params) {
     const auto eq = kv.find('=');
@@ -139,8 +147,8 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
       key = key.substr(dot + 1);
       requirePredictor("--param " + kv.substr(0, eq), scope);
     } else if (specs.size() > 1) {
-      throw std::invalid_argument("--param " + key + ": with --predictor all, scope each parameter as PREDICTOR." +
-                                  key + "=VALUE");
+      throw std::invalid_argument("--param " + key + ": with --predictor all or several predictors, scope each "
+                                  "parameter as PREDICTOR." + key + "=VALUE");
     }
     bool applied = false;
     for (auto& s : specs)
@@ -183,7 +191,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   writePredictionOutputs(track, report, delay_frames, command_line, !a.no_plots, dir);
   dir.commit();
 
-  printPredictionTable(report, track.hasTruth(), out);
+  printPredictionTable(report, track, out);
   out << "horizon " << horizon_s << " s";
   if (delay_frames >= 0) out << " (" << delay_frames << " frames of " << medianPeriod(track.t_s) << " s)";
   out << "; wrote " << (dir.target() / "predictions.csv").string() << ", summary.json"
@@ -220,22 +228,27 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   PredictArgs pa;
   CLI::App* predict = app.add_subcommand("predict", "Open-loop prediction of a recorded feature track (CSV)");
   predict->footer(
-      "Each row's measurement is fed to the predictor (an empty u or v cell means no measurement: "
-      "predict-only), then the position at t + horizon is predicted without changing the filter. "
+      "The track holds N points, in the long format t,point,u,v[,u_true,v_true] (one row per frame and point, "
+      "as `predvs track` writes tracks.csv; a point missing from a frame is not measured) or the wide one "
+      "t,u0,v0,u1,v1,...[,u0_true,v0_true,...] (t,u,v is one point); a UTF-8 byte-order mark, CRLF line ends "
+      "and extra columns (ignored, listed in summary.json) are accepted. "
+      "Each frame's measurements are fed to the predictor (an empty u or v cell means no measurement: "
+      "predict-only), then the positions at t + horizon are predicted without changing the filter. "
       "With --delay-frames H the horizon is H times the median frame period (median of t differences) "
       "of the input. Scoring: the prediction made at t is compared with the measurement at t + horizon, "
       "linearly interpolated between the nearest measured rows (exact when t + horizon is a row time), "
       "and with u_true/v_true when present; rows outside the measured span are not scored. "
-      "Writes DIR/predictions.csv (t,u,v,t_target,NAME.u_pred,NAME.v_pred per predictor), "
-      "DIR/summary.json (RMSE per predictor) and DIR/predictions.png. "
+      "Writes DIR/predictions.csv (t,u,v,t_target,NAME.u_pred,NAME.v_pred per predictor; with N > 1 points "
+      "t,point,u,v,...), DIR/summary.json (RMSE per predictor, overall and per point) and DIR/predictions.png "
+      "(the first point). "
       "The simulated open-loop experiments E1-E4 run with `predvs servo --scenario e1-line` etc.\n"
       "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
-  predict->add_option("--input", pa.input, "CSV with header t,u,v[,u_true,v_true]: t in s strictly increasing, u,v in px")
+  predict->add_option("--input", pa.input, "CSV track: t,u,v | t,u0,v0,u1,v1,... | t,point,u,v (+ optional *_true columns); t in s, u,v in px")
       ->required()
       ->type_name("FILE");
-  predict->add_option("--predictor", pa.predictor, "predictor name (see `predvs list`), or 'all' to compare every one")
+  predict->add_option("--predictor", pa.predictor, "predictor name (see `predvs list`), a comma list NAME,NAME,..., or 'all' to compare every one")
       ->required()
-      ->type_name("NAME");
+      ->type_name("NAME[,NAME...]");
   auto* h = predict->add_option("--horizon-s", pa.horizon_s, "prediction horizon in seconds (>= 0)")->type_name("S");
   auto* d = predict->add_option("--delay-frames", pa.delay_frames,
                                 "prediction horizon in frames: H times the median frame period of the input")
@@ -245,7 +258,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->required()
       ->type_name("DIR");
   predict->add_option("--param", pa.params,
-                      "predictor parameter KEY=VALUE (repeatable); with --predictor all write PREDICTOR.KEY=VALUE")
+                      "predictor parameter KEY=VALUE (repeatable); with several predictors write PREDICTOR.KEY=VALUE")
       ->type_name("KEY=VALUE");
   predict->add_flag("--no-plots", pa.no_plots, "do not draw predictions.png (no gnuplot needed)");
 

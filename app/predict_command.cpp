@@ -9,8 +9,10 @@
 
 #include <cmath>
 #include <fstream>
+#include <algorithm>
 #include <iomanip>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 namespace predvs {
@@ -68,28 +70,65 @@ PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vec
   return e;
 }
 
+PredictionErrors pooledErrors(const std::vector<PredictionErrors>& parts) {
+  PredictionErrors e;
+  double su = 0.0, sv = 0.0;
+  for (const auto& p : parts) {
+    if (p.n == 0) continue;
+    su += p.rmse_u_px * p.rmse_u_px * p.n;
+    sv += p.rmse_v_px * p.rmse_v_px * p.n;
+    e.n += p.n;
+  }
+  if (e.n == 0) {
+    e.rmse_px = e.rmse_u_px = e.rmse_v_px = kNaN;
+    return e;
+  }
+  e.rmse_u_px = std::sqrt(su / e.n);
+  e.rmse_v_px = std::sqrt(sv / e.n);
+  e.rmse_px = std::sqrt((su + sv) / e.n);
+  return e;
+}
+
 PredictionReport predictTrack(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
                               double horizon_s) {
   if (!(horizon_s >= 0.0) || !std::isfinite(horizon_s))
     throw std::invalid_argument("the prediction horizon must be a finite number >= 0 s");
   PredictionReport report;
   report.horizon_s = horizon_s;
+  const int n = track.points();
   for (const auto& spec : predictors) {
     PredictionRun run;
     run.spec = spec;
-    auto predictor = makePredictor(spec.name, 2, spec.params);
-    Eigen::Vector2d z;
+    run.points.resize(static_cast<size_t>(n));
+    auto predictor = makePredictor(spec.name, 2 * n, spec.params);
+    Eigen::VectorXd z(2 * n);
     for (size_t i = 0; i < track.size(); ++i) {
-      z << track.u_px[i], track.v_px[i];
+      for (int p = 0; p < n; ++p) {
+        z(2 * p) = track.u_px[static_cast<size_t>(p)][i];
+        z(2 * p + 1) = track.v_px[static_cast<size_t>(p)][i];
+      }
       predictor->update(track.t_s[i], z);
-      const Eigen::VectorXd p = predictor->predictPositions(track.t_s[i] + horizon_s);
-      run.u_pred_px.push_back(p(0));
-      run.v_pred_px.push_back(p(1));
+      const Eigen::VectorXd x = predictor->predictPositions(track.t_s[i] + horizon_s);
+      for (int p = 0; p < n; ++p) {
+        run.points[static_cast<size_t>(p)].u_pred_px.push_back(x(2 * p));
+        run.points[static_cast<size_t>(p)].v_pred_px.push_back(x(2 * p + 1));
+      }
     }
-    run.vs_measurement = predictionErrors(track.t_s, run.u_pred_px, run.v_pred_px, horizon_s, track.u_px, track.v_px);
-    if (track.hasTruth())
-      run.vs_truth = predictionErrors(track.t_s, run.u_pred_px, run.v_pred_px, horizon_s, track.u_true_px,
-                                      track.v_true_px);
+    std::vector<PredictionErrors> meas, truth;
+    for (int p = 0; p < n; ++p) {
+      const size_t pp = static_cast<size_t>(p);
+      PointPrediction& pt = run.points[pp];
+      pt.vs_measurement = predictionErrors(track.t_s, pt.u_pred_px, pt.v_pred_px, horizon_s, track.u_px[pp],
+                                           track.v_px[pp]);
+      meas.push_back(pt.vs_measurement);
+      if (track.hasTruth()) {
+        pt.vs_truth = predictionErrors(track.t_s, pt.u_pred_px, pt.v_pred_px, horizon_s, track.u_true_px[pp],
+                                       track.v_true_px[pp]);
+        truth.push_back(pt.vs_truth);
+      }
+    }
+    run.vs_measurement = pooledErrors(meas);
+    if (track.hasTruth()) run.vs_truth = pooledErrors(truth);
     report.runs.push_back(std::move(run));
   }
   return report;
@@ -97,29 +136,39 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
 
 void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
                             const std::string& command_line, bool plots, StagedOutputDir& dir) {
+  const int n = track.points();
+  const bool single = n == 1;
   {
     std::ofstream csv(dir.file("predictions.csv"));
-    csv << "t,u,v,t_target";
+    csv << (single ? "t,u,v,t_target" : "t,point,u,v,t_target");
     for (const auto& run : report.runs) csv << "," << run.spec.name << ".u_pred," << run.spec.name << ".v_pred";
     csv << "\n";
-    for (size_t i = 0; i < track.size(); ++i) {
-      csv << cell(track.t_s[i]) << "," << cell(track.u_px[i]) << "," << cell(track.v_px[i]) << ","
-          << cell(track.t_s[i] + report.horizon_s);
-      for (const auto& run : report.runs) csv << "," << cell(run.u_pred_px[i]) << "," << cell(run.v_pred_px[i]);
-      csv << "\n";
-    }
+    for (size_t i = 0; i < track.size(); ++i)
+      for (int p = 0; p < n; ++p) {
+        const size_t pp = static_cast<size_t>(p);
+        csv << cell(track.t_s[i]) << ",";
+        if (!single) csv << track.point_names[pp] << ",";
+        csv << cell(track.u_px[pp][i]) << "," << cell(track.v_px[pp][i]) << "," << cell(track.t_s[i] + report.horizon_s);
+        for (const auto& run : report.runs)
+          csv << "," << cell(run.points[pp].u_pred_px[i]) << "," << cell(run.points[pp].v_pred_px[i]);
+        csv << "\n";
+      }
     if (!csv) throw std::runtime_error(dir.file("predictions.csv") + ": write failed");
   }
 
   nlohmann::json summary;
   summary["command"] = command_line;
   summary["input"] = track.path;
+  summary["format"] = track.format;
+  summary["points"] = track.point_names;
+  summary["ignored_columns"] = track.ignored_columns;
   summary["rows"] = track.size();
   summary["horizon_s"] = report.horizon_s;
   summary["delay_frames"] = delay_frames >= 0 ? nlohmann::json(delay_frames) : nlohmann::json(nullptr);
   summary["frame_period_s"] = track.size() >= 2 ? medianPeriod(track.t_s) : kNaN;
   summary["error_reference"] =
-      "prediction made at t compared with the measurement (and truth) linearly interpolated at t + horizon_s";
+      "prediction made at t compared with the measurement (and truth) linearly interpolated at t + horizon_s; "
+      "per point, and overall over every (frame, point) pair";
   summary["predictors"] = nlohmann::json::array();
   for (const auto& run : report.runs) {
     nlohmann::json p;
@@ -128,6 +177,15 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
     for (const auto& kv : run.spec.params.values()) p["params"][kv.first] = kv.second;
     p["vs_measurement"] = errorsJson(run.vs_measurement);
     p["vs_truth"] = track.hasTruth() ? errorsJson(run.vs_truth) : nlohmann::json(nullptr);
+    p["per_point"] = nlohmann::json::array();
+    for (int k = 0; k < n; ++k) {
+      const PointPrediction& pt = run.points[static_cast<size_t>(k)];
+      nlohmann::json q;
+      q["point"] = track.point_names[static_cast<size_t>(k)];
+      q["vs_measurement"] = errorsJson(pt.vs_measurement);
+      q["vs_truth"] = track.hasTruth() ? errorsJson(pt.vs_truth) : nlohmann::json(nullptr);
+      p["per_point"].push_back(q);
+    }
     summary["predictors"].push_back(p);
   }
   {
@@ -137,7 +195,7 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   }
 
   if (!plots) return;
-  // Plot data: measured points at their time, predictions at the time they are made for.
+  // Plot data (the first point): measured points at their time, predictions at the time they are made for.
   {
     std::ofstream dat(dir.file("predictions_plot.dat"));
     dat << "# t_s u_px v_px t_target_s u_true_px v_true_px";
@@ -145,10 +203,10 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
     dat << "\n" << std::setprecision(10);
     auto num = [](double x) { return std::isfinite(x) ? std::to_string(x) : std::string("NaN"); };
     for (size_t i = 0; i < track.size(); ++i) {
-      dat << num(track.t_s[i]) << " " << num(track.u_px[i]) << " " << num(track.v_px[i]) << " "
-          << num(track.t_s[i] + report.horizon_s) << " " << num(track.hasTruth() ? track.u_true_px[i] : kNaN)
-          << " " << num(track.hasTruth() ? track.v_true_px[i] : kNaN);
-      for (const auto& run : report.runs) dat << " " << num(run.u_pred_px[i]) << " " << num(run.v_pred_px[i]);
+      dat << num(track.t_s[i]) << " " << num(track.u_px[0][i]) << " " << num(track.v_px[0][i]) << " "
+          << num(track.t_s[i] + report.horizon_s) << " " << num(track.hasTruth() ? track.u_true_px[0][i] : kNaN)
+          << " " << num(track.hasTruth() ? track.v_true_px[0][i] : kNaN);
+      for (const auto& run : report.runs) dat << " " << num(run.points[0].u_pred_px[i]) << " " << num(run.points[0].v_pred_px[i]);
       dat << "\n";
     }
   }
@@ -156,6 +214,7 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   std::ostringstream title;
   title << "Prediction " << std::setprecision(4) << report.horizon_s << " s ahead";
   if (delay_frames >= 0) title << " (" << delay_frames << " frames)";
+  if (!single) title << ", point " << track.point_names[0] << " of " << n << " (all in predictions.csv)";
   gp << "# Regenerate with: gnuplot predictions.gp\n"
      << "set terminal pngcairo size 1200,850 enhanced font 'Sans,10'\n"
      << "set output 'predictions.png'\n"
@@ -182,7 +241,8 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   runGnuplot(dir.staging().string(), "predictions.gp");
 }
 
-void printPredictionTable(const PredictionReport& report, bool has_truth, std::ostream& out) {
+void printPredictionTable(const PredictionReport& report, const FeatureTrack& track, std::ostream& out) {
+  const bool has_truth = track.hasTruth();
   size_t w = 9;
   for (const auto& run : report.runs) w = std::max(w, run.spec.name.size());
   out << std::left << std::setw(static_cast<int>(w)) << "predictor" << std::right << std::setw(20)
@@ -194,6 +254,22 @@ void printPredictionTable(const PredictionReport& report, bool has_truth, std::o
         << fixed(run.vs_measurement.rmse_px, 3);
     if (has_truth) out << std::setw(20) << fixed(run.vs_truth.rmse_px, 3);
     out << std::setw(7) << run.vs_measurement.n << "\n";
+  }
+  if (track.points() < 2) return;
+  // Per point: one column per point.
+  for (int which = 0; which < (has_truth ? 2 : 1); ++which) {
+    out << "\nRMSE vs " << (which == 0 ? "measurement" : "truth") << " per point [px]\n";
+    size_t cw = 8;
+    for (const auto& name : track.point_names) cw = std::max(cw, name.size() + 2);
+    out << std::left << std::setw(static_cast<int>(w)) << "predictor" << std::right;
+    for (const auto& name : track.point_names) out << std::setw(static_cast<int>(cw)) << name;
+    out << "\n";
+    for (const auto& run : report.runs) {
+      out << std::left << std::setw(static_cast<int>(w)) << run.spec.name << std::right;
+      for (const auto& pt : run.points)
+        out << std::setw(static_cast<int>(cw)) << fixed(which == 0 ? pt.vs_measurement.rmse_px : pt.vs_truth.rmse_px, 3);
+      out << "\n";
+    }
   }
 }
 

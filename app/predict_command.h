@@ -1,8 +1,11 @@
 // predvs app — `predvs predict`: open-loop prediction of a recorded feature track.
 //
-// For every row i of the track (time t_i, measurement z_i, possibly empty), each predictor is
-// updated with (t_i, z_i) (predict-only for empty cells) and then asked, without changing its
-// state, for the feature position at t_i + horizon. This is x(k+h|k) of METHODS §0/§1.
+// For every frame i of the track (time t_i, the N points' measurements z_i, possibly empty), each
+// predictor (one instance with 2N channels: u and v of every point, channel 2p and 2p + 1) is
+// updated with (t_i, z_i) (predict-only for empty cells, a point missing from a long-format frame)
+// and then asked, without changing its state, for every position at t_i + horizon. This is
+// x(k+h|k) of METHODS §0/§1. The channels are independent, so a point's predictions are those a
+// 2-channel predictor fed that point alone would make.
 //
 // Horizon. --horizon-s S gives it in seconds. --delay-frames H gives it in frames:
 //   horizon = H * median(t_{i+1} - t_i) over all rows (the median so that a few dropped or late
@@ -14,7 +17,9 @@
 // exactly the measurement H rows later. Predictions whose target time lies outside the measured
 // span, and predictions made before the predictor has seen a measurement, are left out (n counts
 // the rows used). The same rule against u_true/v_true gives the error against the truth.
-//   rmse_px = sqrt(mean(du^2 + dv^2)),  rmse_u_px = sqrt(mean(du^2)),  rmse_v_px likewise.
+//   rmse_px = sqrt(mean(du^2 + dv^2)),  rmse_u_px = sqrt(mean(du^2)),  rmse_v_px likewise,
+// per point over its scored frames, and overall over every scored (frame, point) pair (for N = 1
+// the overall figures are the point's).
 #pragma once
 
 #include "track_csv.h"
@@ -43,13 +48,23 @@ struct PredictionErrors {
   int n = 0;
 };
 
-/// One predictor's predictions along the track.
-struct PredictionRun {
-  PredictorSpec spec;
-  std::vector<double> u_pred_px, v_pred_px;  ///< prediction made at row i for t_i + horizon
+/// One point's predictions along the track.
+struct PointPrediction {
+  std::vector<double> u_pred_px, v_pred_px;  ///< prediction made at frame i for t_i + horizon
   PredictionErrors vs_measurement;
   PredictionErrors vs_truth;  ///< n == 0 when the track has no truth
 };
+
+/// One predictor's predictions along the track.
+struct PredictionRun {
+  PredictorSpec spec;
+  std::vector<PointPrediction> points;  ///< one per FeatureTrack point, in its order
+  PredictionErrors vs_measurement;      ///< overall: every scored (frame, point) pair
+  PredictionErrors vs_truth;            ///< overall; n == 0 when the track has no truth
+};
+
+/// The overall errors of several points' errors (pooled: sums of squares and counts add).
+PredictionErrors pooledErrors(const std::vector<PredictionErrors>& parts);
 
 struct PredictionReport {
   double horizon_s = 0.0;
@@ -67,15 +82,22 @@ PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vec
                                   const std::vector<double>& u_ref, const std::vector<double>& v_ref);
 
 /// Writes predictions.csv, summary.json and (if plots) predictions.png + its gnuplot script/data.
-///  predictions.csv: t,u,v,t_target,NAME.u_pred,NAME.v_pred[,...] (one column pair per predictor;
-///                   empty cell = no measurement / no prediction yet), times in s, positions in px.
-///  summary.json:    {"command", "input", "rows", "horizon_s", "delay_frames", "frame_period_s",
-///                    "error_reference", "predictors": [{"name", "params", "vs_measurement":
-///                    {"rmse_px","rmse_u_px","rmse_v_px","n"}, "vs_truth": {...} or null}]}
+///  predictions.csv: one point: t,u,v,t_target,NAME.u_pred,NAME.v_pred[,...] (one column pair per
+///                   predictor; empty cell = no measurement / no prediction yet), times in s,
+///                   positions in px; N > 1 points: the long layout t,point,u,v,t_target,NAME.u_pred,
+///                   NAME.v_pred[,...], one row per frame and point.
+///  summary.json:    {"command", "input", "format", "points" (names), "ignored_columns", "rows"
+///                    (frames), "horizon_s", "delay_frames", "frame_period_s", "error_reference",
+///                    "predictors": [{"name", "params", "vs_measurement":
+///                    {"rmse_px","rmse_u_px","rmse_v_px","n"}, "vs_truth": {...} or null (both
+///                    overall), "per_point": [{"point", "vs_measurement", "vs_truth"}]}]}
+///  predictions.png: u and v versus time of the first point (for N > 1 its title says so; every
+///                   point is in predictions.csv and its errors in summary.json).
 void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
                             const std::string& command_line, bool plots, StagedOutputDir& dir);
 
-/// The aligned table printed on the terminal.
-void printPredictionTable(const PredictionReport& report, bool has_truth, std::ostream& out);
+/// The aligned table printed on the terminal: overall errors per predictor, and for N > 1 points
+/// the RMSE against the measurement (and the truth) per point.
+void printPredictionTable(const PredictionReport& report, const FeatureTrack& track, std::ostream& out);
 
 }  // namespace predvs

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <tuple>
 
 namespace predvs {
 namespace {
@@ -54,9 +55,62 @@ double parseCell(const std::string& raw, const std::string& file, int line, cons
   return value;
 }
 
+namespace {
+
+/// One column of the wide format: axis 'u' / 'v' of point `index`, measured or true.
+struct WideColumn {
+  char axis;
+  int index;  ///< -1: the unindexed single-point name (u, v, u_true, v_true)
+  bool truth;
+};
+
+/// u<i>, v<i>, u<i>_true, v<i>_true, or the unindexed u, v, u_true, v_true; false for any other.
+bool parseWideColumn(const std::string& name, WideColumn& out) {
+  if (name.size() < 1 || (name[0] != 'u' && name[0] != 'v')) return false;
+  std::string rest = name.substr(1);
+  out.axis = name[0];
+  out.truth = false;
+  const std::string suffix = "_true";
+  if (rest.size() >= suffix.size() && rest.compare(rest.size() - suffix.size(), suffix.size(), suffix) == 0) {
+    out.truth = true;
+    rest.erase(rest.size() - suffix.size());
+  }
+  if (rest.empty()) {
+    out.index = -1;
+    return true;
+  }
+  if (rest.size() > 6 || rest.find_first_not_of("0123456789") != std::string::npos) return false;
+  if (rest.size() > 1 && rest[0] == '0') return false;  // u01 is not point 1: an extra column
+  out.index = std::stoi(rest);
+  return true;
+}
+
+std::string wideName(char axis, int index, bool truth) {
+  return std::string(1, axis) + (index >= 0 ? std::to_string(index) : std::string()) + (truth ? "_true" : "");
+}
+
+/// An integer point id of the long format ("3", "-1"); false for a name.
+bool integerId(const std::string& id, long& value) {
+  if (id.empty()) return false;
+  const char* begin = id.c_str();
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtol(begin, &end, 10);
+  return end != begin && *end == '\0' && errno != ERANGE;
+}
+
+struct LongRow {
+  double t;
+  std::string id;
+  double u, v, u_true, v_true;
+  int line;
+};
+
+}  // namespace
+
 FeatureTrack readFeatureTrack(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throwAt(path, 0, "cannot open the file for reading (expected a CSV with columns t,u,v)");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throwAt(path, 0, "cannot open the file for reading (expected a CSV with columns t,u,v or t,point,u,v)");
 
   FeatureTrack track;
   track.path = path;
@@ -66,29 +120,92 @@ FeatureTrack readFeatureTrack(const std::string& path) {
   int header_line = 0;
   while (std::getline(in, line)) {
     ++line_no;
+    if (line_no == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 byte-order mark
     if (trim(line).empty()) continue;
     header = splitCsvLine(line);
     header_line = line_no;
     break;
   }
-  if (header.empty()) throwAt(path, 0, "the file is empty (expected a header row 't,u,v[,u_true,v_true]')");
+  if (header.empty())
+    throwAt(path, 0, "the file is empty (expected a header row 't,u,v[,u_true,v_true]', 't,u0,v0,u1,v1,...' or "
+                     "'t,point,u,v')");
 
-  static const std::vector<std::string> kKnown = {"t", "u", "v", "u_true", "v_true"};
   std::map<std::string, int> column;
   for (size_t i = 0; i < header.size(); ++i) {
     const std::string& name = header[i];
-    if (std::find(kKnown.begin(), kKnown.end(), name) == kKnown.end())
-      throwAt(path, header_line,
-              "unknown column '" + name + "' (expected t, u, v and optionally u_true, v_true)");
+    if (name.empty()) throwAt(path, header_line, "column " + std::to_string(i + 1) + " has no name");
     if (column.count(name)) throwAt(path, header_line, "column '" + name + "' appears twice");
     column[name] = static_cast<int>(i);
   }
-  for (const char* required : {"t", "u", "v"})
-    if (!column.count(required)) throwAt(path, header_line, std::string("missing required column '") + required + "'");
-  if (column.count("u_true") != column.count("v_true"))
-    throwAt(path, header_line, "columns u_true and v_true must be given together");
-  const bool truth = column.count("u_true") != 0;
+  if (!column.count("t")) throwAt(path, header_line, "missing required column 't'");
+  const bool long_format = column.count("point") != 0;
+  track.format = long_format ? "long" : "wide";
 
+  // Which columns the format reads; every other one is ignored (and listed).
+  std::vector<bool> used(header.size(), false);
+  used[static_cast<size_t>(column["t"])] = true;
+  // Wide: (axis, index, truth) -> column.
+  std::map<std::tuple<char, int, bool>, int> wide;
+  int n_points = 0;
+  bool truth = false;
+  if (long_format) {
+    for (const char* name : {"point", "u", "v", "u_true", "v_true"})
+      if (column.count(name)) used[static_cast<size_t>(column[name])] = true;
+    for (const char* required : {"u", "v"})
+      if (!column.count(required))
+        throwAt(path, header_line, std::string("missing required column '") + required + "' (long format: t,point,u,v)");
+    if (column.count("u_true") != column.count("v_true"))
+      throwAt(path, header_line, "columns u_true and v_true must be given together");
+    truth = column.count("u_true") != 0;
+  } else {
+    bool indexed = false, single = false;
+    for (size_t i = 0; i < header.size(); ++i) {
+      WideColumn c{};
+      if (!parseWideColumn(header[i], c)) continue;
+      used[i] = true;
+      (c.index < 0 ? single : indexed) = true;
+      wide[{c.axis, c.index, c.truth}] = static_cast<int>(i);
+    }
+    if (single && indexed)
+      throwAt(path, header_line,
+              "both the single-point columns (u, v) and indexed ones (u0, v0, ...): expected one or the other");
+    // Every point index needs u<i> and v<i>; the indices run 0..N-1; truth only for those points.
+    std::map<int, int> seen_axes;  // index -> measured columns seen
+    for (const auto& kv : wide)
+      if (!std::get<2>(kv.first)) ++seen_axes[std::get<1>(kv.first)];
+    for (const auto& kv : wide) {
+      const char axis = std::get<0>(kv.first);
+      const int index = std::get<1>(kv.first);
+      const bool is_truth = std::get<2>(kv.first);
+      const char other = axis == 'u' ? 'v' : 'u';
+      if (!is_truth && !wide.count({other, index, false}))
+        throwAt(path, header_line, "missing required column '" + wideName(other, index, false) + "' (given '" +
+                                       wideName(axis, index, false) + "')");
+      if (is_truth && !seen_axes.count(index))
+        throwAt(path, header_line, "column '" + wideName(axis, index, true) + "' has no measured point (no '" +
+                                       wideName('u', index, false) + "', '" + wideName('v', index, false) + "')");
+      if (is_truth && !wide.count({other, index, true}))
+        throwAt(path, header_line, "columns '" + wideName('u', index, true) + "' and '" + wideName('v', index, true) +
+                                       "' must be given together");
+      truth = truth || is_truth;
+    }
+    if (seen_axes.empty())
+      throwAt(path, header_line, "no point columns: expected u,v (one point), u0,v0,u1,v1,... (wide) or point,u,v (long)");
+    n_points = static_cast<int>(seen_axes.size());
+    if (indexed)
+      for (int i = 0; i < n_points; ++i)
+        if (!seen_axes.count(i))
+          throwAt(path, header_line, "point indices must run 0.." + std::to_string(n_points - 1) +
+                                         " without a gap: missing '" + wideName('u', i, false) + "', '" +
+                                         wideName('v', i, false) + "'");
+  }
+  for (size_t i = 0; i < header.size(); ++i)
+    if (!used[i]) track.ignored_columns.push_back(header[i]);
+
+  auto cellOf = [&](const std::vector<std::string>& cells, int col) -> const std::string& {
+    return cells[static_cast<size_t>(col)];
+  };
+  std::vector<LongRow> long_rows;
   while (std::getline(in, line)) {
     ++line_no;
     if (trim(line).empty()) continue;
@@ -96,19 +213,112 @@ FeatureTrack readFeatureTrack(const std::string& path) {
     if (cells.size() != header.size())
       throwAt(path, line_no,
               "expected " + std::to_string(header.size()) + " cells, got " + std::to_string(cells.size()));
-    const double t = parseCell(cells[column["t"]], path, line_no, "t", false);
+    const double t = parseCell(cellOf(cells, column["t"]), path, line_no, "t", false);
+    if (long_format) {
+      LongRow r{t, trim(cellOf(cells, column["point"])), kNaN, kNaN, kNaN, kNaN, line_no};
+      if (r.id.empty()) throwAt(path, line_no, "column 'point': expected a point id (integer or name), got an empty cell");
+      if (!long_rows.empty() && t < long_rows.back().t)
+        throwAt(path, line_no, "column 't': expected the rows of a frame together and frames in increasing time, got " +
+                                   trim(cellOf(cells, column["t"])) + " after a later frame");
+      r.u = parseCell(cellOf(cells, column["u"]), path, line_no, "u", true);
+      r.v = parseCell(cellOf(cells, column["v"]), path, line_no, "v", true);
+      if (truth) {
+        r.u_true = parseCell(cellOf(cells, column["u_true"]), path, line_no, "u_true", true);
+        r.v_true = parseCell(cellOf(cells, column["v_true"]), path, line_no, "v_true", true);
+      }
+      long_rows.push_back(std::move(r));
+      continue;
+    }
     if (!track.t_s.empty() && !(t > track.t_s.back()))
       throwAt(path, line_no, "column 't': expected a time after the previous row's (strictly increasing), got " +
-                                 trim(cells[column["t"]]));
+                                 trim(cellOf(cells, column["t"])));
+    if (track.t_s.empty()) {
+      track.u_px.resize(static_cast<size_t>(n_points));
+      track.v_px.resize(static_cast<size_t>(n_points));
+      if (truth) {
+        track.u_true_px.resize(static_cast<size_t>(n_points));
+        track.v_true_px.resize(static_cast<size_t>(n_points));
+      }
+    }
     track.t_s.push_back(t);
-    track.u_px.push_back(parseCell(cells[column["u"]], path, line_no, "u", true));
-    track.v_px.push_back(parseCell(cells[column["v"]], path, line_no, "v", true));
-    if (truth) {
-      track.u_true_px.push_back(parseCell(cells[column["u_true"]], path, line_no, "u_true", true));
-      track.v_true_px.push_back(parseCell(cells[column["v_true"]], path, line_no, "v_true", true));
+    const int first = wide.count({'u', -1, false}) ? -1 : 0;
+    for (int p = 0; p < n_points; ++p) {
+      const int index = first < 0 ? -1 : p;
+      const size_t pp = static_cast<size_t>(p);
+      track.u_px[pp].push_back(parseCell(cellOf(cells, wide[{'u', index, false}]), path, line_no,
+                                         wideName('u', index, false), true));
+      track.v_px[pp].push_back(parseCell(cellOf(cells, wide[{'v', index, false}]), path, line_no,
+                                         wideName('v', index, false), true));
+      if (!truth) continue;
+      const bool has = wide.count({'u', index, true}) != 0;
+      track.u_true_px[pp].push_back(has ? parseCell(cellOf(cells, wide[{'u', index, true}]), path, line_no,
+                                                    wideName('u', index, true), true)
+                                        : kNaN);
+      track.v_true_px[pp].push_back(has ? parseCell(cellOf(cells, wide[{'v', index, true}]), path, line_no,
+                                                    wideName('v', index, true), true)
+                                        : kNaN);
     }
   }
-  if (track.t_s.empty()) throwAt(path, line_no, "no data rows after the header (expected at least one)");
+  if (!long_format) {
+    if (track.t_s.empty()) throwAt(path, line_no, "no data rows after the header (expected at least one)");
+    for (int p = 0; p < n_points; ++p) track.point_names.push_back(std::to_string(p));
+    return track;
+  }
+
+  // Long: the point set (integers sorted by value, else in order of first appearance), then frames.
+  if (long_rows.empty()) throwAt(path, line_no, "no data rows after the header (expected at least one)");
+  bool all_integers = true;
+  for (const auto& r : long_rows) {
+    long v = 0;
+    all_integers = all_integers && integerId(r.id, v);
+  }
+  std::map<std::string, int> index_of;
+  if (all_integers) {
+    std::map<long, std::string> sorted;
+    for (auto& r : long_rows) {
+      long v = 0;
+      integerId(r.id, v);
+      r.id = std::to_string(v);  // "07" and "7" are one point
+      sorted.emplace(v, r.id);
+    }
+    for (const auto& kv : sorted) {
+      index_of[kv.second] = static_cast<int>(track.point_names.size());
+      track.point_names.push_back(kv.second);
+    }
+  } else {
+    for (const auto& r : long_rows)
+      if (!index_of.count(r.id)) {
+        index_of[r.id] = static_cast<int>(track.point_names.size());
+        track.point_names.push_back(r.id);
+      }
+  }
+  const size_t n = track.point_names.size();
+  track.u_px.assign(n, {});
+  track.v_px.assign(n, {});
+  if (truth) {
+    track.u_true_px.assign(n, {});
+    track.v_true_px.assign(n, {});
+  }
+  std::vector<int> frame_line(n, 0);  // line of the point's row in the current frame (0: none yet)
+  for (const auto& r : long_rows) {
+    if (track.t_s.empty() || r.t > track.t_s.back()) {
+      track.t_s.push_back(r.t);
+      for (size_t p = 0; p < n; ++p) {
+        track.u_px[p].push_back(kNaN);
+        track.v_px[p].push_back(kNaN);
+        if (truth) track.u_true_px[p].push_back(kNaN), track.v_true_px[p].push_back(kNaN);
+        frame_line[p] = 0;
+      }
+    }
+    const size_t p = static_cast<size_t>(index_of[r.id]);
+    if (frame_line[p] != 0)
+      throwAt(path, r.line, "column 'point': point '" + r.id + "' appears twice in the frame at t = " +
+                                std::to_string(r.t) + " (first on line " + std::to_string(frame_line[p]) + ")");
+    frame_line[p] = r.line;
+    track.u_px[p].back() = r.u;
+    track.v_px[p].back() = r.v;
+    if (truth) track.u_true_px[p].back() = r.u_true, track.v_true_px[p].back() = r.v_true;
+  }
   return track;
 }
 

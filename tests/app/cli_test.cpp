@@ -81,9 +81,11 @@ TEST_F(CliTest, PredictRejectsHeaderOnly) {
   expectError(run(predictArgs(write("h.csv", "t,u,v\n"), out)), "h.csv:1: no data rows", out);
 }
 
-TEST_F(CliTest, PredictRejectsUnknownColumn) {
+TEST_F(CliTest, PredictIgnoresAnUnknownColumnButNeedsItsPoints) {
+  // An unknown column is ignored (issue 9: spreadsheets add columns), so t,u,w lacks v
   const std::string out = path("out");
-  expectError(run(predictArgs(write("c.csv", "t,u,w\n0,1,2\n"), out)), "c.csv:1: unknown column 'w'", out);
+  expectError(run(predictArgs(write("c.csv", "t,u,w\n0,1,2\n"), out)), "c.csv:1: missing required column 'v'", out);
+  expectError(run(predictArgs(write("d.csv", "t,w\n0,1\n"), out)), "d.csv:1: no point columns", out);
 }
 
 TEST_F(CliTest, PredictRejectsMissingColumn) {
@@ -149,7 +151,8 @@ TEST_F(CliTest, PredictRejectsBadParams) {
   expectError(with("kf-cv", "q=abc"), "--param q: expected a number, got 'abc'", out);
   expectError(with("kf-cv", "zz=1"), "unknown parameter 'zz'", out);
   expectError(with("kf-cv", "q=-5"), "'q'", out);
-  expectError(with("all", "q=5"), "with --predictor all, scope each parameter", out);
+  expectError(with("all", "q=5"), "with --predictor all or several predictors, scope each parameter", out);
+  expectError(with("kf-cv,stkf", "q=5"), "scope each parameter", out);
   expectError(with("all", "nope.q=5"), "unknown predictor 'nope'", out);
 }
 
