@@ -5,6 +5,7 @@
 #include "predict_command.h"
 #include "scenario_file.h"
 #include "scenario_override.h"
+#include "scenario_run.h"
 #include "servo_command.h"
 #include "track_csv.h"
 #include "app_error.h"
@@ -290,8 +291,9 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->capture_default_str()
       ->type_name("NAME|FILE");
   servo->add_option("--predictors", predictors_csv,
-                    "comma-separated predictor names replacing the scenario's list (one the scenario lists "
-                    "keeps its params; default: the scenario's list)")
+                    "comma-separated predictors replacing the scenario's list, each [LABEL=]TYPE[:KEY=VALUE...] "
+                    "(one the scenario lists keeps its params; the same TYPE twice under two labels, e.g. "
+                    "kf-cv,kf-cv-r5=kf-cv:r=5; default: the scenario's list)")
       ->type_name("A,B,C");
   servo->add_option("--set", servo_sets,
                     "override a scenario value (repeatable): PATH is a dotted YAML path, VALUE is YAML; "
@@ -336,7 +338,10 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->capture_default_str()
       ->type_name("A,B|all");
   compare->add_option("--predictors", cmp_predictors,
-                      "comma-separated predictor names or 'all' (default: each scenario's own list)")
+                      "comma-separated predictors or 'all' (default: each scenario's own list); each is "
+                      "[LABEL=]TYPE[:KEY=VALUE...]: the registry predictor TYPE under the name LABEL (default "
+                      "TYPE) with its KEY=VALUE parameters on top of the scenario's, so one predictor can run "
+                      "with several parameter sets, e.g. st-akf-pm,st-akf-pm-switch=st-akf-pm:pm_on_alarm=1")
       ->type_name("A,B|all");
   compare->add_option("--runs", cmp_runs, "runs per predictor and scenario, overriding the scenarios' runs: keys")
       ->type_name("N");
@@ -390,7 +395,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
     }
     // servo
     so.plots = !servo_no_plots;
-    for (const auto& name : splitList(predictors_csv)) requirePredictor("--predictors", name);
+    for (const auto& text : splitList(predictors_csv)) parsePredictorChoice(text, "--predictors");
     if (!predictors_csv.empty() && splitList(predictors_csv).empty())
       throw std::invalid_argument("--predictors: expected a comma-separated list of predictor names");
     so.predictors = splitList(predictors_csv);

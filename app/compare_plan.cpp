@@ -76,13 +76,12 @@ std::vector<std::string> chosenPredictors(const CompareOptions& o) {
     for (const auto& p : predictorRegistry()) chosen.push_back(p.name);
     return chosen;
   }
-  for (const auto& p : uniqueNames(o.predictors, "--predictors")) {
+  std::set<std::string> labels;
+  for (const auto& p : o.predictors) {
     if (p == "all") throw std::invalid_argument("--predictors: 'all' cannot be combined with names");
-    if (!isPredictor(p)) {
-      std::string known;
-      for (const auto& q : predictorRegistry()) known += (known.empty() ? "" : ", ") + q.name;
-      throw std::invalid_argument("--predictors: unknown predictor '" + p + "' (known: " + known + ")");
-    }
+    const PredictorChoice c = parsePredictorChoice(p, "--predictors");  // validated before any file is read
+    if (!labels.insert(c.label).second)
+      throw std::invalid_argument("--predictors: '" + c.label + "' listed twice (give each its own LABEL=TYPE:...)");
     chosen.push_back(p);
   }
   return chosen;

@@ -133,6 +133,7 @@ std::string leaderboardJson(const Plan& plan, const Results& res, const CompareO
       for (size_t p : ranking(plan, res, v)) {
         nlohmann::json jp;
         jp["name"] = preds[p].name;
+        jp["type"] = preds[p].typeName();
         jp["params"] = paramsJson(preds[p].params);
         for (size_t m = 0; m < res.metrics[v].size(); ++m) {
           const Stats& st = res.cells[v][p].stats[m];

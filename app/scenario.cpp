@@ -10,6 +10,7 @@
 
 #include <cstdlib>
 #include <map>
+#include <cctype>
 #include <set>
 
 namespace predvs {
@@ -124,6 +125,7 @@ void readMetrics(YamlSection& root, MetricsOptions& m, bool closed_loop) {
   m.steady_start_fraction = s.number("steady_start_fraction", m.steady_start_fraction, 0.0, 1.0);
   m.final_fraction = s.number("final_fraction", m.final_fraction, 0.0, 1.0);
   m.settling_band = s.number("settling_band", m.settling_band, 0.0, 1.0);
+  m.response_window_s = s.number("response_window_s", m.response_window_s, 1e-9, 1e9);
   m.per_feature = s.boolean("per_feature", m.per_feature);
   m.outcome = s.boolean("outcome", m.outcome);
   if (m.outcome && !closed_loop)
@@ -159,9 +161,9 @@ std::vector<ScenarioPredictor> readPredictors(YamlSection& root, int channels) {
   const YAML::Node list = root.node("predictors");
   const std::string& file = root.file();
   if (!list.IsDefined() || list.IsNull())
-    throwAt(file, root.line(), "missing required key 'predictors' (a list of predictor names or {name, params})");
+    throwAt(file, root.line(), "missing required key 'predictors' (a list of predictor names or {name, type, params})");
   if (!list.IsSequence() || list.size() == 0)
-    throwAt(file, yamlLine(list), "'predictors': expected a non-empty list of names or {name: NAME, params: {...}}");
+    throwAt(file, yamlLine(list), "'predictors': expected a non-empty list of names or {name: LABEL, type: NAME, params: {...}}");
   std::vector<ScenarioPredictor> out;
   std::set<std::string> seen;
   for (size_t i = 0; i < list.size(); ++i) {
@@ -174,12 +176,18 @@ std::vector<ScenarioPredictor> readPredictors(YamlSection& root, int channels) {
     } else {
       YamlSection s(item, file, "predictors[" + std::to_string(i) + "]");
       p.name = s.requiredString("name");
+      if (s.node("type").IsDefined()) p.type = s.requiredString("type");
       p.params = readParams(s.node("params"), file, s.qualified("params"), &lines);
       s.finish();
     }
-    if (!seen.insert(p.name).second) throwAt(file, p.line, "'predictors': predictor '" + p.name + "' listed twice");
-    lines.emplace_back(p.name, p.line);
-    withLocation(file, p.line, lines, [&] { return makePredictor(p.name, channels, p.params); });
+    if (p.type.empty()) p.type = p.name;
+    if (const std::string why = predictorLabelProblem(p.name); !why.empty())
+      throwAt(file, p.line, "'predictors': " + why);
+    if (!seen.insert(p.name).second)
+      throwAt(file, p.line, "'predictors': predictor '" + p.name + "' listed twice (give the second one its own "
+                            "name and type: {name: LABEL, type: " + p.type + ", params: {...}})");
+    lines.emplace_back(p.type, p.line);
+    withLocation(file, p.line, lines, [&] { return makePredictor(p.type, channels, p.params); });
     out.push_back(p);
   }
   return out;
@@ -620,6 +628,14 @@ Scenario loadScenario(const std::string& path, const std::vector<ScenarioOverrid
     }
     throw std::invalid_argument(overrideErrorMessage(overrides.back(), path, e.what()));
   }
+}
+
+std::string predictorLabelProblem(const std::string& label) {
+  if (label.empty()) return "empty predictor label";
+  for (char ch : label)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_')
+      return "predictor label '" + label + "': expected letters, digits, '-' and '_' only";
+  return "";
 }
 
 }  // namespace predvs

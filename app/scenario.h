@@ -17,6 +17,8 @@
 //     motion_lag_s: 0, model_motion_lag: false, pipeline: parallel | serial
 //   noise: {model: gaussian | uniform | none, sigma: px, round: false}
 //   metrics: {steady_start_fraction: 0.5, final_fraction: 0.1, settling_band: 0.05,
+//             response_window_s: 3,  open loop: the lag and overshoot after a manoeuvre are the
+//                                   largest over this window after it, s (servo/metrics.h)
 //             per_feature: false,   closed loop: also mean_e_<f>, rms_e_<f>, max_e_<f> per feature
 //             outcome: false,       closed loop: converged / failed figures and the stop at a failure
 //                                   (servo/metrics.h, Outcome), with converge_px: 1 (threshold on
@@ -29,8 +31,12 @@
 //                                from the task; extrapolate = the policy off; a whole target lost
 //                                past timeout_s restarts the predictor at re-acquisition
 //                                (servo/lost_feature_policy.h)
-//   predictors:                  list of names or {name: NAME, params: {key: value}}
-//                                (REQUIRED, at least one; names from the predictor registry)
+//   predictors:                  list of names or {name: LABEL, type: NAME, params: {key: value}}
+//                                (REQUIRED, at least one; NAME from the predictor registry; LABEL
+//                                unique in the list, letters, digits, '-' and '_'; without type:
+//                                the label is the registry name. The same predictor may appear
+//                                several times under different labels with different params, e.g.
+//                                {name: st-akf-pm-switch, type: st-akf-pm, params: {pm_on_alarm: 1}})
 //   runs: N                      integer >= 1, runs per predictor in `predvs compare` (run r uses
 //                                seed + r); absent: compare's default (ignored by `predvs servo`)
 //   sweep: {PATH: [v1, v2, ...]} `predvs compare` runs the scenario once per value, each run of
@@ -84,10 +90,18 @@ namespace predvs {
 
 enum class ScenarioKind { OpenLoop, ClosedLoop };
 
+/// One entry of a scenario's predictor list. `name` is its label: unique in the list, shown in the
+/// leaderboards, plots and traces, and the NAME of `--set predictors.NAME.params.KEY`; `type` is
+/// the registry predictor it builds (`predvs list`). An entry without `type:` has type == name, so
+/// one predictor can be listed several times under different labels with different parameters:
+///   - {name: kf-cv-paper, type: kf-cv, params: {r: 5, q: 20}}
 struct ScenarioPredictor {
-  std::string name;
+  std::string name;  ///< label (unique in the list)
   Params params;
-  int line = 0;  ///< line in the scenario file (0 when given on the command line)
+  int line = 0;      ///< line in the scenario file (0 when given on the command line)
+  std::string type;  ///< registry name ("" means: the same as name)
+
+  const std::string& typeName() const { return type.empty() ? name : type; }
 };
 
 /// A parameter sweep (`sweep:` in a scenario, or `predvs compare --sweep`): the scenario is run
@@ -162,5 +176,10 @@ std::string sweepKeysText(const std::vector<ScenarioSweep>& axes);
 std::vector<Scenario> loadSweepVariants(const Scenario& scenario, const std::vector<ScenarioOverride>& overrides);
 
 std::string scenarioKindName(ScenarioKind kind);
+
+/// Why `label` cannot name a predictor entry ("" when it can): it must be non-empty and made of
+/// letters, digits, '-' and '_' (it appears in file names, `--set predictors.LABEL...` paths and
+/// the `--predictors` syntax, whose separators are ',', ':' and '=').
+std::string predictorLabelProblem(const std::string& label);
 
 }  // namespace predvs

@@ -6,6 +6,8 @@
 #include "predvs/servo/run_metrics.h"
 #include "predvs/servo/servo_loop.h"
 
+#include <cmath>
+#include <cstdlib>
 #include <set>
 #include <stdexcept>
 
@@ -15,7 +17,7 @@ namespace {
 RunRecord runClosedLoop(const Scenario& sc, const ScenarioPredictor& p, std::uint64_t seed, bool keep_trace) {
   ServoConfig cfg = sc.closed_loop;
   cfg.seed = seed;
-  auto predictor = makePredictor(p.name, sc.channels, p.params);
+  auto predictor = makePredictor(p.typeName(), sc.channels, p.params);
   const ServoResult r = runServoLoop(cfg, *predictor);
   RunRecord rec;
   rec.predictor = p.name;
@@ -43,7 +45,7 @@ RunRecord runOpenLoop(const Scenario& sc, const ScenarioPredictor& p, std::uint6
   PredictionExperimentConfig cfg = sc.open_loop;
   cfg.seed = seed;
   const auto traj = makeChannelTrajectory(sc.trajectory, sc.trajectory_params);
-  auto predictor = makePredictor(p.name, traj->channels(), p.params);
+  auto predictor = makePredictor(p.typeName(), traj->channels(), p.params);
   const ChannelExperimentResult r = runChannelExperiment(cfg, *traj, *predictor);
   RunRecord rec;
   rec.predictor = p.name;
@@ -81,19 +83,89 @@ RunRecord runScenarioOnce(const Scenario& sc, const ScenarioPredictor& p, std::u
                                              : runOpenLoop(sc, p, seed, keep_trace);
 }
 
+PredictorChoice parsePredictorChoice(const std::string& text, const std::string& option) {
+  const std::string where = option + " '" + text + "': ";
+  std::vector<std::string> parts;
+  size_t start = 0;
+  for (;;) {
+    const size_t colon = text.find(':', start);
+    parts.push_back(text.substr(start, colon == std::string::npos ? std::string::npos : colon - start));
+    if (colon == std::string::npos) break;
+    start = colon + 1;
+  }
+  PredictorChoice c;
+  const std::string& head = parts.front();
+  const size_t eq = head.find('=');
+  if (eq == std::string::npos) {
+    c.type = head;
+  } else {
+    c.labelled = true;
+    c.label = head.substr(0, eq);
+    c.type = head.substr(eq + 1);
+    if (const std::string why = predictorLabelProblem(c.label); !why.empty()) throw std::invalid_argument(where + why);
+  }
+  if (c.type.empty())
+    throw std::invalid_argument(where + "expected [LABEL=]TYPE[:KEY=VALUE...], the predictor TYPE is missing");
+  c.bare = parts.size() == 1 && !c.labelled;
+  if (!isPredictor(c.type) && !(c.bare && predictorLabelProblem(c.type).empty())) {  // a bare word may be a scenario's label
+    std::string known;
+    for (const auto& q : predictorRegistry()) known += (known.empty() ? "" : ", ") + q.name;
+    throw std::invalid_argument(where + "unknown predictor '" + c.type + "' (known: " + known + ")");
+  }
+  if (!c.labelled) c.label = c.type;
+  for (size_t i = 1; i < parts.size(); ++i) {
+    const std::string& kv = parts[i];
+    const size_t e = kv.find('=');
+    if (e == std::string::npos || e == 0 || e + 1 == kv.size())
+      throw std::invalid_argument(where + "expected KEY=VALUE after ':', got '" + kv + "'");
+    const std::string key = kv.substr(0, e), value = kv.substr(e + 1);
+    char* end = nullptr;
+    const double x = std::strtod(value.c_str(), &end);
+    if (end == value.c_str() || *end != '\0' || !std::isfinite(x))
+      throw std::invalid_argument(where + "parameter '" + key + "': expected a number, got '" + value + "'");
+    if (c.params.has(key)) throw std::invalid_argument(where + "parameter '" + key + "' given twice");
+    c.params.set(key, x);
+  }
+  return c;
+}
+
 void choosePredictors(Scenario& sc, const std::vector<std::string>& chosen, const std::string& option) {
   if (chosen.empty()) return;
   std::set<std::string> seen;
   std::vector<ScenarioPredictor> ps;
-  for (const auto& name : chosen) {
-    if (!seen.insert(name).second) throw std::invalid_argument(option + ": '" + name + "' listed twice");
-    ScenarioPredictor p{name, {}, 0};
-    for (const auto& own : sc.predictors)
-      if (own.name == name) p = own;
+  for (const auto& text : chosen) {
+    const PredictorChoice c = parsePredictorChoice(text, option);
+    if (!seen.insert(c.label).second)
+      throw std::invalid_argument(option + ": '" + c.label + "' listed twice (give each its own LABEL=TYPE:...)");
+    ScenarioPredictor p;
+    p.name = c.label;
+    p.type = c.type;
+    const ScenarioPredictor* base = nullptr;
+    if (c.bare)  // a label of the scenario's list: that entry as it is
+      for (const auto& own : sc.predictors)
+        if (own.name == c.label) base = &own;
+    if (!base && !isPredictor(c.type)) {
+      std::string labels;
+      for (const auto& own : sc.predictors) labels += (labels.empty() ? "" : ", ") + own.name;
+      throw std::invalid_argument(option + ": unknown predictor '" + c.type +
+                                  "' (neither a predictor of `predvs list` nor a label of " + sc.path + ": " + labels + ")");
+    }
+    if (!base)
+      for (const auto& own : sc.predictors)
+        if (own.name == c.label && own.typeName() == c.type) base = &own;
+    if (!base)
+      for (const auto& own : sc.predictors)
+        if (own.name == c.type && own.typeName() == c.type) base = &own;
+    if (base) {
+      p.type = base->typeName();
+      p.params = base->params;
+      p.line = base->line;
+    }
+    for (const auto& kv : c.params.values()) p.params.set(kv.first, kv.second);
     try {
-      makePredictor(p.name, sc.channels, p.params);
+      makePredictor(p.type, sc.channels, p.params);
     } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(sc.path + ": " + e.what());
+      throw std::invalid_argument(sc.path + ": " + option + " '" + text + "': " + e.what());
     }
     ps.push_back(p);
   }

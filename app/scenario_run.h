@@ -58,10 +58,34 @@ struct RunRecord {
 /// std::invalid_argument for a configuration the servo layer rejects.
 RunRecord runScenarioOnce(const Scenario& scenario, const ScenarioPredictor& p, std::uint64_t seed, bool keep_trace);
 
-/// Replaces the scenario's predictors by `chosen`, each with the parameters the scenario gives it
-/// when it lists it, its defaults otherwise; no-op when `chosen` is empty. Throws
-/// std::invalid_argument "OPTION: 'X' listed twice", or "FILE: ..." for a predictor that cannot be
-/// built for the scenario.
+/// One element of `--predictors` (compare, servo): `[LABEL=]TYPE[:KEY=VALUE[:KEY=VALUE...]]`.
+///   kf-cv                         the registry predictor kf-cv under its own name
+///   kf-cv-paper=kf-cv:r=5:q=20    kf-cv labelled kf-cv-paper, with r = 5 and q = 20
+///   st-akf-pm:pm_band=4           st-akf-pm (label st-akf-pm) with pm_band = 4
+/// ',' separates elements, ':' the parameters of one, '=' a label from its type and a key from its
+/// value: none of the three can occur in a label, a type or a key, so the syntax is unambiguous.
+/// VALUEs are numbers. LABEL: letters, digits, '-' and '_' (it names files and `--set` paths).
+struct PredictorChoice {
+  std::string label;  ///< the name shown in leaderboards, plots and traces
+  std::string type;   ///< registry name
+  Params params;      ///< the KEY=VALUE given (on top of the scenario's own, see choosePredictors)
+  bool labelled = false;  ///< LABEL= given
+  /// A bare word (no '=', no ':'): a registry name or a label of the scenario's own list (then
+  /// resolved by choosePredictors; parsePredictorChoice accepts any well-formed word here).
+  bool bare = false;
+};
+/// Parses one element; throws std::invalid_argument "OPTION: ..." naming the element and what was
+/// expected (unknown type, empty or malformed label, key or value, a key twice).
+PredictorChoice parsePredictorChoice(const std::string& text, const std::string& option);
+
+/// Replaces the scenario's predictors by `chosen` (elements as parsePredictorChoice() reads them),
+/// in that order; no-op when `chosen` is empty. A bare word that labels an entry of the scenario
+/// takes that entry as it is (`--predictors st-akf-pm-switch` on E12). Otherwise each starts from the parameters of the scenario's
+/// entry of the same label when that entry has the same type (else of the entry named TYPE whose
+/// type is TYPE, else the defaults), and the element's KEY=VALUE replace those keys. So on E12
+/// `--predictors st-akf-pm,switch=st-akf-pm:pm_on_alarm=1` runs the scenario's st-akf-pm twice,
+/// once with each alarm action. Throws std::invalid_argument "OPTION: 'X' listed twice" for a
+/// repeated label, or "FILE: ..." for a predictor that cannot be built for the scenario.
 void choosePredictors(Scenario& scenario, const std::vector<std::string>& chosen, const std::string& option);
 
 /// What the error of a scenario is and its units, for reports: "px (...)" closed loop and on

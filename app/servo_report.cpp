@@ -72,6 +72,7 @@ std::string summaryJson(const ServoReport& r) {
     const RunRecord& run = r.runs[i];
     nlohmann::json p;
     p["name"] = run.predictor;
+    p["type"] = sc.predictors[i].typeName();
     p["params"] = paramsJson(sc.predictors[i].params);
     if (sc.kind == ScenarioKind::ClosedLoop) p["prediction_used"] = run.prediction_used;
     p["steps"] = run.rows.size();

@@ -56,6 +56,11 @@ Metrics computeMetrics(const std::vector<double>& t_s, const std::vector<double>
     msg << "metrics.settling_smoothing_s must be >= 0, got " << options.settling_smoothing_s;
     throw std::invalid_argument(msg.str());
   }
+  if (!(options.response_window_s > 0.0) || !std::isfinite(options.response_window_s)) {
+    std::ostringstream msg;
+    msg << "metrics.response_window_s must be > 0 (s), got " << options.response_window_s;
+    throw std::invalid_argument(msg.str());
+  }
   if (t_s.size() != error.size())
     throw std::invalid_argument("metrics: " + std::to_string(t_s.size()) + " times but " +
                                 std::to_string(error.size()) + " errors");
@@ -158,14 +163,17 @@ ResponseMetrics computeResponse(const std::vector<double>& t_s, const std::vecto
   const std::vector<double> e(error.begin() + i0, error.end());
   const std::vector<double> s(signed_error.begin() + i0, signed_error.end());
   const std::vector<double> ms = trailingMean(t, s, options.settling_smoothing_s);
+  if (!(options.response_window_s > 0.0)) throw std::invalid_argument("response metrics: metrics.response_window_s must be > 0 s");
   double lag = 0.0, over = 0.0, sum_after = 0.0;
   int n_after = 0;
   bool any = false;
   for (size_t i = 0; i < t.size(); ++i) {
     if (std::isnan(e[i]) || std::isnan(ms[i])) continue;
     any = true;
-    lag = std::max(lag, -ms[i]);
-    over = std::max(over, ms[i]);
+    if (t[i] <= t_change_s + options.response_window_s) {  // lag and overshoot: the window after the change
+      lag = std::max(lag, -ms[i]);
+      over = std::max(over, ms[i]);
+    }
     if (t[i] <= t_change_s + window_s) {
       sum_after += e[i];
       ++n_after;

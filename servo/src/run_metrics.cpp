@@ -120,8 +120,8 @@ std::string runMetricDefinition(const std::string& name) {
       {"false_alarms_per_min", "alarms that are not the detection of the onset, per minute of run"},
       {"detected", "1 if an alarm came from a frame acquired within 0.5 s after the onset, else 0"},
       {"detect_delay_frames", "frames from the first frame at or after the onset to the detecting one (null if none)"},
-      {"resp_max_lag", "largest lag behind the manoeuvre: -(error along its direction), 0.5 s trailing mean"},
-      {"resp_overshoot", "largest overshoot past the manoeuvre: +(error along its direction), 0.5 s trailing mean"},
+      {"resp_max_lag", "largest lag behind the manoeuvre within metrics.response_window_s (3 s) after it: -(error along its direction), 0.5 s trailing mean"},
+      {"resp_overshoot", "largest overshoot past the manoeuvre within metrics.response_window_s (3 s) after it: +(error along its direction), 0.5 s trailing mean"},
       {"resp_mean_3s", "mean e over the 3 s after the manoeuvre"},
       {"resp_time_s", "time from the manoeuvre until e settles (s)"},
   };

@@ -229,7 +229,9 @@ Eigen::Vector2d circle200(double t) {
   return {320.0 + r * std::cos(w * t), 240.0 + r * std::sin(w * t)};
 }
 
-TEST(CsAdaptive, RemovesAmaxSensitivityOnAccelerationJump) {
+TEST(CsAdaptive, BeatsTheWorstAmaxButNotTheBestOnAccelerationJump) {
+  // (The spec asked for a test that the adaptive variance removes the a_max sensitivity; measured, it
+  // does not: it lands between the best and the worst fixed a_max. The name says what is asserted.)
   // GIVEN the E2 trajectory, error measured over the 3 s after the jump (t in [14, 17] s), averaged
   // (RMS) over 4 noise seeds, for the fixed filter with a_max from 5 to 500 px/s^2
   const std::vector<unsigned> seeds = {14, 15, 16, 17};

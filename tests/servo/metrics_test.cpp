@@ -100,6 +100,36 @@ TEST(Response, LagOvershootMeanAndResponseTime) {
   EXPECT_LE(smooth.response_s, 2.51);
 }
 
+TEST(Response, LagAndOvershootOnlyWithinTheResponseWindow) {
+  // GIVEN the response curve (lag 2 in [5, 6) s, overshoot 1 in [6, 7) s) with a noise spike of
+  // +5 at t = 9 s and -7 at t = 9.5 s, 4-4.5 s after the change
+  std::vector<double> t, e, s;
+  responseCurve(0.0, t, e, s);
+  for (size_t i = 0; i < t.size(); ++i)
+    if (std::abs(t[i] - 9.0) < 1e-9) s[i] = 5.0, e[i] = 5.0;
+    else if (std::abs(t[i] - 9.5) < 1e-9) s[i] = -7.0, e[i] = 7.0;
+  MetricsOptions raw;
+  raw.settling_smoothing_s = 0.0;
+  // WHEN the response is taken over the default 3 s window
+  const ResponseMetrics r = computeResponse(t, e, s, 5.0, raw);
+  // THEN the spikes after the window do not count
+  EXPECT_NEAR(r.max_lag, 2.0, kTol);
+  EXPECT_NEAR(r.overshoot, 1.0, kTol);
+  // AND over a 5 s window they do
+  raw.response_window_s = 5.0;
+  const ResponseMetrics wide = computeResponse(t, e, s, 5.0, raw);
+  EXPECT_NEAR(wide.max_lag, 7.0, kTol);
+  EXPECT_NEAR(wide.overshoot, 5.0, kTol);
+  // AND a window <= 0 is rejected by name
+  raw.response_window_s = 0.0;
+  try {
+    computeResponse(t, e, s, 5.0, raw);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& ex) {
+    EXPECT_NE(std::string(ex.what()).find("response_window_s"), std::string::npos) << ex.what();
+  }
+}
+
 TEST(Response, OnlyTheSamplesFromTheChangeOnCount) {
   // GIVEN a large error before the change
   std::vector<double> t, e, s;

@@ -41,6 +41,11 @@ struct MetricsOptions {
   double final_fraction = 0.1;         ///< length of the final window, fraction of the run (metrics.final_fraction)
   double settling_band = 0.05;         ///< settling band, fraction of (e_peak - e_final) (metrics.settling_band)
   double settling_smoothing_s = 0.5;   ///< trailing-mean window for the settling time, s (metrics.settling_smoothing_s)
+  /// Window after a manoeuvre over which the response's lag and overshoot are taken, s
+  /// (metrics.response_window_s, > 0; see ResponseMetrics). 3 s: long enough for every predictor
+  /// of E1-E3 to react to the change, short enough that the measurement noise of the rest of a
+  /// 20 s run does not decide the maxima.
+  double response_window_s = 3.0;
   /// Closed loop: also report every feature's own error e_f = s_f - s*_f over the steady window
   /// (metrics.per_feature; see featureErrorValues()).
   bool per_feature = false;
@@ -149,10 +154,12 @@ Metrics withoutSteadyState(Metrics m);
 /// Response of a predictor to a manoeuvre, the figures paper 000 §6.1 compares on E1-E3 ("fastest
 /// response, smallest overshoot"). Input per sample: |e_i| and the signed error along the unit
 /// direction d of the change, s_i = (x_hat_i - x_i) . d, negative while the estimate lags behind the
-/// change and positive when it overshoots it. Both are judged from t_change_s on, on trailing means
-/// over options.settling_smoothing_s (so that one noisy sample does not decide them):
-///  * max_lag     largest -mean(s) (>= 0), the worst lag behind the change;
-///  * overshoot   largest +mean(s) (>= 0), the worst overshoot past it;
+/// change and positive when it overshoots it. Both are judged over the window [t_change_s,
+/// t_change_s + options.response_window_s] (3 s by default), on trailing means over
+/// options.settling_smoothing_s of the samples from t_change_s on (so that one noisy sample does
+/// not decide them, and the rest of a long run, where only noise is left, does not either):
+///  * max_lag     largest -mean(s) (>= 0) in the window, the worst lag behind the change;
+///  * overshoot   largest +mean(s) (>= 0) in the window, the worst overshoot past it;
 ///  * mean_after  mean of |e| over [t_change, t_change + window_s];
 ///  * response_s  settling time (header definition, options.settling_band) of |e| restricted to
 ///                t >= t_change, measured from t_change: how long the predictor takes to follow.

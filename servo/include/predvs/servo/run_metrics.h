@@ -32,7 +32,8 @@
 //   resp_max_lag, resp_overshoot,             trajectory with a manoeuvre (E1 start, E2 jump, E3
 //   resp_mean_3s, resp_time_s                 switch, E12 onset; trajectory.h): computeResponse()
 //                                             (metrics.h) on the effect-time axis: the largest lag
-//                                             behind and overshoot past the change, the mean error
+//                                             behind and overshoot past the change within
+//                                             metrics.response_window_s (3 s) after it, the mean error
 //                                             over the 3 s after it, the time until e settles
 // Which names a run has depends only on the configuration and the trajectory (never on the
 // predictor or the seed), so every run of a scenario has the same names in the same order.
