@@ -5,6 +5,7 @@
 #include <visp3/io/vpImageIo.h>
 
 #include <opencv2/core.hpp>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -132,16 +133,22 @@ class FileListSequence : public SequenceBase {
 class VideoSequence : public SequenceBase {
  public:
   VideoSequence(const std::string& spec, const ImageSequenceOptions& options) : SequenceBase(options), spec_(spec) {
+    // OpenCV logs every backend it tries on stderr: silence it while opening (the error here is
+    // one line), FFmpeg first, then any other backend.
+    const auto level = cv::utils::logging::getLogLevel();
+    cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+    bool opened = false, decoded = false;
     try {
-      capture_.open(spec);
-    } catch (const cv::Exception& e) {
-      throw openError(spec, std::string("cannot open the video (") + e.what() + ")");
+      opened = capture_.open(spec, cv::CAP_FFMPEG) || capture_.open(spec, cv::CAP_ANY);
+      // Decode the first frame now, so that an unreadable video fails at open time.
+      decoded = opened && capture_.read(first_) && !first_.empty();
+    } catch (const cv::Exception&) {
     }
-    if (!capture_.isOpened()) throw openError(spec, "cannot open the video (not an image, pattern, directory or readable video)");
+    cv::utils::logging::setLogLevel(level);
+    if (!opened) throw openError(spec, "cannot open the video (not an image, pattern, directory or readable video)");
+    if (!decoded) throw openError(spec, "cannot decode any frame of the video");
     const double n = capture_.get(cv::CAP_PROP_FRAME_COUNT);
     frame_count_ = n > 0 ? static_cast<long>(n) : -1;
-    // Decode the first frame now, so that an unreadable video fails at open time.
-    if (!capture_.read(first_) || first_.empty()) throw openError(spec, "cannot decode any frame of the video");
   }
 
   ImageRead next(ImageFrame& frame, std::string& why) override {
@@ -182,12 +189,10 @@ class VideoSequence : public SequenceBase {
     vpImageConvert::convert(grey, frame.image);
     return accept(frame, why);
   }
-  long size() const override {
-    if (frame_count_ < 0) return -1;
-    return options_.max_frames >= 0 ? std::min(frame_count_, options_.max_frames) : frame_count_;
-  }
+  /// Unknown: the container's frame count is not reliable (MPEG-1 streams report 1).
+  long size() const override { return -1; }
   std::string describe() const override {
-    return "video " + spec_ + (frame_count_ > 0 ? " (" + std::to_string(frame_count_) + " frames)" : "");
+    return "video " + spec_ + (frame_count_ > 0 ? " (container says " + std::to_string(frame_count_) + " frames)" : "");
   }
 
  private:

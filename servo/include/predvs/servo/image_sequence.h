@@ -10,8 +10,10 @@
 //   - one image file (those extensions): a sequence of one frame;
 //   - a video file (any other existing file): decoded frame by frame by OpenCV's cv::VideoCapture
 //     (index = frame number from 0; ViSP's vpVideoReader, which returns the first frame twice
-//     after open(), is not used). A frame that fails to decode before the announced frame count
-//     is Skipped; the first frame is decoded at open(), so an unreadable video fails there.
+//     after open(), is not used). A frame that fails to decode before the container's frame
+//     count is Skipped (up to 10 in a row), after it the video ends; size() is -1 (that count is
+//     not reliable: MPEG-1 streams report 1). The first frame is decoded at open(), so an
+//     unreadable video fails there.
 // Frames are converted to 8-bit grey. Each frame is stamped with its acquisition time
 // t = (index - first) * frame_period_s (a recorded sequence carries no clock of its own).
 //
