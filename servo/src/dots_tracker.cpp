@@ -51,7 +51,7 @@ int otsuThreshold(const std::array<long, 256>& hist, long total, double& mean0, 
 }  // namespace
 
 std::vector<DotCandidate> detectDots(const vpImage<unsigned char>& image, const DotDetectionOptions& options,
-                                     int u0, int v0, int w, int h, int* polarity_out) {
+                                     int u0, int v0, int w, int h, int* polarity_out, int* threshold_out) {
   std::vector<DotCandidate> out;
   const int W = static_cast<int>(image.getWidth()), H = static_cast<int>(image.getHeight());
   const int ua = std::max(0, u0), va = std::max(0, v0);
@@ -64,8 +64,10 @@ std::vector<DotCandidate> detectDots(const vpImage<unsigned char>& image, const 
     for (int u = ua; u < ub; ++u) ++hist[image[v][u]];
   const long total = static_cast<long>(rw) * rh;
   double mean0 = 0.0, mean1 = 0.0;
-  const int t = otsuThreshold(hist, total, mean0, mean1);
+  const int otsu = otsuThreshold(hist, total, mean0, mean1);
   if (!(mean1 - mean0 >= kMinContrastGrey)) return out;
+  const int t = options.threshold >= 0 ? std::min(options.threshold, 254) : otsu;
+  if (threshold_out) *threshold_out = t;
   long n_dark = 0;
   for (int g = 0; g <= t; ++g) n_dark += hist[g];
   int polarity = options.polarity;
@@ -195,6 +197,7 @@ std::vector<std::string> DotsTracker::pointNames() const {
 void DotsTracker::reset() {
   dots_.clear();
   polarity_ = 0;
+  threshold_ = -1;
 }
 
 bool DotsTracker::startDot(Dot& d, const vpImage<unsigned char>& image, const DotCandidate& c) const {
@@ -217,9 +220,9 @@ bool DotsTracker::startDot(Dot& d, const vpImage<unsigned char>& image, const Do
 }
 
 bool DotsTracker::initialise(const vpImage<unsigned char>& image, const Eigen::VectorXd* hint, std::string& note) {
-  int polarity = 0;
+  int polarity = 0, threshold = -1;
   const auto found = detectDots(image, detection_, 0, 0, static_cast<int>(image.getWidth()),
-                                static_cast<int>(image.getHeight()), &polarity);
+                                static_cast<int>(image.getHeight()), &polarity, &threshold);
   // Keep the candidates vpDot2 accepts.
   std::vector<Dot> started;
   std::vector<DotCandidate> kept;
@@ -257,6 +260,7 @@ bool DotsTracker::initialise(const vpImage<unsigned char>& image, const Eigen::V
       dots_[p.hint] = started[p.cand];
     }
     polarity_ = polarity;
+    threshold_ = threshold;
     return true;
   }
   if (started.empty() || (expected_points_ > 0 && static_cast<int>(started.size()) < expected_points_)) {
@@ -299,6 +303,7 @@ bool DotsTracker::initialise(const vpImage<unsigned char>& image, const Eigen::V
     for (size_t k : row) dots_.push_back(started[k]);
   }
   polarity_ = polarity;
+  threshold_ = threshold;
   return true;
 }
 
@@ -312,6 +317,7 @@ bool DotsTracker::reacquire(Dot& d, size_t index, const vpImage<unsigned char>& 
   if (!std::isfinite(cu) || !std::isfinite(cv)) return false;
   DotDetectionOptions options = detection_;
   if (polarity_ != 0) options.polarity = polarity_;
+  options.threshold = threshold_;
   const int half = static_cast<int>(std::ceil(search_px_));
   const auto found = detectDots(image, options, static_cast<int>(std::floor(cu)) - half,
                                 static_cast<int>(std::floor(cv)) - half, 2 * half + 1, 2 * half + 1);

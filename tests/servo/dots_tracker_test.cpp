@@ -159,6 +159,30 @@ TEST(DotsTracker, BlankFramesLoseEveryDotAndTheDotsAreReacquiredAfterwards) {
   }
 }
 
+TEST(DotsTracker, AHintGuidesTheReacquisitionOfDotsThatMovedFarWhileLost) {
+  REQUIRE_VISP_IMAGES();
+  // GIVEN the dots tracked on frame 1, then lost on a blank frame
+  auto tracker = makeImageTracker("dots", Params{}, ImageTrackerContext{});
+  vpImage<unsigned char> I;
+  vpImageIo::read(I, mire2Frame(1));
+  tracker->track(I);
+  tracker->track(vpImage<unsigned char>(I.getHeight(), I.getWidth(), 128));
+  // WHEN they come back at frame 201, where dot 0 is about 53 px from where it was (beyond the
+  // 40 px search window), with a hint 2 px off their true positions
+  vpImageIo::read(I, mire2Frame(201));
+  auto fresh = makeImageTracker("dots", Params{}, ImageTrackerContext{});
+  const Eigen::VectorXd truth = fresh->track(I).points.uv_px;
+  ASSERT_EQ(truth.size(), 10);
+  const Eigen::VectorXd hint = truth + Eigen::VectorXd::Constant(10, 2.0);
+  const TrackedPoints back = tracker->track(I, &hint);
+  // THEN each dot is re-acquired on its own blob, in the original order
+  for (int p = 0; p < 5; ++p) {
+    EXPECT_TRUE(back.points.seen[p]) << back.note;
+    EXPECT_NEAR(back.points.uv_px(2 * p), truth(2 * p), 0.5) << p;
+    EXPECT_NEAR(back.points.uv_px(2 * p + 1), truth(2 * p + 1), 0.5) << p;
+  }
+}
+
 TEST(DotsTracker, BadParametersAreRejectedNamingTheKey) {
   const auto message = [](const Params& p) {
     try {

@@ -29,7 +29,9 @@
 //
 // Re-acquisition rule. A lost dot is searched each frame by the detection above, in a square of
 // half-side `search_px` centred on the hint point when a hint is given, else on its last tracked
-// position; the nearest candidate not already tracked by another dot is taken. A dot is never
+// position, with the polarity and the threshold found at initialisation (a threshold computed on
+// a small window would change the blobs' extent, hence their size); the nearest candidate not
+// already tracked by another dot is taken. A dot is never
 // re-initialised elsewhere than near where it was (or where the hint says): N and the order
 // never change after initialisation.
 //
@@ -60,17 +62,20 @@ struct DotCandidate {
 
 struct DotDetectionOptions {
   int polarity = 0;           ///< -1 dark dots, +1 bright dots, 0 the minority class
+  int threshold = -1;         ///< grey threshold (dark: <= t, bright: > t); -1: Otsu's on the region
   double min_size_px = 8.0;   ///< bounding box width and height bounds
   double max_size_px = 100.0;
   double min_fill = 0.5;      ///< area / bounding box area
   double min_ellipticity = 0.8;  ///< area / (4 pi sqrt(det C)) within [e, 2 - e] (1: a filled ellipse)
 };
 
-/// The candidates in the rectangle [u0, u0+w) x [v0, v0+h) (clipped to the image), Otsu threshold
-/// computed on that rectangle. `threshold_out` (optional) receives the threshold and the polarity
-/// used (+1/-1). Candidates in detection order (scan order of their first pixel).
+/// The candidates in the rectangle [u0, u0+w) x [v0, v0+h) (clipped to the image), thresholded at
+/// options.threshold or Otsu's threshold of that rectangle. `polarity_out` / `threshold_out`
+/// (optional) receive the polarity (+1/-1) and threshold used. Candidates in scan order of their
+/// first pixel.
 std::vector<DotCandidate> detectDots(const vpImage<unsigned char>& image, const DotDetectionOptions& options,
-                                     int u0, int v0, int w, int h, int* polarity_out = nullptr);
+                                     int u0, int v0, int w, int h, int* polarity_out = nullptr,
+                                     int* threshold_out = nullptr);
 
 class DotsTracker : public ImageTracker {
  public:
@@ -100,7 +105,8 @@ class DotsTracker : public ImageTracker {
   double ellipse_precision_ = 0.65;
   double search_px_ = 40.0;
   double row_tolerance_px_ = 0.0;
-  int polarity_ = 0;  ///< the polarity found at initialisation (+1/-1), used when re-acquiring
+  int polarity_ = 0;    ///< the polarity found at initialisation (+1/-1), used when re-acquiring
+  int threshold_ = -1;  ///< the threshold found at initialisation, used when re-acquiring
   std::vector<Dot> dots_;
 };
 
