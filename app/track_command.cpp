@@ -428,8 +428,12 @@ void writeStrip(const TrackResult& r, const std::vector<StripImage>& strip, int 
   vpImageIo::write(canvas, dir.file("strip.png"));
 }
 
-void writePlots(const TrackResult& r, int delay_frames, const StagedOutputDir& dir) {
+/// Draws tracks.png (when there are two rows or more) and errors.png (when some prediction was
+/// scored): gnuplot refuses a figure without a valid point. Returns the names drawn.
+std::vector<std::string> writePlots(const TrackResult& r, int delay_frames, const StagedOutputDir& dir) {
+  std::vector<std::string> drawn;
   const size_t n = r.point_names.size();
+  if (r.rows() < 2) return drawn;
   {
     std::ofstream dat(dir.file("tracks_plot.dat"));
     dat << "# t_s";
@@ -456,6 +460,10 @@ void writePlots(const TrackResult& r, int delay_frames, const StagedOutputDir& d
     tracks.panels.push_back(panel);
   }
   drawFigure(dir, tracks);
+  drawn.push_back("tracks.png");
+  bool scored = false;
+  for (const auto& pr : r.predictions) scored = scored || pr.pooled.n > 0;
+  if (!scored) return drawn;
 
   // Error per predictor and frame: the mean over the points scored at that frame (target time).
   {
@@ -492,6 +500,8 @@ void writePlots(const TrackResult& r, int delay_frames, const StagedOutputDir& d
                            r.predictions[k].spec.name, ""});
   errors.panels.push_back(panel);
   drawFigure(dir, errors);
+  drawn.push_back("errors.png");
+  return drawn;
 }
 
 void printLeaderboard(const TrackResult& r, int delay_frames, std::ostream& out) {
@@ -524,7 +534,7 @@ void runTrackCommand(const TrackOptions& o, std::ostream& out, std::ostream& err
   writeCsvs(r, o.delay_frames, dir);
   writeJsons(r, o, dir);
   writeStrip(r, strip, o.delay_frames, dir);
-  if (o.plots) writePlots(r, o.delay_frames, dir);
+  const std::vector<std::string> plots = o.plots ? writePlots(r, o.delay_frames, dir) : std::vector<std::string>{};
   dir.commit();
 
   long ok = 0;
@@ -539,7 +549,9 @@ void runTrackCommand(const TrackOptions& o, std::ostream& out, std::ostream& err
       if (r.frame_ok[row] && !std::isfinite(r.u_px[p][row])) ++lost;
   out << ", " << lost << " point-frames lost\n";
   out << "wrote " << dir.target().string() << "/: tracks.csv, tracks_wide.csv, predictions.csv, leaderboard.csv/.json, "
-      << (strip.empty() ? "" : "strip.png, ") << (o.plots ? "tracks.png, errors.png, " : "") << "summary.json\n";
+      << (strip.empty() ? "" : "strip.png, ");
+  for (const auto& p : plots) out << p << ", ";
+  out << "summary.json\n";
 }
 
 }  // namespace predvs

@@ -299,6 +299,18 @@ TEST_F(TrackCli, ATrackerThatLosesEveryPointIsReportedAndReacquires) {
     for (size_t c = 1; c < 11; ++c) EXPECT_NEAR(std::stod(wide[k][c]), golden[k][c], 0.5) << "frame " << k << " column " << c;
 }
 
+TEST_F(TrackCli, OneImageIsASequenceOfOneFrameWithNothingToScore) {
+  REQUIRE_VISP_IMAGES();
+  // gnuplot is asked for nothing it cannot draw: no errors.png without a scored prediction
+  const auto r = run({"track", "--images", mire2Frame(1), "--predictor", "hold", "--out", path("out")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(csvRows(slurp(path("out/tracks.csv"))).size(), 5u);
+  EXPECT_FALSE(fs::exists(path("out/errors.png")));
+  const auto summary = apptest::readJson(path("out/summary.json"));
+  EXPECT_EQ(summary["predictors"][0]["all"]["n"], 0);
+  EXPECT_TRUE(summary["predictors"][0]["all"]["rmse_px"].is_null());
+}
+
 TEST_F(TrackCli, UnopenableInputsAreOneLineErrorsWithNoOutputLeft) {
   std::ofstream(path("bad.avi"), std::ios::binary) << std::string(4096, 'x');
   expectError(run({"track", "--images", path("bad.avi"), "--no-plots", "--out", path("out")}),
