@@ -205,25 +205,27 @@ static TrackResult trackAndKeep(const TrackOptions& o, std::ostream& log, std::v
   // Predictions H frames ahead, scored against the measurement H rows later.
   const double horizon_s = o.delay_frames * r.frame_period_s;
   const size_t H = static_cast<size_t>(o.delay_frames);
-  for (const auto& spec : o.predictors) {
+  FeatureTrack ft;
+  ft.path = o.images;
+  ft.format = "wide";
+  ft.point_names = r.point_names;
+  ft.t_s = r.t_s;
+  ft.u_px = r.u_px;
+  ft.v_px = r.v_px;
+  const PredictionReport rep = predictTrack(ft, o.predictors, horizon_s);
+  for (const PredictionRun& run : rep.runs) {
     TrackResult::Prediction pred;
-    pred.spec = spec;
+    pred.spec = run.spec;
     std::vector<double> pooled;
     for (int p = 0; p < n; ++p) {
-      FeatureTrack ft;
-      ft.path = o.images;
-      ft.t_s = r.t_s;
-      ft.u_px = r.u_px[p];
-      ft.v_px = r.v_px[p];
-      const PredictionReport rep = predictTrack(ft, {spec}, horizon_s);
-      const PredictionRun& run = rep.runs.front();
+      const PointPrediction& pp = run.points[static_cast<size_t>(p)];
       std::vector<double> e;
       for (size_t row = 0; row + H < r.rows(); ++row)
-        e.push_back(std::hypot(run.u_pred_px[row] - r.u_px[p][row + H], run.v_pred_px[row] - r.v_px[p][row + H]));
+        e.push_back(std::hypot(pp.u_pred_px[row] - r.u_px[p][row + H], pp.v_pred_px[row] - r.v_px[p][row + H]));
       pooled.insert(pooled.end(), e.begin(), e.end());
       pred.per_point.push_back(trackErrorStats(e));
-      pred.u_pred_px.push_back(run.u_pred_px);
-      pred.v_pred_px.push_back(run.v_pred_px);
+      pred.u_pred_px.push_back(pp.u_pred_px);
+      pred.v_pred_px.push_back(pp.v_pred_px);
     }
     pred.pooled = trackErrorStats(pooled);
     r.predictions.push_back(std::move(pred));
