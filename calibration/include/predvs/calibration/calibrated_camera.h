@@ -19,7 +19,7 @@
 namespace predvs {
 
 /// One calibrated camera: image size and the pinhole + distortion parameters.
-struct CameraIntrinsics {
+struct CalibratedCamera {
   int width_px = 0;
   int height_px = 0;
   double fx_px = 0.0;
@@ -31,6 +31,6 @@ struct CameraIntrinsics {
 };
 
 /// ViSP camera without distortion (px = fx, py = fy, u0 = cx, v0 = cy).
-vpCameraParameters toVispWithoutDistortion(const CameraIntrinsics& camera);
+vpCameraParameters toVispWithoutDistortion(const CalibratedCamera& camera);
 
 }  // namespace predvs

@@ -1,8 +1,8 @@
-#include "predvs/calibration/camera_intrinsics.h"
+#include "predvs/calibration/calibrated_camera.h"
 
 namespace predvs {
 
-vpCameraParameters toVispWithoutDistortion(const CameraIntrinsics& camera) {
+vpCameraParameters toVispWithoutDistortion(const CalibratedCamera& camera) {
   vpCameraParameters cam;
   cam.initPersProjWithoutDistortion(camera.fx_px, camera.fy_px, camera.cx_px, camera.cy_px);
   return cam;
