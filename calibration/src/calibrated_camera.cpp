@@ -8,6 +8,8 @@
 #include <cmath>
 #include <iterator>
 #include <fstream>
+#include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 namespace predvs {
@@ -52,9 +54,13 @@ void saveVispCameraXml(const std::string& path, const std::string& name, const C
   std::remove(path.c_str());
   vpXmlParserCamera xml;
   const unsigned w = static_cast<unsigned>(pinhole.width_px), h = static_cast<unsigned>(pinhole.height_px);
-  if (xml.save(toVispWithoutDistortion(pinhole), path, name, w, h) != vpXmlParserCamera::SEQUENCE_OK ||
-      xml.save(toVispWithDistortion(k1_only), path, name, w, h) != vpXmlParserCamera::SEQUENCE_OK)
-    throw std::runtime_error(path + ": cannot write the ViSP camera XML");
+  // The parser reports on std::cout ("Found camera with name ..."): keep the command's output clean.
+  std::ostringstream quiet;
+  std::streambuf* const saved = std::cout.rdbuf(quiet.rdbuf());
+  const bool ok = xml.save(toVispWithoutDistortion(pinhole), path, name, w, h) == vpXmlParserCamera::SEQUENCE_OK &&
+                  xml.save(toVispWithDistortion(k1_only), path, name, w, h) == vpXmlParserCamera::SEQUENCE_OK;
+  std::cout.rdbuf(saved);
+  if (!ok) throw std::runtime_error(path + ": cannot write the ViSP camera XML");
 }
 
 VispCameraFile loadVispCameraXml(const std::string& path, const std::string& name,
@@ -79,11 +85,15 @@ VispCameraFile loadVispCameraXml(const std::string& path, const std::string& nam
   vpXmlParserCamera xml;
   VispCameraFile f;
   int status = vpXmlParserCamera::SEQUENCE_ERROR;
+  std::ostringstream quiet;
+  std::streambuf* const saved = std::cout.rdbuf(quiet.rdbuf());
   try {
     status = xml.parse(f.camera, path, wanted, model);
   } catch (const std::exception& e) {
+    std::cout.rdbuf(saved);
     throw std::invalid_argument(path + ": not a ViSP camera XML (" + e.what() + ")");
   }
+  std::cout.rdbuf(saved);
   const std::string what = model == vpCameraParameters::perspectiveProjWithoutDistortion
                                ? "perspectiveProjWithoutDistortion"
                                : "perspectiveProjWithDistortion";
