@@ -11,6 +11,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <filesystem>
 #include <unistd.h>
 #include <string>
@@ -153,6 +156,58 @@ TEST(CalibratedCamera, VispXmlRoundTrip) {
   EXPECT_THROW(loadVispCameraXml(path, "other", vpCameraParameters::perspectiveProjWithoutDistortion), std::invalid_argument);
   EXPECT_THROW(loadVispCameraXml(path + ".none", "", vpCameraParameters::perspectiveProjWithoutDistortion), std::invalid_argument);
   std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace predvs
+
+namespace predvs {
+namespace {
+
+TEST(CameraCalibration, AprilTagCornersMatchViSPGroundTruth) {
+  const std::string dir = "/usr/share/visp-images-data/ViSP-images/AprilTag/";
+  if (!std::filesystem::exists(dir + "AprilTag.pgm")) GTEST_SKIP() << "visp-images-data is not installed";
+  // GIVEN ViSP's AprilTag image and its ground-truth corners ("36h11_id:_N" then 4 lines "v u":
+  // row first)
+  std::map<int, std::vector<cv::Point2f>> truth;
+  std::ifstream in(dir + "ground_truth_detection.txt");
+  std::string line;
+  int id = -1;
+  while (std::getline(in, line)) {
+    if (line.rfind("36h11_id:_", 0) == 0) {
+      id = std::stoi(line.substr(10));
+    } else if (id >= 0) {
+      std::istringstream s(line);
+      float u = 0, v = 0;
+      if (s >> v >> u) truth[id].emplace_back(u, v);
+    }
+  }
+  ASSERT_FALSE(truth.empty());
+  // WHEN detected as a board large enough for every id (6 x 6: ids 0..35), tags 4 cm apart
+  PatternSpec spec;
+  spec.kind = PatternKind::AprilTag;
+  spec.spacing_m = 0.04;
+  spec.tag_size_m = 0.03;
+  const cv::Mat g = cv::imread(dir + "AprilTag.pgm", cv::IMREAD_GRAYSCALE);
+  const PatternDetection d = detectPattern(g, spec);
+  ASSERT_TRUE(d.found());
+  // THEN every ground-truth tag on the board is found with its 4 corners within 0.5 px, in order,
+  // and its board corners form a 3 cm square around the tag's board position
+  size_t matched = 0;
+  for (size_t k = 0; k + 3 < d.image_px.size(); k += 4) {
+    const cv::Point3f centre = 0.25f * (d.board_m[k] + d.board_m[k + 1] + d.board_m[k + 2] + d.board_m[k + 3]);
+    const int tag = static_cast<int>(std::lround(centre.y / 0.04)) * spec.cols + static_cast<int>(std::lround(centre.x / 0.04));
+    EXPECT_NEAR(cv::norm(d.board_m[k] - d.board_m[k + 1]), 0.03, 1e-6);
+    EXPECT_NEAR(cv::norm(d.board_m[k] - d.board_m[k + 2]), 0.03 * std::sqrt(2.0), 1e-6);
+    auto it = truth.find(tag);
+    if (it == truth.end() || it->second.size() != 4) continue;
+    for (size_t c = 0; c < 4; ++c) EXPECT_LT(cv::norm(d.image_px[k + c] - it->second[c]), 0.5) << "tag " << tag << " corner " << c;
+    ++matched;
+  }
+  size_t on_board = 0;
+  for (const auto& kv : truth) on_board += kv.first < 36 ? 1 : 0;
+  EXPECT_EQ(matched, on_board);
+  EXPECT_GT(matched, 0u);
 }
 
 }  // namespace

@@ -16,8 +16,9 @@
 //   apriltag    a grid of `rows` x `cols` tag36h11 tags (vpDetectorAprilTag), tag id r * cols + c
 //               at row r, column c, tag centres `spacing_m` apart, black square `tag_size_m` wide,
 //               printed upright; each seen tag gives its 4 corners (vpDetectorAprilTag's corner
-//               order, getTagsPoints3D for their coordinates in the tag frame). Not validated on a
-//               reference image set (ViSP's data has none).
+//               order, getTagsPoints3D for their coordinates in the tag frame). The corners match
+//               ViSP's ground truth on AprilTag.pgm; a calibration from a tag board is not
+//               validated on a reference image set (ViSP's data has none).
 // Calibration: cv::calibrateCamera three times on the same detections: the full 5-coefficient
 // model (the OpenCV YAML), k1 only (ViSP's model with distortion: kud = k1) and no distortion
 // (ViSP's model without). RMS = sqrt(mean over points of the squared 2-D reprojection distance),
