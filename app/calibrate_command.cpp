@@ -338,10 +338,37 @@ void runCalibrateLatency(const CalibrateLatencyOptions& o, std::ostream& out, st
   if (!(o.max_delay_s > 0.0)) throw std::invalid_argument("--max-delay-s: expected a time > 0 (s)");
   if (!(o.window_s > 0.0)) throw std::invalid_argument("--window-s: expected a time > 0 (s)");
   if (o.plots) requireGnuplot();
-  const ParsedLog p = readServoLog(o);
+  if (!o.camera.empty() && !o.intrinsics.empty()) throw std::invalid_argument("--camera / --intrinsics: give one of them");
+  if (!o.camera_name.empty() && o.camera.empty()) throw std::invalid_argument("--camera-name: needs --camera FILE");
   LatencyOptions lo;
   lo.max_delay_s = o.max_delay_s;
   lo.window_s = o.window_s;
+  if (!o.camera.empty()) {
+    VispCameraFile f;
+    try {
+      f = loadVispCameraXml(o.camera, o.camera_name, vpCameraParameters::perspectiveProjWithoutDistortion);
+    } catch (const std::exception& e) {
+      throw std::invalid_argument("--camera " + std::string(e.what()));
+    }
+    lo.point_model = true;
+    lo.px = f.camera.get_px(), lo.py = f.camera.get_py(), lo.u0 = f.camera.get_u0(), lo.v0 = f.camera.get_v0();
+  } else if (!o.intrinsics.empty()) {
+    std::vector<double> v;
+    bool numbers = true;
+    std::stringstream ss(o.intrinsics);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+      char* end = nullptr;
+      const double x = std::strtod(item.c_str(), &end);
+      numbers = numbers && !item.empty() && *end == '\0' && std::isfinite(x);
+      v.push_back(x);
+    }
+    if (!numbers || v.size() != 4 || !(v[0] > 0.0) || !(v[1] > 0.0))
+      throw std::invalid_argument("--intrinsics: expected PX,PY,U0,V0 in pixels with PX, PY > 0, got '" + o.intrinsics + "'");
+    lo.point_model = true;
+    lo.px = v[0], lo.py = v[1], lo.u0 = v[2], lo.v0 = v[3];
+  }
+  const ParsedLog p = readServoLog(o);
   LatencyResult r;
   try {
     r = estimateLatency(p.log, lo);
@@ -389,8 +416,12 @@ void runCalibrateLatency(const CalibrateLatencyOptions& o, std::ostream& out, st
   }
   j["vision_delay_s"] = r.vision_delay_s;
   j["vision_sigma_s"] = r.vision_sigma_s;
-  j["method"] = "least-squares fit of the features on the integrated command around the start of motion, "
-                "profiled over the delay (calibration/latency_estimation.h)";
+  j["method"] = lo.point_model ? "point model: image points of a camera driven by a camera twist, depths and target "
+                                 "velocities fitted per window over the whole run, profiled over the delay "
+                                 "(calibration/latency_estimation.h)"
+                               : "least-squares fit of the features on the integrated command around the start of motion, "
+                                 "profiled over the delay (calibration/latency_estimation.h)";
+  if (lo.point_model) j["intrinsics_px"] = {lo.px, lo.py, lo.u0, lo.v0};
 
   StagedOutputDir dir(o.out_dir);
   writeTextFile(dir, "timing.yaml", y.str());
@@ -425,7 +456,8 @@ void runCalibrateLatency(const CalibrateLatencyOptions& o, std::ostream& out, st
       << " frames every " << fixed(r.frame_period_s * 1000.0, 2) << " ms, " << p.features.size() << " features, commands";
   for (const auto& c : p.commands) out << " " << c;
   out << "\n  delivery fit (command as logged -> delivered features): " << fixed(r.total.delay_s * 1000.0, 1) << " +- "
-      << fixed(r.total.sigma_s * 1000.0, 1) << " ms (" << r.total.frames << " frames around the start of motion)\n";
+      << fixed(r.total.sigma_s * 1000.0, 1) << " ms (" << r.total.frames
+      << (lo.point_model ? " frames, point model over the whole run)\n" : " frames around the start of motion)\n");
   if (r.has_actuation)
     out << "  acquisition fit (command as logged -> features at acquisition): " << fixed(r.actuation.delay_s * 1000.0, 1)
         << " +- " << fixed(r.actuation.sigma_s * 1000.0, 1) << " ms; stamped delivery - acquisition: median "

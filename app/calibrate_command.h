@@ -20,8 +20,11 @@
 //   Prints the per-image and overall RMS and the three models.
 //
 // predvs calibrate latency --log LOG.csv [--predictor NAME] [--commands A,B,...]
+//                          [--camera FILE [--camera-name NAME] | --intrinsics PX,PY,U0,V0]
 //                          [--max-delay-s S=0.3] [--window-s S=1] [--out DIR=out/calibration/latency]
 //                          [--no-plots]
+//   Without intrinsics: the generic fit around the start of motion; with them (image points and a
+//   camera twist): the point model over the whole run (calibration/latency_estimation.h).
 //   The log: `predvs servo`'s log.csv (docs/CALIBRATION.md, "The servo log"): columns t_s,
 //   t_acq_s (optional), meas_<f>... (features), the command columns (default: those of vx vy vz
 //   wx wy wz present; --commands names others, e.g. a joint-speed robot's), and `predictor` (the
@@ -58,6 +61,9 @@ struct CalibrateLatencyOptions {
   std::string commands;  ///< comma-separated; empty: the camera-twist names present
   double max_delay_s = 0.3;
   double window_s = 1.0;
+  std::string camera;       ///< ViSP XML: the point model with its intrinsics (latency_estimation.h)
+  std::string camera_name;
+  std::string intrinsics;   ///< "px,py,u0,v0": the point model with these intrinsics
   std::string out_dir = "out/calibration/latency";
   bool plots = true;
   std::string command_line;

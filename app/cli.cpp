@@ -405,15 +405,23 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   bool cl_no_plots = false;
   CLI::App* cal_latency = calibrate->add_subcommand("latency", "Vision delay from a servo log (predvs servo's log.csv)");
   cal_latency->footer(
-      "Fits the delivered features on the integrated command around the start of motion, for every delay "
-      "candidate from 0 to --max-delay-s, and reports the best delay with its uncertainty (calibration/"
-      "latency_estimation.h); with acquisition stamps (t_acq_s) also the lag between the logged command and the "
+      "Fits the delivered features on the integrated command for every delay candidate from 0 to "
+      "--max-delay-s and reports the best delay with its uncertainty (calibration/latency_estimation.h): "
+      "with --camera or --intrinsics, the point model (image points of a camera driven by a camera twist) over "
+      "the whole run; otherwise a generic local fit around the start of motion; with acquisition stamps (t_acq_s) also the lag between the logged command and the "
       "camera motion. Writes DIR/timing.yaml (`predvs servo --set-file DIR/timing.yaml`), DIR/latency.json and "
       "DIR/profile.png. The log must start with the robot at rest. Log format and guide: docs/CALIBRATION.md.\n"
       "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
   cal_latency->add_option("--log", cl.log, "servo log CSV (predvs servo's log.csv)")->required()->type_name("FILE");
   cal_latency->add_option("--predictor", cl.predictor, "the run to use when the log has several (default: the first)")->type_name("NAME");
   cal_latency->add_option("--commands", cl.commands, "command columns (default: those of vx,vy,vz,wx,wy,wz present)")->type_name("A,B,...");
+  cal_latency->add_option("--camera", cl.camera,
+                          "ViSP camera XML of the logged camera: fit the point model (image points, camera twist) "
+                          "over the whole run")
+      ->type_name("FILE");
+  cal_latency->add_option("--camera-name", cl.camera_name, "camera name in the --camera file (default: its first)")->type_name("NAME");
+  cal_latency->add_option("--intrinsics", cl.intrinsics, "the point model with these intrinsics (px), e.g. 800,800,320,240")
+      ->type_name("PX,PY,U0,V0");
   cal_latency->add_option("--max-delay-s", cl.max_delay_s, "largest delay searched (s)")->capture_default_str()->type_name("S");
   cal_latency->add_option("--window-s", cl.window_s, "seconds of log after the start of motion + max delay in the fit")
       ->capture_default_str()

@@ -133,6 +133,92 @@ Profile profile(const LatencyLog& log, const std::vector<double>& frame_t, const
   return pr;
 }
 
+/// The point model (latency_estimation.h): windows over the whole log, depths and target
+/// velocities fitted per window, the rotation part fixed by the geometry.
+Profile profilePoints(const LatencyLog& log, const std::vector<double>& frame_t, const CommandIntegral& p,
+                      const LatencyOptions& o, double step) {
+  Profile pr;
+  for (double L = 0.0; L <= o.max_delay_s + 1e-12; L += step) pr.grid.push_back(L);
+  const size_t n = log.features.front().size(), points = n / 2;
+  const size_t order = static_cast<size_t>(std::max(1, o.time_order));
+  // Windows of consecutive frames where every feature is seen (a lost point ends a window).
+  std::vector<std::vector<size_t>> windows;
+  auto seen = [&](size_t j) {
+    return std::all_of(log.features[j].begin(), log.features[j].end(), [](double v) { return std::isfinite(v); });
+  };
+  for (size_t j = 0; j < frame_t.size();) {
+    if (!seen(j)) {
+      ++j;
+      continue;
+    }
+    const double start = frame_t[j];
+    std::vector<size_t> w;
+    while (j < frame_t.size() && seen(j) && frame_t[j] < start + o.point_window_s) w.push_back(j++);
+    windows.push_back(w);
+  }
+  // Levels: s_j = b + sum over the window's increments up to j of (model increment), so that the
+  // noise of s_j enters one row only (increments would correlate with the loop's response to it).
+  const size_t per_channel = 1 + order;
+  const size_t params = points + n * per_channel;
+  pr.params_per_channel = static_cast<int>((params + n - 1) / n);
+  pr.directions = 6;
+  for (const auto& w : windows) {
+    if (w.size() * n < params + 3 || w.size() < 3) continue;
+    const double t0 = frame_t[w.front()];
+    const Eigen::Index nr = static_cast<Eigen::Index>(w.size() * n);
+    Eigen::VectorXd y0(nr);
+    Eigen::MatrixXd T = Eigen::MatrixXd::Zero(nr, static_cast<Eigen::Index>(n * per_channel));
+    std::vector<double> trend(n * order, 0.0);
+    for (size_t k = 0; k < w.size(); ++k) {
+      const size_t j = w[k];
+      if (k > 0) {
+        const double dtau = frame_t[j] - frame_t[w[k - 1]], mid = 0.5 * (frame_t[j] + frame_t[w[k - 1]]) - t0;
+        for (size_t c = 0; c < n; ++c)
+          for (size_t q = 0; q < order; ++q) trend[c * order + q] += dtau * std::pow(mid, static_cast<double>(q));
+      }
+      for (size_t c = 0; c < n; ++c) {
+        const Eigen::Index r = static_cast<Eigen::Index>(k * n + c);
+        y0(r) = log.features[j][c];
+        T(r, static_cast<Eigen::Index>(c * per_channel)) = 1.0;
+        for (size_t q = 0; q < order; ++q) T(r, static_cast<Eigen::Index>(c * per_channel + 1 + q)) = trend[c * order + q];
+      }
+    }
+    pr.rss_base_w.push_back(rssOf(T, y0));
+    std::vector<double> rss(pr.grid.size(), 0.0);
+    for (size_t g = 0; g < pr.grid.size(); ++g) {
+      const double L = pr.grid[g];
+      Eigen::MatrixXd X(nr, static_cast<Eigen::Index>(params));
+      X.leftCols(static_cast<Eigen::Index>(points)).setZero();
+      X.rightCols(T.cols()) = T;
+      Eigen::VectorXd y = y0;
+      std::vector<double> depth_term(n, 0.0), known(n, 0.0);
+      for (size_t k = 0; k < w.size(); ++k) {
+        const size_t j = w[k];
+        if (k > 0) {
+          const size_t jp = w[k - 1];
+          const Eigen::VectorXd d = p.at(frame_t[j] - L) - p.at(frame_t[jp] - L);  // V (3), W (3)
+          for (size_t i = 0; i < points; ++i) {
+            const double x = (log.features[jp][2 * i] - o.u0) / o.px, yy = (log.features[jp][2 * i + 1] - o.v0) / o.py;
+            depth_term[2 * i] += o.px * (-d(0) + x * d(2));
+            known[2 * i] += o.px * (x * yy * d(3) - (1.0 + x * x) * d(4) + yy * d(5));
+            depth_term[2 * i + 1] += o.py * (-d(1) + yy * d(2));
+            known[2 * i + 1] += o.py * ((1.0 + yy * yy) * d(3) - x * yy * d(4) - x * d(5));
+          }
+        }
+        for (size_t c = 0; c < n; ++c) {
+          const Eigen::Index r = static_cast<Eigen::Index>(k * n + c);
+          X(r, static_cast<Eigen::Index>(c / 2)) = depth_term[c];
+          y(r) -= known[c];
+        }
+      }
+      rss[g] = rssOf(X, y);
+    }
+    pr.rss_w.push_back(rss);
+    pr.frames += static_cast<int>(w.size());
+  }
+  return pr;
+}
+
 /// Argmin of a profile, refined by the parabola through the lowest point and its neighbours.
 double argminRefined(const std::vector<double>& grid, const std::vector<double>& rss) {
   const size_t g = static_cast<size_t>(std::min_element(rss.begin(), rss.end()) - rss.begin());
@@ -146,7 +232,7 @@ double argminRefined(const std::vector<double>& grid, const std::vector<double>&
 
 DelayEstimate estimate(const LatencyLog& log, const std::vector<double>& frame_t, const CommandIntegral& p,
                        const LatencyOptions& o, double step, const std::string& what) {
-  const Profile pr = profile(log, frame_t, p, o, step);
+  const Profile pr = o.point_model ? profilePoints(log, frame_t, p, o, step) : profile(log, frame_t, p, o, step);
   const size_t W = pr.rss_w.size();
   if (W < 1)
     throw std::invalid_argument(what + ": too few frames from the start of the log to " + std::to_string(o.max_delay_s + o.window_s) +
@@ -175,7 +261,7 @@ DelayEstimate estimate(const LatencyLog& log, const std::vector<double>& frame_t
   e.explained = base > 0.0 ? 1.0 - *lo / base : 0.0;
   // Profile-likelihood interval: the delays whose RSS exceeds the minimum by at most one residual
   // variance (chi-square with one degree of freedom at 1, i.e. one standard deviation).
-  const double params = static_cast<double>(W * log.features.front().size() * static_cast<size_t>(pr.params_per_channel));
+  const double params = static_cast<double>(W * log.features.front().size() * static_cast<size_t>(pr.params_per_channel));  // point model: rounded up
   const double dof = std::max(1.0, static_cast<double>(pr.frames) * static_cast<double>(log.features.front().size()) - params);
   const double level = *lo + *lo / dof;
   size_t first = g_min, last = g_min;
@@ -247,6 +333,11 @@ LatencyResult estimateLatency(const LatencyLog& log, const LatencyOptions& o) {
   for (size_t j = 1; j < F; ++j) df.push_back(log.frame_delivery_s[j] - log.frame_delivery_s[j - 1]);
   r.frame_period_s = median(df);
   const double step = o.step_s > 0.0 ? o.step_s : r.base_period_s / 10.0;
+  if (o.point_model) {
+    if (m != 6) throw std::invalid_argument("the point model needs a camera twist (6 command columns vx vy vz wx wy wz), got " + std::to_string(m));
+    if (n % 2 != 0) throw std::invalid_argument("the point model needs image points (u, v pairs), got " + std::to_string(n) + " features");
+    if (!(o.px > 0.0) || !(o.py > 0.0)) throw std::invalid_argument("the point model needs focal lengths px, py > 0");
+  }
   const CommandIntegral p(log.tick_t_s, log.command, r.base_period_s);
 
   r.total = estimate(log, log.frame_delivery_s, p, o, step, "delivery-time fit");

@@ -105,6 +105,22 @@ TEST_F(Calibrate, LatencyOfAServoLogFeedsTheServo) {
   }
 }
 
+TEST_F(Calibrate, LatencyPointModelOnAPredictorRun) {
+  // GIVEN the default scenario's log of kf-cv (prediction path on) with a 2-frame delay
+  const auto r0 = run({"servo", "--predictors", "hold,kf-cv", "--set", "duration_s=8", "--no-plots", "--out", path("s")});
+  ASSERT_EQ(r0.code, 0) << r0.err;
+  // WHEN the point model is fitted with the scenario's camera (800 px, 320, 240)
+  const auto r = run({"calibrate", "latency", "--log", path("s/log.csv"), "--predictor", "kf-cv", "--intrinsics", "800,800,320,240",
+                      "--no-plots", "--out", path("lat")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  // THEN the 80 ms delay is recovered within one base period (40 ms)
+  const auto j = apptest::readJson(path("lat/latency.json"));
+  EXPECT_NEAR(j["delivery_fit"]["delay_s"].get<double>(), 0.08, 0.04) << j.dump(2);
+  EXPECT_EQ(j["predictor"].get<std::string>(), "kf-cv");
+  expectError(run({"calibrate", "latency", "--log", path("s/log.csv"), "--intrinsics", "800,800,320", "--out", path("l1")}),
+              "--intrinsics", path("l1"));
+}
+
 TEST_F(Calibrate, LatencyBadInputs) {
   expectError(run({"calibrate", "latency", "--log", write("empty.csv", ""), "--out", path("l1")}), "the log is empty", path("l1"));
   expectError(run({"calibrate", "latency", "--log", path("missing.csv"), "--out", path("l2")}), "cannot open the log", path("l2"));

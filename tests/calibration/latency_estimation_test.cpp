@@ -136,3 +136,49 @@ TEST(LatencyEstimation, RejectsLogsWithoutInformation) {
 
 }  // namespace
 }  // namespace predvs
+
+namespace predvs {
+namespace {
+
+struct PointCase {
+  const char* predictor;
+  Case timing;
+};
+
+class PointModelRecovery : public ::testing::TestWithParam<PointCase> {};
+
+TEST_P(PointModelRecovery, WithinOneBasePeriodOverTheWholeRun) {
+  const PointCase pc = GetParam();
+  const Case& c = pc.timing;
+  for (std::uint64_t seed = 1; seed <= 2; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    // GIVEN an 8 s run of the default IBVS loop (camera 800 px, principal point 320, 240)
+    ServoConfig cfg;
+    cfg.seed = seed;
+    cfg.timing.base_period_s = c.base_period_s;
+    cfg.timing.frame_period_n = c.frame_period_n;
+    cfg.timing.acquisition_lag_s = cfg.timing.processing_lag_s = 0.5 * c.vision_latency_s;
+    cfg.noise.sigma = c.sigma_px;
+    cfg.duration_s = 8.0;
+    auto p = makePredictor(pc.predictor, 8);
+    const ServoResult r = runServoLoop(cfg, *p);
+    // WHEN the point model is fitted with the camera's intrinsics
+    LatencyOptions o;
+    o.point_model = true;
+    o.px = cfg.camera.px, o.py = cfg.camera.py, o.u0 = cfg.camera.u0, o.v0 = cfg.camera.v0;
+    const LatencyResult d = estimateLatency(logOf(r, true), o);
+    // THEN the delay is within one base period, and no actuation lag is seen
+    EXPECT_NEAR(d.total.delay_s, deliveredDelay(c), c.base_period_s) << "sigma " << d.total.sigma_s;
+    EXPECT_NEAR(d.actuation.delay_s, 0.0, c.base_period_s);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Delays, PointModelRecovery,
+                         ::testing::Values(PointCase{"hold", {0.04, 1, 0.08, 0.5}}, PointCase{"kf-cv", {0.04, 1, 0.08, 0.5}},
+                                           PointCase{"hold", {0.04, 1, 0.0, 0.5}}, PointCase{"kf-cv", {0.04, 1, 0.04, 2.0}},
+                                           PointCase{"hold", {0.02, 1, 0.04, 0.1}}, PointCase{"kf-cv", {0.02, 1, 0.04, 0.1}},
+                                           PointCase{"hold", {0.01, 4, 0.07, 0.5}}, PointCase{"hold", {0.02, 2, 0.05, 1.0}},
+                                           PointCase{"kf-cv", {0.02, 2, 0.05, 1.0}}, PointCase{"kf-cv", {0.04, 1, 0.04, 1.0}}));
+
+}  // namespace
+}  // namespace predvs

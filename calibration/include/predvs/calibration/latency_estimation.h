@@ -27,6 +27,17 @@
 // instrumental variables) all locked onto that path (about 0.01 s whatever the true delay), while
 // the onset fit recovered every delay within 0.01 s. A log must therefore start at rest and then
 // move (a constant command is rejected).
+// Point model (options.point_model, `--camera` on the command line): when the features are image
+// points and the command a camera twist, the feature motion between frames j-1 and j is known up
+// to the points' depths: with (x, y) the normalised point at frame j-1, (V, W) the integral of
+// (v, w) over [tau_{j-1} - L, tau_j - L] and rho_i = 1/Z_i,
+//     du = px (rho_i (-Vx + x Vz) + x y Wx - (1 + x^2) Wy + y Wz) + target_u
+//     dv = py (rho_i (-Vy + y Vz) + (1 + y^2) Wx - x y Wy - x Wz) + target_v
+// (the interaction matrix of a point, ViSP's convention). Unknowns per window of point_window_s:
+// rho_i per point and each channel's target velocity (a polynomial of degree time_order - 1).
+// The rotation part has no free parameter and the depths are shared by all of a window's motion,
+// so the control law's path (which a free Jacobian absorbed) cannot be fitted: the whole run is
+// used, not only the start of motion.
 // Uncertainty: the profile-likelihood interval {L : RSS(L) <= RSS_min (1 + 1/dof)} (dof =
 // observations - parameters), one standard deviation for Gaussian residuals, taken from the
 // lowest to the highest grid delay under that level (a profile with two valleys gives a wide
@@ -64,6 +75,11 @@ struct LatencyOptions {
   double window_s = 1.0;     ///< frames up to t_start + max_delay_s + window_s enter the fit (s)
   double step_s = 0.0;       ///< grid step (s); 0: a tenth of the median base period
   int time_order = 2;        ///< degree of the polynomial in time for the target's own motion
+  /// Point model (below): the features are image points (u, v pairs, px) of a camera driven by a
+  /// camera twist (vx vy vz wx wy wz), and the camera's intrinsics are known.
+  bool point_model = false;
+  double px = 800.0, py = 800.0, u0 = 320.0, v0 = 240.0;  ///< intrinsics for the point model (px)
+  double point_window_s = 2.0;  ///< point model: windows over the whole log (s)
 };
 
 /// One profiled delay: the estimate, its jackknife standard deviation and the profile itself.
