@@ -43,11 +43,11 @@
 // lowest to the highest grid delay under that level (a profile with two valleys gives a wide
 // interval); its half width is reported as sigma (at least grid step / sqrt(12)). Correlated
 // residuals make it optimistic.
-// Measured on the simulated default loop (tests/calibration/latency_estimation_test.cpp, 5 seeds
-// x 7 timings, 3 s runs): 33 of 35 within one base period; the two misses were a dual-rate case
-// (delta 20 ms, N = 2, 1 px noise) off by 2 and 3 base periods (1 to 1.5 frame periods): the
-// start of motion is located to a fraction of a frame period, not of a base period, when the
-// noise is large against the motion of one frame.
+// Measured on the simulated default loop (docs/CALIBRATION.md has the table): the start-of-motion
+// fit on `hold` runs, 33 of 35 (5 seeds x 7 timings) within one base period, the misses a dual-rate
+// case (delta 20 ms, N = 2, 1 px noise) off by 2 and 3 base periods; on a run with the prediction
+// path (kf-cv) it read 141 ms for 80. The point model read 7 to 12 ms short of every delay (hold
+// and kf-cv), within a base period, with a stated sigma that leaves that bias out.
 // What is measured: with delivery times, the total delay D between a command as logged and the
 // delivered features that show its effect: the vision latency t_ac + t_p as the controller sees it
 // (quantised to its release tick), plus whatever actuation lag lies between the logged command and
