@@ -60,6 +60,20 @@ TEST_F(Calibrate, CameraOnGrid36WritesFilesTheServoAccepts) {
   expectError(run({"compare", "--camera", path("none.xml"), "--out", path("c2")}), "--camera " + path("none.xml"), path("c2"));
 }
 
+TEST_F(Calibrate, CameraRejectsAnImageWithoutThePatternByName) {
+  std::filesystem::create_directories(path("mix"));
+  for (int i = 1; i <= 4; ++i) {
+    const std::string f = "grid36-0" + std::to_string(i) + ".pgm";
+    std::filesystem::copy_file(kGrid + f, path("mix/") + f);
+  }
+  cv::imwrite(path("mix/blank.pgm"), cv::Mat(480, 640, CV_8UC1, cv::Scalar(200)));
+  const auto r = run({"calibrate", "camera", "--images", path("mix"), "--no-plots", "--out", path("cam")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("blank.pgm: circles pattern 6 x 6 not found, image rejected"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("4 of 5 images used (rejected: blank.pgm)"), std::string::npos) << r.out;
+  EXPECT_EQ(apptest::readJson(path("cam/summary.json"))["images_rejected"].dump(), "[\"blank.pgm\"]");
+}
+
 TEST_F(Calibrate, CameraBadInputs) {
   // no pattern in any image
   std::filesystem::create_directories(path("blank"));
