@@ -11,6 +11,10 @@ namespace predvs {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+/// The AprilTag library puts the centre of pixel (x, y) at (x + 0.5, y + 0.5) (its bilinear
+/// sampler reads at px - 0.5), ViSP at (x, y); vpDetectorAprilTag passes the library's corners on
+/// unchanged. Added to them, this gives ViSP's convention, the one of the pinhole u = u0 + px X/Z.
+constexpr double kLibraryToViSPPx = -0.5;
 
 vpDetectorAprilTag::vpAprilTagFamily parseFamily(const std::string& name) {
   if (name == "36h11") return vpDetectorAprilTag::TAG_36h11;
@@ -50,7 +54,7 @@ std::vector<int> parseIds(const Params& params) {
 /// Intersection of the diagonals p0-p2 and p1-p3 (pixels u, v).
 bool diagonalsCentre(const std::vector<vpImagePoint>& c, double& u, double& v) {
   const double x1 = c[0].get_u(), y1 = c[0].get_v(), x2 = c[2].get_u(), y2 = c[2].get_v();
-  const double x3 = c[1].get_u(), y3 = c[1].get_v(), x4 = c[3].get_u(), y4 = c[3].get_v();
+  const double x3 = c[1].get_u(), y3 = c[1].get_v(), x4 = c[3].get_u(), y4 = c[3].get_v();  // any origin
   const double den = (x1 - x2) * (y3 - y4) - (y1 - y2) * (x3 - x4);
   if (std::abs(den) < 1e-12) return false;
   const double a = x1 * y2 - y1 * x2, b = x3 * y4 - y3 * x4;
@@ -126,8 +130,8 @@ TrackedPoints AprilTagTracker::track(const vpImage<unsigned char>& image, const 
     const int base = 5 * static_cast<int>(t);
     for (int j = 0; j < 5; ++j) {
       const int i = base + j;
-      out.points.uv_px(2 * i) = j < 4 ? c[static_cast<size_t>(j)].get_u() : uc;
-      out.points.uv_px(2 * i + 1) = j < 4 ? c[static_cast<size_t>(j)].get_v() : vc;
+      out.points.uv_px(2 * i) = (j < 4 ? c[static_cast<size_t>(j)].get_u() : uc) + kLibraryToViSPPx;
+      out.points.uv_px(2 * i + 1) = (j < 4 ? c[static_cast<size_t>(j)].get_v() : vc) + kLibraryToViSPPx;
       out.points.seen[static_cast<size_t>(i)] = true;
       if (pose_ && it->second < cMo.size()) {
         const vpHomogeneousMatrix& M = cMo[it->second];

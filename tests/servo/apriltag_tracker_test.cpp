@@ -7,7 +7,9 @@
 // px = 615.1674805, py = 615.1675415, u0 = 312.1889954, v0 = 243.4373779, no distortion, tag size
 // 0.053 m, HOMOGRAPHY_VIRTUAL_VS, quad decimate 1. Its tolerances are ours too: 0.5 px per corner
 // coordinate, 0.005 on each pose component (m, rad). Note the files' order: each corner is
-// written (v, u), row then column (ViSP's vpImagePoint i, j).
+// written (v, u), row then column (ViSP's vpImagePoint i, j), and in the AprilTag library's pixel
+// convention (pixel centres at x + 0.5), which the tracker converts to ViSP's (centres at x): the
+// files' corners are compared with ours + 0.5 (apriltag_tracker.cpp, kLibraryToViSPPx).
 #include "predvs/servo/apriltag_tracker.h"
 #include "predvs/servo/image_tracker.h"
 
@@ -29,6 +31,7 @@ namespace {
 const std::string kAprilTagDir = "/usr/share/visp-images-data/ViSP-images/AprilTag";
 constexpr double kCornerTolerancePx = 0.5;  // ViSP's own regression tolerance
 constexpr double kPoseTolerance = 0.005;    // m and rad, ViSP's own
+constexpr double kFileConventionPx = 0.5;   // the ground-truth files' pixel convention minus ours
 
 bool exists(const std::string& path) {
   struct stat st;
@@ -83,8 +86,9 @@ TEST(AprilTagTracker, DetectsEveryTagOfViSPsRegressionImageWithinHalfAPixel) {
     for (int c = 0; c < 4; ++c) {
       const int i = 5 * static_cast<int>(t) + c;
       ASSERT_TRUE(r.points.seen[static_cast<size_t>(i)]);
-      EXPECT_NEAR(r.points.uv_px(2 * i), kv.second[2 * c], kCornerTolerancePx) << "tag " << kv.first << " corner " << c;
-      EXPECT_NEAR(r.points.uv_px(2 * i + 1), kv.second[2 * c + 1], kCornerTolerancePx)
+      EXPECT_NEAR(r.points.uv_px(2 * i) + kFileConventionPx, kv.second[2 * c], kCornerTolerancePx)
+          << "tag " << kv.first << " corner " << c;
+      EXPECT_NEAR(r.points.uv_px(2 * i + 1) + kFileConventionPx, kv.second[2 * c + 1], kCornerTolerancePx)
           << "tag " << kv.first << " corner " << c;
       su += kv.second[2 * c];
       sv += kv.second[2 * c + 1];
@@ -92,8 +96,8 @@ TEST(AprilTagTracker, DetectsEveryTagOfViSPsRegressionImageWithinHalfAPixel) {
     // AND the centre lies inside the quadrilateral, near the mean of the corners (perspective
     // moves it by a fraction of a pixel on these small tags)
     const int ic = 5 * static_cast<int>(t) + 4;
-    EXPECT_NEAR(r.points.uv_px(2 * ic), su / 4.0, 2.0);
-    EXPECT_NEAR(r.points.uv_px(2 * ic + 1), sv / 4.0, 2.0);
+    EXPECT_NEAR(r.points.uv_px(2 * ic) + kFileConventionPx, su / 4.0, 2.0);
+    EXPECT_NEAR(r.points.uv_px(2 * ic + 1) + kFileConventionPx, sv / 4.0, 2.0);
     ++t;
   }
   // AND without tag size no pose, no depth

@@ -8,6 +8,14 @@
 // the two diagonals of the detected corners: the image of the square's centre under any
 // perspective, unlike the mean of the corners.
 //
+// Pixel convention: ViSP's (the centre of pixel (i, j) is u = j, v = i, as in u = u0 + px X/Z and
+// vpDot2). The AprilTag library inside vpDetectorAprilTag puts pixel centres at x + 0.5 and ViSP
+// passes its corners on unchanged, so 0.5 px is subtracted from both coordinates (tested on a tag
+// rendered at a known pose: within 0.3 px after, about 0.5 px off along both axes before). The
+// pose comes from vpDetectorAprilTag on the library's corners: its x and y translation carry that
+// half pixel, about Z * 0.5 / px (0.3 mm at 0.5 m for px = 800), which is below what the depths
+// here are used for.
+//
 // Which tags: the `ids` parameter (one id, or a text list "8,9,10"), otherwise the ids of the
 // first image where at least one tag is found (initialisation). A listed tag that is not found in
 // an image has its 5 points lost (NaN pixels, seen = false); tags not listed are ignored. The
