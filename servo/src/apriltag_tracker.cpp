@@ -113,7 +113,9 @@ TrackedPoints AprilTagTracker::track(const vpImage<unsigned char>& image, const 
   out.points.Z_m = Eigen::VectorXd::Constant(n, kNaN);
   out.points.seen.assign(static_cast<size_t>(n), false);
   const double h = tag_size_m_ / 2.0;
-  const double oP[5][2] = {{-h, h}, {h, h}, {h, -h}, {-h, -h}, {0.0, 0.0}};
+  // The corners in the frame of the pose vpDetectorAprilTag returns (its default, z not aligned
+  // with the camera: getTagsPoints3D()).
+  const double oP[5][2] = {{-h, -h}, {h, -h}, {h, h}, {-h, h}, {0.0, 0.0}};
   std::string missing;
   for (size_t t = 0; t < ids_.size(); ++t) {
     const auto it = where.find(ids_[t]);

@@ -1,7 +1,6 @@
 #include "predvs/servo/image_renderer.h"
 
 #include <visp3/core/vpColVector.h>
-#include <visp3/core/vpImageFilter.h>
 #include <visp3/io/vpImageIo.h>
 #include <visp3/robot/vpImageSimulator.h>
 
@@ -22,6 +21,7 @@ namespace {
 constexpr int kDotTexels = 65;           // dot texture side (texels)
 constexpr double kDotPatchHalfSide = 1.5;  // patch half-side / disk radius
 constexpr int kCoverageSamples = 8;      // per texel axis, for the disk's coverage
+constexpr size_t kNoisePoolExtra = size_t{1} << 20;  // pool = image size + this many samples
 
 void requireRange(const std::string& what, double v, double lo, double hi) {
   if (!(v >= lo && v <= hi)) {
@@ -162,17 +162,48 @@ void ImageRenderer::render(const vpHomogeneousMatrix& cMo, bool target_visible, 
       patch->setCameraPosition(cMo);
       patch->getImage(image, camera_);
     }
-  if (options_.blur_px > 0.0) {
-    vpImage<double> blurred;
-    const unsigned size = 2 * static_cast<unsigned>(std::ceil(3.0 * options_.blur_px)) + 1;
-    vpImageFilter::gaussianBlur(image, blurred, size, options_.blur_px);
-    for (unsigned i = 0; i < image.getSize(); ++i)
-      image.bitmap[i] = static_cast<unsigned char>(std::clamp(std::lround(blurred.bitmap[i]), 0L, 255L));
+  if (options_.blur_px > 0.0) blur(image);
+  if (options_.noise_grey > 0.0) {
+    // A window of the seeded pool at a random offset (see the header).
+    const size_t n = image.getSize();
+    if (noise_pool_.size() < n + kNoisePoolExtra) {
+      noise_pool_.resize(n + kNoisePoolExtra);
+      for (auto& x : noise_pool_) x = static_cast<float>(options_.noise_grey * normal_(rng_));
+    }
+    const size_t offset = std::uniform_int_distribution<size_t>(0, noise_pool_.size() - n)(rng_);
+    const float* z = noise_pool_.data() + offset;
+    for (size_t i = 0; i < n; ++i) {
+      const long v = std::lround(image.bitmap[i] + z[i]);
+      image.bitmap[i] = static_cast<unsigned char>(v < 0 ? 0 : (v > 255 ? 255 : v));
+    }
   }
-  if (options_.noise_grey > 0.0)
-    for (unsigned i = 0; i < image.getSize(); ++i) {
-      const double v = image.bitmap[i] + options_.noise_grey * normal_(rng_);
-      image.bitmap[i] = static_cast<unsigned char>(std::clamp(std::lround(v), 0L, 255L));
+}
+
+void ImageRenderer::blur(vpImage<unsigned char>& image) {
+  // Separable Gaussian, radius ceil(3 sigma), borders clamped (the edge pixel repeats).
+  const int r = static_cast<int>(std::ceil(3.0 * options_.blur_px));
+  std::vector<float> w(static_cast<size_t>(2 * r + 1));
+  double sum = 0.0;
+  for (int k = -r; k <= r; ++k) sum += w[static_cast<size_t>(k + r)] = static_cast<float>(std::exp(-0.5 * k * k / (options_.blur_px * options_.blur_px)));
+  for (auto& x : w) x = static_cast<float>(x / sum);
+  const int W = static_cast<int>(image.getWidth()), H = static_cast<int>(image.getHeight());
+  blur_tmp_.resize(static_cast<size_t>(W) * static_cast<size_t>(H));
+  for (int i = 0; i < H; ++i) {
+    const unsigned char* row = image.bitmap + static_cast<size_t>(i) * static_cast<size_t>(W);
+    float* out = blur_tmp_.data() + static_cast<size_t>(i) * static_cast<size_t>(W);
+    for (int j = 0; j < W; ++j) {
+      float acc = 0.0f;
+      for (int k = -r; k <= r; ++k) acc += w[static_cast<size_t>(k + r)] * row[std::clamp(j + k, 0, W - 1)];
+      out[j] = acc;
+    }
+  }
+  for (int i = 0; i < H; ++i)
+    for (int j = 0; j < W; ++j) {
+      float acc = 0.0f;
+      for (int k = -r; k <= r; ++k)
+        acc += w[static_cast<size_t>(k + r)] * blur_tmp_[static_cast<size_t>(std::clamp(i + k, 0, H - 1)) * static_cast<size_t>(W) + static_cast<size_t>(j)];
+      image.bitmap[static_cast<size_t>(i) * static_cast<size_t>(W) + static_cast<size_t>(j)] =
+          static_cast<unsigned char>(std::clamp(std::lround(acc), 0L, 255L));
     }
 }
 

@@ -2,8 +2,9 @@
 //
 // Every image is searched for tags of one family (detection, not frame-to-frame tracking: a tag
 // is found or not, independently in each image). Points: per tag, its 4 corners in the
-// detector's order (vpDetectorAprilTag::getTagsCorners(), in ViSP's tag frame the corners
-// (-s/2, s/2, 0), (s/2, s/2, 0), (s/2, -s/2, 0), (-s/2, -s/2, 0), s the tag size), then its
+// detector's order (vpDetectorAprilTag::getTagsCorners(); in the frame of the pose it returns,
+// ViSP's default with z not aligned with the camera, the corners (-s/2, -s/2, 0), (s/2, -s/2, 0),
+// (s/2, s/2, 0), (-s/2, s/2, 0), s the tag size, as getTagsPoints3D()), then its
 // centre, so 5 points per tag, tags in increasing id order. The centre is the intersection of
 // the two diagonals of the detected corners: the image of the square's centre under any
 // perspective, unlike the mean of the corners.

@@ -24,11 +24,14 @@
 //   (p1 - p0) x (p3 - p0) (AprilTag), or the object's +z axis (dots), points away from the camera
 //   (true of squarePoints() seen from the scene's default goal, like ViSP's own examples).
 //
-// Camera effects, in this order: Gaussian blur of standard deviation blur_px (0: none; kernel
-// 2 ceil(3 sigma) + 1, vpImageFilter::gaussianBlur), then independent Gaussian noise of standard
-// deviation noise_grey on every pixel (seeded std::mt19937_64, draws in raster order frame after
-// frame), rounded and clamped to [0, 255]. A hidden target (an occlusion window) is the
-// background with the same blur and noise.
+// Camera effects, in this order: Gaussian blur of standard deviation blur_px (0: none; separable,
+// radius ceil(3 sigma), edge pixels repeated), then Gaussian noise of standard deviation
+// noise_grey added to every pixel, rounded and clamped to [0, 255]. The noise is read from a pool
+// of (pixels + 2^20) samples drawn once from the seeded std::mt19937_64, starting at a uniformly
+// drawn offset each frame: independent draws cost about 5 ms per 640 x 480 frame, the pool 0.3 ms.
+// Within a frame the samples are independent; from frame to frame a pixel gets the sample of a
+// new random offset, so the noise is not frozen, though all frames are windows of one sequence.
+// A hidden target (an occlusion window) is the background with the same blur and noise.
 #pragma once
 
 #include "predvs/tasks/camera.h"
@@ -93,6 +96,10 @@ class ImageRenderer {
   double tag_size_m_ = 0.0;
   std::mt19937_64 rng_;
   std::normal_distribution<double> normal_{0.0, 1.0};
+  std::vector<float> noise_pool_;  // noise_grey * N(0, 1)
+  std::vector<float> blur_tmp_;
+
+  void blur(vpImage<unsigned char>& image);
 };
 
 }  // namespace predvs
