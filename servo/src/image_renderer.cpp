@@ -173,8 +173,8 @@ void ImageRenderer::render(const vpHomogeneousMatrix& cMo, bool target_visible, 
     const size_t offset = std::uniform_int_distribution<size_t>(0, noise_pool_.size() - n)(rng_);
     const float* z = noise_pool_.data() + offset;
     for (size_t i = 0; i < n; ++i) {
-      const long v = std::lround(image.bitmap[i] + z[i]);
-      image.bitmap[i] = static_cast<unsigned char>(v < 0 ? 0 : (v > 255 ? 255 : v));
+      const float v = static_cast<float>(image.bitmap[i]) + z[i];  // rounded half up, clamped
+      image.bitmap[i] = static_cast<unsigned char>(std::min(255.0f, std::max(0.0f, v + 0.5f)));
     }
   }
 }
@@ -184,27 +184,37 @@ void ImageRenderer::blur(vpImage<unsigned char>& image) {
   const int r = static_cast<int>(std::ceil(3.0 * options_.blur_px));
   std::vector<float> w(static_cast<size_t>(2 * r + 1));
   double sum = 0.0;
-  for (int k = -r; k <= r; ++k) sum += w[static_cast<size_t>(k + r)] = static_cast<float>(std::exp(-0.5 * k * k / (options_.blur_px * options_.blur_px)));
+  for (int k = -r; k <= r; ++k)
+    sum += w[static_cast<size_t>(k + r)] = static_cast<float>(std::exp(-0.5 * k * k / (options_.blur_px * options_.blur_px)));
   for (auto& x : w) x = static_cast<float>(x / sum);
   const int W = static_cast<int>(image.getWidth()), H = static_cast<int>(image.getHeight());
-  blur_tmp_.resize(static_cast<size_t>(W) * static_cast<size_t>(H));
+  const size_t Ws = static_cast<size_t>(W);
+  blur_tmp_.resize(Ws * static_cast<size_t>(H));
+  std::vector<float> line(static_cast<size_t>(std::max(W, H) + 2 * r));
+  // Rows: the row padded by r repeated edge pixels on each side, then a plain convolution.
   for (int i = 0; i < H; ++i) {
-    const unsigned char* row = image.bitmap + static_cast<size_t>(i) * static_cast<size_t>(W);
-    float* out = blur_tmp_.data() + static_cast<size_t>(i) * static_cast<size_t>(W);
+    const unsigned char* row = image.bitmap + static_cast<size_t>(i) * Ws;
+    for (int j = -r; j < W + r; ++j) line[static_cast<size_t>(j + r)] = row[std::clamp(j, 0, W - 1)];
+    float* out = blur_tmp_.data() + static_cast<size_t>(i) * Ws;
     for (int j = 0; j < W; ++j) {
+      const float* x = line.data() + j;
       float acc = 0.0f;
-      for (int k = -r; k <= r; ++k) acc += w[static_cast<size_t>(k + r)] * row[std::clamp(j + k, 0, W - 1)];
+      for (int k = 0; k <= 2 * r; ++k) acc += w[static_cast<size_t>(k)] * x[k];
       out[j] = acc;
     }
   }
-  for (int i = 0; i < H; ++i)
-    for (int j = 0; j < W; ++j) {
-      float acc = 0.0f;
-      for (int k = -r; k <= r; ++k)
-        acc += w[static_cast<size_t>(k + r)] * blur_tmp_[static_cast<size_t>(std::clamp(i + k, 0, H - 1)) * static_cast<size_t>(W) + static_cast<size_t>(j)];
-      image.bitmap[static_cast<size_t>(i) * static_cast<size_t>(W) + static_cast<size_t>(j)] =
-          static_cast<unsigned char>(std::clamp(std::lround(acc), 0L, 255L));
+  // Columns: accumulate whole rows (contiguous), clamped row indices.
+  std::vector<float> acc(Ws);
+  for (int i = 0; i < H; ++i) {
+    std::fill(acc.begin(), acc.end(), 0.0f);
+    for (int k = -r; k <= r; ++k) {
+      const float wk = w[static_cast<size_t>(k + r)];
+      const float* src = blur_tmp_.data() + static_cast<size_t>(std::clamp(i + k, 0, H - 1)) * Ws;
+      for (size_t j = 0; j < Ws; ++j) acc[j] += wk * src[j];
     }
+    unsigned char* dst = image.bitmap + static_cast<size_t>(i) * Ws;
+    for (size_t j = 0; j < Ws; ++j) dst[j] = static_cast<unsigned char>(std::min(255.0f, std::max(0.0f, acc[j] + 0.5f)));
+  }
 }
 
 }  // namespace predvs
