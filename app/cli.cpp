@@ -6,12 +6,14 @@
 #include "scenario_file.h"
 #include "scenario_override.h"
 #include "servo_command.h"
+#include "track_command.h"
 #include "track_csv.h"
 #include "app_error.h"
 #include "gnuplot.h"
 
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/feature_source.h"
+#include "predvs/servo/image_tracker.h"
 #include "predvs/servo/robot.h"
 #include "predvs/tasks/task.h"
 
@@ -96,6 +98,8 @@ int runList(std::ostream& out) {
   listSection(out, "\nTasks, control laws (closed-loop scenario `task: {type: NAME, ...}`):", taskRegistry());
   listSection(out, "\nRobots (closed-loop scenario `robot: {type: NAME, ...}`):", robotRegistry());
   listSection(out, "\nFeature sources (closed-loop scenario `source: {type: NAME, ...}`):", featureSourceRegistry());
+  listSection(out, "\nImage trackers (predvs track --source NAME, --set KEY=VALUE for their parameters):",
+              imageTrackerRegistry());
   struct Row {
     std::string name, summary;
   };
@@ -191,6 +195,45 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   return 0;
 }
 
+// ---------------------------------------------------------------------------------------------
+struct TrackArgs {
+  std::string images, source = "dots", predictor = "all", delay_frames = "2", fps = "30", out_dir = "out/track";
+  std::string strip_frames = "4", max_frames;
+  std::vector<std::string> sets;
+  bool no_plots = false;
+};
+
+int runTrack(const TrackArgs& a, const std::string& command_line, std::ostream& out, std::ostream& err) {
+  TrackOptions o;
+  o.images = a.images;
+  o.source = a.source;
+  if (a.predictor == "all") {
+    for (const auto& p : predictorRegistry()) o.predictors.push_back({p.name, {}});
+  } else {
+    for (const auto& name : splitList(a.predictor)) {
+      requirePredictor("--predictor", name);
+      o.predictors.push_back({name, {}});
+    }
+    if (o.predictors.empty()) throw std::invalid_argument("--predictor: expected NAME, a comma list or 'all'");
+  }
+  o.delay_frames = static_cast<int>(parseIntegerArg("--delay-frames", a.delay_frames, 0, 100000));
+  o.fps = parseNumberArg("--fps", a.fps);
+  if (!(o.fps > 0.0)) throw std::invalid_argument("--fps: expected a number > 0, got '" + a.fps + "'");
+  o.strip_frames = static_cast<int>(parseIntegerArg("--strip-frames", a.strip_frames, 0, 50));
+  if (!a.max_frames.empty()) o.max_frames = parseIntegerArg("--max-frames", a.max_frames, 1, 1000000000L);
+  for (const auto& kv : a.sets) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) throw std::invalid_argument("--set: expected KEY=VALUE, got '" + kv + "'");
+    o.source_params.set(kv.substr(0, eq), parseNumberArg("--set " + kv.substr(0, eq), kv.substr(eq + 1)));
+  }
+  o.out_dir = a.out_dir;
+  o.plots = !a.no_plots;
+  o.progress = &err == &std::cerr && ::isatty(STDERR_FILENO);
+  o.command_line = command_line;
+  runTrackCommand(o, out, err);
+  return 0;
+}
+
 }  // namespace
 
 std::string commandLine(const std::vector<std::string>& args) {
@@ -248,6 +291,41 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                       "predictor parameter KEY=VALUE (repeatable); with --predictor all write PREDICTOR.KEY=VALUE")
       ->type_name("KEY=VALUE");
   predict->add_flag("--no-plots", pa.no_plots, "do not draw predictions.png (no gnuplot needed)");
+
+  TrackArgs ta;
+  CLI::App* track = app.add_subcommand("track", "Track points through an image sequence or video and score the predictors on them");
+  track->footer(
+      "Reads the frames (a printf pattern such as ViSP-images/mire-2/image.%04d.pgm, a directory of images, one image, "
+      "or a video), stamps frame k with t = k / fps, runs the image tracker --source on every frame (parameters: "
+      "--set KEY=VALUE, see `predvs list` and the tracker's header), then runs each predictor on each point's track "
+      "and compares the prediction made at frame r for H frames later with the measurement at frame r + H. "
+      "A missing, corrupt or differently sized frame is a logged skip (one stderr line each); a frame where every "
+      "point is lost is logged. Prints the leaderboard (RMSE, median, max in px, pooled and per point). Writes "
+      "DIR/tracks.csv (t,point,u,v; empty u,v = not measured: `predvs predict` reads it), tracks_wide.csv "
+      "(t,u0,v0,u1,v1,...), predictions.csv, leaderboard.csv/.json, strip.png (K frames with the tracked points and "
+      "each predictor's prediction), tracks.png and errors.png (gnuplot), summary.json (frames read/skipped with "
+      "reasons, points, errors).\n"
+      "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
+  track->add_option("--images", ta.images, "image sequence: PATTERN with %0Nd, DIR, IMAGE or VIDEO")
+      ->required()
+      ->type_name("SPEC");
+  track->add_option("--source", ta.source, "image tracker (see `predvs list`)")->capture_default_str()->type_name("NAME");
+  track->add_option("--predictor", ta.predictor, "predictor name, comma list, or 'all'")
+      ->capture_default_str()
+      ->type_name("NAME|A,B|all");
+  track->add_option("--delay-frames", ta.delay_frames, "prediction horizon H in frames")->capture_default_str()->type_name("H");
+  track->add_option("--fps", ta.fps, "frame rate of the recording (time stamps t = k / fps)")
+      ->capture_default_str()
+      ->type_name("F");
+  track->add_option("--set", ta.sets, "tracker parameter KEY=VALUE (repeatable), e.g. --set points=5")->type_name("KEY=VALUE");
+  track->add_option("--strip-frames", ta.strip_frames, "frames drawn side by side in strip.png (0: none)")
+      ->capture_default_str()
+      ->type_name("K");
+  track->add_option("--max-frames", ta.max_frames, "read at most N frames")->type_name("N");
+  track->add_option("--out", ta.out_dir, "output directory, replaced only when the run succeeds")
+      ->capture_default_str()
+      ->type_name("DIR");
+  track->add_flag("--no-plots", ta.no_plots, "do not draw tracks.png / errors.png (no gnuplot needed)");
 
   ScenarioRunOptions so;
   std::string predictors_csv, seed_text;
@@ -346,12 +424,14 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
 
   try {
     if (!args.empty() && !args.front().empty() && args.front()[0] != '-' && args.front() != "list" &&
-        args.front() != "predict" && args.front() != "servo" && args.front() != "compare")
-      throw std::invalid_argument("unknown subcommand '" + args.front() + "' (expected list, predict, servo or compare)");
+        args.front() != "predict" && args.front() != "servo" && args.front() != "compare" && args.front() != "track")
+      throw std::invalid_argument("unknown subcommand '" + args.front() +
+                                  "' (expected list, predict, servo, compare or track)");
     std::vector<std::string> reversed(args.rbegin(), args.rend());
     app.parse(reversed);
     if (app.got_subcommand("list")) return runList(out);
     if (app.got_subcommand("predict")) return runPredict(pa, command_line, out);
+    if (app.got_subcommand("track")) return runTrack(ta, command_line, out, err);
     if (app.got_subcommand("compare")) {
       co.scenarios = splitList(cmp_scenarios);
       if (co.scenarios.empty()) throw std::invalid_argument("--scenarios: expected a comma-separated list of scenarios or 'all'");

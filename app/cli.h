@@ -8,6 +8,8 @@
 //   predvs compare [--scenarios a,b|all] [--predictors x,y|all] [--runs N] [--seed S] [--jobs J]
 //                  [--set PATH=VALUE]... [--sweep PATH=V1,V2]... [--out DIR=out/compare] [--no-plots]
 //                  (compare_command.h; several --sweep: a grid over the product of their values)
+//   predvs track   --images PATTERN|DIR|IMAGE|VIDEO [--source dots] [--predictor NAME|a,b|all]
+//                  [--delay-frames H=2] [--fps F=30] [--set KEY=VALUE]... [--out DIR] (track_command.h)
 //   --set overrides any scenario key before the strict parse (scenario_override.h).
 //
 // `predvs servo` runs any scenario file once per predictor on one seed (servo_command.h): a closed

@@ -1,11 +1,19 @@
 // predvs — image streams: a recorded sequence read frame by frame.
 //
 // A sequence is opened from one specification string:
-//   - a printf pattern with one integer conversion ("dir/image.%04d.pgm"): frames are read from
-//     the first existing index (0 or 1, or `first`) upward until the first index with no file;
+//   - a printf pattern with one integer conversion ("dir/image.%04d.pgm"): the directory is
+//     listed once at open(); the frames are the indices from the smallest one with a file (or
+//     `first`) to the largest one with a file; an index in between with no file is a Skipped
+//     frame ("missing file"), so a hole in a recording is logged, not the end of it;
 //   - a directory: every image file in it (pgm, ppm, png, jpg, jpeg, bmp, tif, tiff), in
-//     lexicographic order of name;
-//   - a video file (any other existing file): decoded frame by frame.
+//     lexicographic order of name (index = rank from 0);
+//   - one image file (those extensions): a sequence of one frame;
+//   - a video file (any other existing file): decoded frame by frame by OpenCV's cv::VideoCapture
+//     (index = frame number from 0; ViSP's vpVideoReader, which returns the first frame twice
+//     after open(), is not used). A frame that fails to decode before the container's frame
+//     count is Skipped (up to 10 in a row), after it the video ends; size() is -1 (that count is
+//     not reliable: MPEG-1 streams report 1). The first frame is decoded at open(), so an
+//     unreadable video fails there.
 // Frames are converted to 8-bit grey. Each frame is stamped with its acquisition time
 // t = (index - first) * frame_period_s (a recorded sequence carries no clock of its own).
 //
@@ -35,8 +43,8 @@ enum class ImageRead { Ok, Skipped, End };
 
 struct ImageSequenceOptions {
   double frame_period_s = 1.0 / 30.0;  ///< the time stamp step between consecutive frames
-  long first = -1;                     ///< pattern: first index (-1: 0 if that file exists, else 1)
-  long max_frames = -1;                ///< stop after this many frames (-1: all)
+  long first = -1;                     ///< pattern: first index (-1: the smallest index with a file)
+  long max_frames = -1;                ///< stop after this many frames, skipped ones included (-1: all)
 };
 
 class ImageSequence {
