@@ -71,7 +71,8 @@
 //                                lambda: 1.0, interaction: current | desired | mean)
 //   robot:  {type: free-camera (default) | NAME, <its parameters>} (free-camera:
 //                                max_translation_mps: 0.2, max_rotation_radps: 0.7, saturation: 1)
-//   source: {type: geometric (default) | NAME, <its parameters>}
+//   source: {type: geometric (default) | dots | apriltag | NAME, <its parameters>} (dots, apriltag:
+//           rendered images through a tracker, servo/rendered_image_source.h)
 //   occlusions: [{start_s: a, end_s: b}, ...]   frames acquired inside see no point
 //   servo: {forecast: feature | feedforward | both, compensation: auto | on | off}
 #pragma once

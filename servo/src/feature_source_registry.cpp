@@ -2,6 +2,7 @@
 #include "predvs/predictors/registry.h"
 #include "predvs/servo/feature_source.h"
 #include "predvs/servo/geometric_source.h"
+#include "predvs/servo/rendered_image_source.h"
 
 namespace predvs {
 
@@ -14,6 +15,12 @@ const Sources& sources() {
       {
           {{"geometric", "exact projection of the scene's points plus seeded pixel noise; occlusion windows"},
            Sources::factory<GeometricSource>()},
+          {{"dots", "rendered images (a dark disk on every point, image noise, blur) tracked by the dots tracker"},
+           [](const Params& p, const FeatureSourceContext& c) { return std::make_unique<RenderedImageSource>("dots", p, c); }},
+          {{"apriltag", "rendered images (an AprilTag on the first four points) tracked by the apriltag tracker; depth from its pose"},
+           [](const Params& p, const FeatureSourceContext& c) {
+             return std::make_unique<RenderedImageSource>("apriltag", p, c);
+           }},
       });
   return table;
 }

@@ -1,5 +1,6 @@
 // The image-tracker registry: adding a tracker is one entry here.
 #include "predvs/predictors/registry.h"
+#include "predvs/servo/apriltag_tracker.h"
 #include "predvs/servo/dots_tracker.h"
 #include "predvs/servo/image_tracker.h"
 
@@ -15,6 +16,8 @@ const Trackers& trackers() {
           {{"dots", "vpDot2 blobs found automatically (Otsu threshold, size bounds), ordered by rows then columns, "
                     "re-acquired near their last position"},
            Trackers::factory<DotsTracker>()},
+          {{"apriltag", "vpDetectorAprilTag: per tag its 4 corners then its centre, tags by increasing id; pose with tag_size"},
+           Trackers::factory<AprilTagTracker>()},
       });
   return table;
 }

@@ -283,6 +283,8 @@ ServoLoop::ServoLoop(const ServoConfig& config, Predictor& predictor) {
   sctx.noise = config.noise;
   sctx.seed = config.seed;
   sctx.occlusions = config.occlusions;
+  sctx.image_width_px = config.image_width_px;
+  sctx.image_height_px = config.image_height_px;
   m.source = makeFeatureSource(config.source.name, config.source.params, sctx);
   if (m.source->points() != m.parts.scene.points())
     throw std::invalid_argument("source '" + m.source->name() + "' reports " + std::to_string(m.source->points()) +

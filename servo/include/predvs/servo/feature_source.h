@@ -35,6 +35,8 @@ struct FeatureSourceContext {
   NoiseConfig noise;             ///< measurement noise (px)
   std::uint64_t seed = 1;
   std::vector<OcclusionInterval> occlusions;  ///< frames acquired in [start_s, end_s) see no point
+  double image_width_px = 640.0;   ///< image size (camera.width/height): the rendered-image sources' images
+  double image_height_px = 480.0;
 };
 
 /// One acquired frame.

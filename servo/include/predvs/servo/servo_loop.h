@@ -114,8 +114,9 @@ struct ServoConfig {
   std::uint64_t seed = 1;    ///< seeds the measurement noise and the task's random draws
   CameraIntrinsics camera;   ///< the true intrinsics (the task is given the same)
   /// Image size in pixels (camera.width / camera.height; a scenario's default is 2 u0 x 2 v0, the
-  /// principal point at the centre). Used only by the outside-image failure check of
-  /// metrics.outcome, where both must be > 0; the feature source does not crop to it.
+  /// principal point at the centre). Used by the outside-image failure check of metrics.outcome,
+  /// where both must be > 0, and as the size of the images the rendered-image sources (`dots`,
+  /// `apriltag`) draw; the geometric source does not crop to it.
   double image_width_px = 640.0;
   double image_height_px = 480.0;
   /// Target and goal. Default: a 10 cm square, goal 0.5 m in front of it, moving on a 5 cm
