@@ -506,21 +506,27 @@ std::vector<std::string> writePlots(const TrackResult& r, int delay_frames, cons
   return drawn;
 }
 
+/// The printed table shows the per-point RMSE of at most this many points (a tag board has dozens).
+constexpr size_t kPrintedPoints = 10;
+
 void printLeaderboard(const TrackResult& r, int delay_frames, std::ostream& out) {
   size_t w = 9;
   for (const auto& pr : r.predictions) w = std::max(w, pr.spec.name.size());
   out << "Prediction " << delay_frames << " frame(s) ahead vs the measurement " << delay_frames
-      << " frame(s) later, px (all points pooled; per-point RMSE):\n";
+      << " frame(s) later, px (all points pooled; per-point RMSE"
+      << (r.point_names.size() > kPrintedPoints ? " of the first " + std::to_string(kPrintedPoints) + ", every point in leaderboard.csv" : "")
+      << "):\n";
   out << std::left << std::setw(4) << "#" << std::setw(static_cast<int>(w)) << "predictor" << std::right
-      << std::setw(9) << "rmse" << std::setw(9) << "median" << std::setw(9) << "max" << std::setw(7) << "n";
-  for (size_t p = 0; p < r.point_names.size(); ++p) out << std::setw(8) << r.point_names[p];
+      << std::setw(9) << "rmse" << std::setw(9) << "median" << std::setw(9) << "max" << std::setw(9) << "n";
+  const size_t shown = std::min(r.point_names.size(), kPrintedPoints);
+  for (size_t p = 0; p < shown; ++p) out << std::setw(8) << r.point_names[p];
   out << "\n";
   for (size_t k = 0; k < r.predictions.size(); ++k) {
     const auto& pr = r.predictions[k];
     out << std::left << std::setw(4) << (k + 1) << std::setw(static_cast<int>(w)) << pr.spec.name << std::right
         << std::setw(9) << fixed(pr.pooled.rmse_px, 3) << std::setw(9) << fixed(pr.pooled.median_px, 3) << std::setw(9)
-        << fixed(pr.pooled.max_px, 2) << std::setw(7) << pr.pooled.n;
-    for (const auto& s : pr.per_point) out << std::setw(8) << fixed(s.rmse_px, 3);
+        << fixed(pr.pooled.max_px, 2) << std::setw(9) << pr.pooled.n;
+    for (size_t p = 0; p < shown && p < pr.per_point.size(); ++p) out << std::setw(8) << fixed(pr.per_point[p].rmse_px, 3);
     out << "\n";
   }
 }
