@@ -167,6 +167,33 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& /*er
   }
   out << "ratio = RMSE vs truth / RMSE(hold) vs truth, " << a.delay_frames
       << " frames ahead; mean = geometric mean over tracks\n";
+  // imm against the best of its single models, track by track.
+  const auto has = [&](const char* n) { return std::find(names.begin(), names.end(), n) != names.end(); };
+  if (has("imm") && has("kf-cv") && has("kf-ca")) {
+    std::map<std::string, double> best, imm;  // key: kind rate noise seed
+    for (const auto& r : rows) {
+      std::ostringstream k;
+      k << r.kind << " " << r.rate_hz << " Hz " << r.noise_px << " px #" << r.seed;
+      if (r.predictor == "imm") imm[k.str()] = r.score.rmse_truth_px;
+      if (r.predictor == "kf-cv" || r.predictor == "kf-ca")
+        best[k.str()] = best.count(k.str()) ? std::min(best[k.str()], r.score.rmse_truth_px) : r.score.rmse_truth_px;
+    }
+    int within = 0;
+    double worst = 0.0, sum = 0.0;
+    std::string worst_key;
+    for (const auto& [k, v] : imm) {
+      const double ratio = v / best[k];
+      within += ratio <= 1.1 ? 1 : 0;
+      sum += std::log(ratio);
+      if (ratio > worst) {
+        worst = ratio;
+        worst_key = k;
+      }
+    }
+    out << "imm / best of kf-cv, kf-ca: within 10 % on " << within << "/" << imm.size() << " tracks, geometric mean "
+        << std::setprecision(3) << std::exp(sum / std::max<size_t>(1, imm.size())) << ", worst " << worst << " ("
+        << worst_key << ")\n";
+  }
 
   if (!a.out.empty()) {
     StagedOutputDir dir(a.out);

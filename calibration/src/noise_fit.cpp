@@ -185,7 +185,7 @@ std::vector<FitParameter> fitParameters(const std::string& predictor) {
     return {{"alpha", 1e-3, 1e2, 1.0}, {"sigma_min_sq", 1e-3, 1e8, 1e4}, {"sigma_max_sq", 1e-1, 1e10, 1e6}, r};
   if (predictor == "fakf") return {{"alpha", 1e-3, 1e2, 1.0}, {"sigma_min_sq", 1e-3, 1e8, 1e4}, r};
   if (predictor == "stkf") return {r, {"q_pos", 1e-6, 1e4, 1e-3}, {"q_vel", 1e-4, 1e7, 3000.0}};
-  if (predictor == "imm") return {{"q_cv", 1e-2, 1e8, 3000.0}, {"q_ca", 1e-1, 1e11, 1e6}, r};
+  if (predictor == "imm") return {{"q_cv", 1e-2, 1e8, 100.0}, {"q_ca", 1e-1, 1e11, 1e6}, r};
   if (predictor == "hold") throw std::invalid_argument("predictor 'hold' has no parameters to fit");
   throw std::invalid_argument("no noise fit is defined for predictor '" + predictor + "'");
 }

@@ -29,11 +29,11 @@ Gaussian<3> combine(const std::array<Gaussian<3>, 2>& g, const std::array<double
 
 ImmPredictor::ImmPredictor(int channels, const Params& params)
     : Predictor(channels),
-      q_cv_(params.get("q_cv", 3000.0, 0.0, 1e12)),
+      q_cv_(params.get("q_cv", 100.0, 0.0, 1e12)),
       q_ca_(params.get("q_ca", 1e6, 0.0, 1e15)),
       alpha_(params.get("alpha", 5.0, 1e-6, 1e3)),
       r_(1.0),
-      tau_cv_s_(params.get("tau_cv_s", 2.0, 1e-6, 1e6)),
+      tau_cv_s_(params.get("tau_cv_s", 10.0, 1e-6, 1e6)),
       tau_ca_s_(params.get("tau_ca_s", 0.5, 1e-6, 1e6)),
       mu0_ca_(params.get("mu0_ca", 0.5, 0.0, 1.0)),
       p0_vel_(params.get("p0_vel", 1e4, 0.0, 1e12)),

@@ -32,10 +32,13 @@
 // result is combined as above.
 //
 // Parameters (defaults in px and s, chosen on the generated tracks of servo/maneuver_tracks.h,
-// docs/PERFORMANCE.md "IMM"): q_cv (px^2/s^3, default 3000), q_ca (px^2/s^5, default 1e6),
+// docs/PERFORMANCE.md "IMM"): q_cv (px^2/s^3, default 100: the CV mode is the quiet one; 3000
+// gave the same figures on the generated tracks and 1.2-1.6x the error on the slow E1-E7), q_ca
+// (px^2/s^5, default 1e6),
 // alpha (1/s, default 5),
 // r (px^2; default: estimated from the first frames, predictors/noise_estimate.h; a number fixes it),
-// tau_cv_s (s, default 2), tau_ca_s (s, default 0.5), mu0_ca (initial CA probability, 0.5),
+// tau_cv_s (s, default 10: the stationary probability of the noisy mode is then ~5 %; 2 gave
+// 1.2-1.6x the error on the slow E1-E4), tau_ca_s (s, default 0.5), mu0_ca (initial CA probability, 0.5),
 // p0_vel ((px/s)^2, 1e4), p0_acc ((px/s^2)^2, 1e4).
 // Mode probabilities: modeProbability(c, j) (accessor), and diagnostics() (per channel "mu_ca_<c>").
 #pragma once
