@@ -471,6 +471,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   track_study->add_option("--drop", tsa.drop_prob, "dropped-frame probability")->capture_default_str()->type_name("P");
   track_study->add_option("--delay-frames", tsa.delay_frames, "prediction horizon in frames")->capture_default_str()->type_name("H");
   track_study->add_option("--predictors", ts_predictors, "comma list of predictors or 'all'")->capture_default_str()->type_name("A,B|all");
+  track_study->add_option("--param", tsa.params, "parameter of one predictor (repeatable)")->type_name("PREDICTOR.KEY=VALUE");
   track_study->add_flag("--fit", tsa.fit, "fit each predictor's noise on the first part of each track (fit-noise), score on the rest");
   track_study->add_option("--fit-split", tsa.fit_split, "fraction of each track used for fitting with --fit")->capture_default_str()->type_name("F");
   track_study->add_option("--out", tsa.out, "optional output directory for study.csv")->type_name("DIR");

@@ -96,6 +96,26 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& /*er
     if (!(r >= 1.0 && r <= 1000.0)) throw std::invalid_argument("--rates: expected rates in [1, 1000] Hz");
   for (double s : a.noises_px)
     if (!(s >= 0.0)) throw std::invalid_argument("--noise: expected standard deviations >= 0 px");
+  std::map<std::string, Params> fixed;
+  for (const auto& kv : a.params) {
+    const auto eq = kv.find('='), dot = kv.find('.');
+    if (eq == std::string::npos || dot == std::string::npos || dot > eq)
+      throw std::invalid_argument("--param: expected PREDICTOR.KEY=VALUE, got '" + kv + "'");
+    const std::string name = kv.substr(0, dot), key = kv.substr(dot + 1, eq - dot - 1), text = kv.substr(eq + 1);
+    if (!isPredictor(name)) throw std::invalid_argument("--param " + kv + ": unknown predictor '" + name + "'");
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+      throw std::invalid_argument("--param " + kv + ": expected a number");
+    fixed[name].set(key, v);
+  }
+  for (const auto& [name, p] : fixed) {
+    try {
+      makePredictor(name, 2, p);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--param: ") + e.what());
+    }
+  }
   if (a.fit && !(a.fit_split > 0.0 && a.fit_split < 1.0))
     throw std::invalid_argument("--fit-split: expected a fraction in (0, 1)");
 
@@ -128,8 +148,8 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& /*er
           head.u_px.assign(track.u_px.begin(), track.u_px.begin() + static_cast<long>(split));
           head.v_px.assign(track.v_px.begin(), track.v_px.begin() + static_cast<long>(split));
           for (const auto& name : names) {
-            Params params;
-            if (a.fit && name != "hold") params = fitNoise(name, {}, head).params;
+            Params params = fixed.count(name) ? fixed.at(name) : Params{};
+            if (a.fit && name != "hold") params = fitNoise(name, params, head).params;
             auto p = makePredictor(name, 2, params);
             const TrackScore sc = scoreOnTrack(track, *p, horizon, split);
             if (name == "hold") hold_rmse = sc.rmse_truth_px;

@@ -43,6 +43,7 @@ struct TrackStudyArgs {
   double drop_prob = 0.02;
   int delay_frames = 2;
   std::vector<std::string> predictors;  ///< empty = all registered
+  std::vector<std::string> params;      ///< PREDICTOR.KEY=VALUE (--param)
   bool fit = false;
   double fit_split = 0.5;
   std::string out;                      ///< optional

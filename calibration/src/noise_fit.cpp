@@ -180,7 +180,7 @@ std::vector<FitParameter> fitParameters(const std::string& predictor) {
   if (predictor == "kf-ca") return {{"q", 1e-1, 1e11, 3e5}, r};
   if (predictor == "st-akf" || predictor == "st-akf-pm") return {{"q", 1e-1, 1e11, 1000.0}, r};
   if (predictor == "cs-akf")
-    return {{"alpha", 1e-3, 1e2, 1.0}, {"a_max", 1e-1, 1e5, 1000.0}, {"a_neg_max", 1e-1, 1e5, 1000.0}, r};
+    return {{"alpha", 1e-3, 1e2, 1.0}, {"a_max", 1e-1, 1e5, 200.0}, {"a_neg_max", 1e-1, 1e5, 200.0}, r};
   if (predictor == "cs-akf-adaptive")
     return {{"alpha", 1e-3, 1e2, 1.0}, {"sigma_min_sq", 1e-3, 1e8, 1e4}, {"sigma_max_sq", 1e-1, 1e10, 1e6}, r};
   if (predictor == "fakf") return {{"alpha", 1e-3, 1e2, 1.0}, {"sigma_min_sq", 1e-3, 1e8, 1e4}, r};

@@ -173,11 +173,14 @@ double rayleighVariance(double abar, double a_max, double a_neg_max, double sigm
 
 // ---------------------------------------------------------------------------------------------
 
-CsKalmanPredictor::CsKalmanPredictor(int channels, const Params& params)
-    : ChannelPredictor<3>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12),
+CsKalmanPredictor::CsKalmanPredictor(int channels, const Params& params, bool auto_r)
+    : ChannelPredictor<3>(channels,
+                          auto_r || params.texts().count("r") ? measurementNoiseParam(params, 1.0)
+                                                              : params.get("r", 1.0, 1e-12, 1e12),
+                          params.get("p0_vel", 1e4, 0.0, 1e12),
                           params.get("p0_acc", 1e4, 0.0, 1e12)),
       alpha_(params.get("alpha", 1.0, 1e-6, 1e3)) {
-  if (isAutoMeasurementNoise(params)) enableAutoNoise();
+  if ((auto_r || params.texts().count("r")) && isAutoMeasurementNoise(params)) enableAutoNoise();
 }
 
 Mat<3> CsKalmanPredictor::processNoise(int c, double dt) const {
@@ -205,9 +208,9 @@ void CsKalmanPredictor::correctStep(int c, double z) {
 // ---------------------------------------------------------------------------------------------
 
 CsAkfPredictor::CsAkfPredictor(int channels, const Params& params)
-    : CsKalmanPredictor(channels, params),
-      a_max_(params.get("a_max", 1000.0, 1e-9, 1e9)),
-      a_neg_max_(params.get("a_neg_max", 1000.0, 1e-9, 1e9)),
+    : CsKalmanPredictor(channels, params, /*auto_r=*/false),
+      a_max_(params.get("a_max", 200.0, 1e-9, 1e9)),
+      a_neg_max_(params.get("a_neg_max", 200.0, 1e-9, 1e9)),
       sigma0_sq_(params.get("sigma0_sq", 1.0, 0.0, 1e12)) {}
 
 double CsAkfPredictor::accelerationVariance(int c) const {

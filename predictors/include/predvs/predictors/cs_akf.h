@@ -86,7 +86,8 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
 
  protected:
   /// Reads alpha, r, p0_vel, p0_acc from params (derived classes read their own keys).
-  CsKalmanPredictor(int channels, const Params& params);
+  /// auto_r: whether an absent `r` means `auto` (noise_estimate.h) or the number 1 px^2.
+  CsKalmanPredictor(int channels, const Params& params, bool auto_r = true);
 
   Mat<3> transition(int, double dt) const override { return caTransition(dt); }
   Mat<3> processNoise(int c, double dt) const override;
@@ -114,11 +115,15 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
 /// `cs-akf`: CS Kalman filter with the modified-Rayleigh variance and fixed limits:
 /// sigma^2(k) = rayleighVariance(a(k-1|k-1), a_max, a_neg_max, sigma0_sq) (abar = a(k|k-1) = a(k-1|k-1)).
 /// Parameters (besides alpha, r, p0_vel, p0_acc):
-///   a_max      (px/s^2, default 1000; 50 before issue 11): largest expected positive acceleration.
-///              Targets moving at 50..400 px/s that stop, reverse or turn within 0.1..0.5 s accelerate
-///              by up to ~1000 px/s^2 (the generated tracks of servo/maneuver_tracks.h); the slow
-///              circle of E4 has 4.5 px/s^2, E2 jumps to 30.
-///   a_neg_max  (px/s^2, default 1000): magnitude of the largest negative acceleration.
+///   a_max      (px/s^2, default 200; 50 before issue 11): largest expected positive acceleration.
+///              Targets moving at 50..400 px/s that turn within ~0.5 s accelerate by ~200 px/s^2
+///              (the generated tracks of servo/maneuver_tracks.h); the slow circle of E4 has
+///              4.5 px/s^2, E2 jumps to 30.
+///   a_neg_max  (px/s^2, default 200): magnitude of the largest negative acceleration.
+///   r          unlike the other Kalman predictors, cs-akf keeps the number 1 px^2 as its default
+///              (`auto` on request): measured with `predvs track-study` (216 generated tracks),
+///              a_max 200 with r = 1 beats hold on 210, with the estimated r on 174 (its Rayleigh
+///              Q already follows the manoeuvres; a larger R at 3 px noise only slows it).
 ///   sigma0_sq  ((px/s^2)^2, default 1.0): variance used when abar == 0 (in practice only at start).
 /// Known weakness (the reason for the adaptive variant): small a_max gives smooth estimates but a
 /// slow response to manoeuvres, large a_max the opposite.
