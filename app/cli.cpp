@@ -1,9 +1,11 @@
 #include "cli.h"
 
+#include "calibrate_command.h"
 #include "compare_command.h"
 #include "output_dir.h"
 #include "predict_command.h"
 #include "scenario_file.h"
+#include "scenario_inputs.h"
 #include "scenario_override.h"
 #include "servo_command.h"
 #include "track_csv.h"
@@ -258,6 +260,19 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   return 0;
 }
 
+/// --set-file, then --camera (scenario_inputs.h): the overrides that come before every --set.
+std::vector<ScenarioOverride> fileOverrides(const std::string& set_file, const std::string& camera,
+                                            const std::string& camera_name, bool name_given) {
+  std::vector<ScenarioOverride> o;
+  if (!set_file.empty()) o = setFileOverrides(set_file);
+  if (name_given && camera.empty()) throw std::invalid_argument("--camera-name: needs --camera FILE");
+  if (!camera.empty()) {
+    const auto c = cameraOverrides(camera, camera_name);
+    o.insert(o.end(), c.begin(), c.end());
+  }
+  return o;
+}
+
 }  // namespace
 
 std::string commandLine(const std::vector<std::string>& args) {
@@ -359,6 +374,16 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                     "override a scenario value (repeatable): PATH is a dotted YAML path, VALUE is YAML; "
                     "unknown keys and bad values are errors as in the file")
       ->type_name("PATH=VALUE");
+  std::string servo_camera, servo_camera_name, servo_set_file;
+  servo->add_option("--camera", servo_camera,
+                    "ViSP camera XML (e.g. from `predvs calibrate camera`): sets camera.px, py, u0, v0, width, height")
+      ->type_name("FILE");
+  servo->add_option("--camera-name", servo_camera_name, "camera name in the --camera file (default: its first camera)")
+      ->type_name("NAME");
+  servo->add_option("--set-file", servo_set_file,
+                    "YAML fragment of scenario keys applied as --set overrides before them (e.g. the timing.yaml of "
+                    "`predvs calibrate latency`)")
+      ->type_name("FILE");
   servo->add_option("--seed", seed_text, "random seed, overriding the scenario's (default: the scenario's)")
       ->type_name("N");
   servo->add_option("--out", so.out_dir, "output directory, replaced only when the run succeeds (default: out/<scenario>)")
@@ -418,6 +443,13 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                       "run every chosen scenario once per value of a scenario path (replaces their own sweep:); "
                       "repeated: a grid over the product of the values")
       ->type_name("PATH=V1,V2,...");
+  std::string cmp_camera, cmp_camera_name, cmp_set_file;
+  compare->add_option("--camera", cmp_camera, "ViSP camera XML: sets camera.px, py, u0, v0, width, height of every scenario")
+      ->type_name("FILE");
+  compare->add_option("--camera-name", cmp_camera_name, "camera name in the --camera file (default: its first camera)")
+      ->type_name("NAME");
+  compare->add_option("--set-file", cmp_set_file, "YAML fragment of scenario keys applied as --set overrides before them")
+      ->type_name("FILE");
   compare->add_option("--out", co.out_dir, "output directory, replaced only when the run succeeds")
       ->capture_default_str()
       ->type_name("DIR");
@@ -476,12 +508,65 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   track_study->add_option("--fit-split", tsa.fit_split, "fraction of each track used for fitting with --fit")->capture_default_str()->type_name("F");
   track_study->add_option("--out", tsa.out, "optional output directory for study.csv")->type_name("DIR");
 
+  CLI::App* calibrate = app.add_subcommand("calibrate", "Calibrate a camera from pattern images, or the vision delay from a servo log");
+  calibrate->require_subcommand(1);
+  CalibrateCameraOptions cc;
+  bool cc_no_plots = false;
+  CLI::App* cal_camera = calibrate->add_subcommand("camera", "Camera intrinsics from images of a planar pattern (OpenCV)");
+  cal_camera->footer(
+      "Detects the pattern in every image (an image where it is not found is rejected and named), calibrates "
+      "with OpenCV's calibrateCamera (5 coefficients; k1 only for ViSP's model with distortion; none for ViSP's "
+      "model without), prints the RMS reprojection error per image and overall, and writes DIR/camera.xml (ViSP: "
+      "`predvs servo --camera DIR/camera.xml`), DIR/camera.yaml (OpenCV), DIR/residuals.csv, DIR/summary.json and "
+      "DIR/residuals.png. Circles: dark dots on a light background (ViSP's grid2d.pdf: 6 x 6, 0.03 m; the "
+      "grid36-*.pgm images of visp-images-data). Guide: docs/CALIBRATION.md.\n"
+      "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
+  cal_camera->add_option("--images", cc.images, "a directory of images, a quoted glob pattern, or one image")
+      ->required()
+      ->type_name("DIR|PATTERN");
+  cal_camera->add_option("--pattern", cc.pattern, "circles | chessboard | apriltag")->capture_default_str()->type_name("KIND");
+  cal_camera->add_option("--rows", cc.rows, "dots, inner corners or tags per column")->capture_default_str();
+  cal_camera->add_option("--cols", cc.cols, "per row")->capture_default_str();
+  cal_camera->add_option("--spacing", cc.spacing_m, "centre (corner) spacing in metres")->capture_default_str()->type_name("M");
+  cal_camera->add_option("--diameter", cc.diameter_m, "circles: dot diameter in metres (default 2/3 of the spacing)")->type_name("M");
+  cal_camera->add_option("--tag-size", cc.tag_size_m, "apriltag: tag side in metres (default 0.8 of the spacing)")->type_name("M");
+  cal_camera->add_option("--name", cc.name, "camera name in camera.xml")->capture_default_str();
+  cal_camera->add_option("--out", cc.out_dir, "output directory, replaced only when the run succeeds")->capture_default_str()->type_name("DIR");
+  cal_camera->add_flag("--no-plots", cc_no_plots, "do not draw residuals.png (no gnuplot needed)");
+  CalibrateLatencyOptions cl;
+  bool cl_no_plots = false;
+  CLI::App* cal_latency = calibrate->add_subcommand("latency", "Vision delay from a servo log (predvs servo's log.csv)");
+  cal_latency->footer(
+      "Fits the delivered features on the integrated command for every delay candidate from 0 to "
+      "--max-delay-s and reports the best delay with its uncertainty (calibration/latency_estimation.h): "
+      "with --camera or --intrinsics, the point model (image points of a camera driven by a camera twist) over "
+      "the whole run; otherwise a generic local fit around the start of motion; with acquisition stamps (t_acq_s) also the lag between the logged command and the "
+      "camera motion. Writes DIR/timing.yaml (`predvs servo --set-file DIR/timing.yaml`), DIR/latency.json and "
+      "DIR/profile.png. The log must start with the robot at rest. Log format and guide: docs/CALIBRATION.md.\n"
+      "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
+  cal_latency->add_option("--log", cl.log, "servo log CSV (predvs servo's log.csv)")->required()->type_name("FILE");
+  cal_latency->add_option("--predictor", cl.predictor, "the run to use when the log has several (default: the first)")->type_name("NAME");
+  cal_latency->add_option("--commands", cl.commands, "command columns (default: those of vx,vy,vz,wx,wy,wz present)")->type_name("A,B,...");
+  cal_latency->add_option("--camera", cl.camera,
+                          "ViSP camera XML of the logged camera: fit the point model (image points, camera twist) "
+                          "over the whole run")
+      ->type_name("FILE");
+  cal_latency->add_option("--camera-name", cl.camera_name, "camera name in the --camera file (default: its first)")->type_name("NAME");
+  cal_latency->add_option("--intrinsics", cl.intrinsics, "the point model with these intrinsics (px), e.g. 800,800,320,240")
+      ->type_name("PX,PY,U0,V0");
+  cal_latency->add_option("--max-delay-s", cl.max_delay_s, "largest delay searched (s)")->capture_default_str()->type_name("S");
+  cal_latency->add_option("--window-s", cl.window_s, "seconds of log after the start of motion + max delay in the fit")
+      ->capture_default_str()
+      ->type_name("S");
+  cal_latency->add_option("--out", cl.out_dir, "output directory, replaced only when the run succeeds")->capture_default_str()->type_name("DIR");
+  cal_latency->add_flag("--no-plots", cl_no_plots, "do not draw profile.png (no gnuplot needed)");
+
   try {
     if (!args.empty() && !args.front().empty() && args.front()[0] != '-' && args.front() != "list" &&
-        args.front() != "predict" && args.front() != "servo" && args.front() != "compare" &&
+        args.front() != "predict" && args.front() != "servo" && args.front() != "compare" && args.front() != "calibrate" &&
         args.front() != "make-track" && args.front() != "track-study" && args.front() != "fit-noise")
       throw std::invalid_argument("unknown subcommand '" + args.front() +
-                                  "' (expected list, predict, servo, compare, fit-noise, make-track or track-study)");
+                                  "' (expected list, predict, servo, compare, calibrate, fit-noise, make-track or track-study)");
     std::vector<std::string> reversed(args.rbegin(), args.rend());
     app.parse(reversed);
     if (app.got_subcommand("list")) return runList(out);
@@ -501,6 +586,18 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       tsa.command_line = command_line;
       return runTrackStudy(tsa, out, err);
     }
+    if (app.got_subcommand("calibrate")) {
+      if (calibrate->got_subcommand("camera")) {
+        cc.plots = !cc_no_plots;
+        cc.command_line = command_line;
+        runCalibrateCamera(cc, out, err);
+      } else {
+        cl.plots = !cl_no_plots;
+        cl.command_line = command_line;
+        runCalibrateLatency(cl, out, err);
+      }
+      return 0;
+    }
     if (app.got_subcommand("compare")) {
       co.scenarios = splitList(cmp_scenarios);
       if (co.scenarios.empty()) throw std::invalid_argument("--scenarios: expected a comma-separated list of scenarios or 'all'");
@@ -514,6 +611,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
         co.seed_given = true;
         co.seed = static_cast<unsigned long>(parseIntegerArg("--seed", cmp_seed, 0, 2147483647L));
       }
+      co.overrides = fileOverrides(cmp_set_file, cmp_camera, cmp_camera_name, compare->count("--camera-name") > 0);
       if (!cmp_params_file.empty()) paramsFileOverrides(cmp_params_file, co.overrides);
       for (const auto& text : cmp_sets) co.overrides.push_back(parseScenarioOverride(text));
       for (const auto& text : cmp_sweeps) co.sweeps.push_back(parseSweepOption(text));
@@ -535,6 +633,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       so.seed_given = true;
       so.seed = static_cast<unsigned long>(parseIntegerArg("--seed", seed_text, 0, 2147483647L));
     }
+    so.overrides = fileOverrides(servo_set_file, servo_camera, servo_camera_name, servo->count("--camera-name") > 0);
     if (!servo_params_file.empty()) paramsFileOverrides(servo_params_file, so.overrides);
     for (const auto& text : servo_sets) so.overrides.push_back(parseScenarioOverride(text));
     so.command_line = command_line;

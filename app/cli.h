@@ -8,7 +8,10 @@
 //   predvs compare [--scenarios a,b|all] [--predictors x,y|all] [--runs N] [--seed S] [--jobs J]
 //                  [--set PATH=VALUE]... [--sweep PATH=V1,V2]... [--out DIR=out/compare] [--no-plots]
 //                  (compare_command.h; several --sweep: a grid over the product of their values)
-//   --set overrides any scenario key before the strict parse (scenario_override.h).
+//   predvs calibrate camera --images DIR|PATTERN --pattern circles|chessboard|apriltag [...]
+//   predvs calibrate latency --log LOG.csv [...]          (calibrate_command.h)
+//   --set overrides any scenario key before the strict parse (scenario_override.h); servo and
+//   compare also take --camera FILE [--camera-name NAME] and --set-file FILE (scenario_inputs.h).
 //
 // `predvs servo` runs any scenario file once per predictor on one seed (servo_command.h): a closed
 // loop (`kind: closed-loop`, the default scenario ibvs-moving-target) or an open-loop prediction
