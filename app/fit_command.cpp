@@ -77,7 +77,7 @@ std::string paramsFileText(const std::vector<PredictorSpec>& specs, const std::v
     y << "  - {name: " << s.name << ", params: {";
     bool first = true;
     for (const auto& kv : s.params.values()) {
-      y << (first ? "" : ", ") << kv.first << ": " << std::setprecision(8) << kv.second;
+      y << (first ? "" : ", ") << kv.first << ": " << std::setprecision(12) << kv.second;
       first = false;
     }
     for (const auto& kv : s.params.texts()) {
