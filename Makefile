@@ -35,21 +35,23 @@ golden: build
 # out/reproduction/ (about a minute on 2 cores).
 PAPER000 := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf-classic,fakf
 CLOSED := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf,stkf,st-akf
+# Predictors a line adds to scenarios that do not list them run with the defaults before issue 11.
+PRE11 := data/params/pre-issue-11.yaml
 reproduce: build
-	$(PREDVS) compare --scenarios e1-line,e2-accel-jump,e3-zigzag,e4-circle,e4-circle-large --predictors $(PAPER000) --out out/reproduction/paper000
+	$(PREDVS) compare --scenarios e1-line,e2-accel-jump,e3-zigzag,e4-circle,e4-circle-large --predictors $(PAPER000) --params $(PRE11) --out out/reproduction/paper000
 	$(PREDVS) compare --scenarios e5-line,e5-circle,e5-line-ibvs,e5-circle-ibvs --out out/reproduction/paper000-e5
 	$(PREDVS) compare --scenarios e5-line,e5-line-ibvs --sweep target.trajectory.vy=0.0002,0.0005,0.001,0.002,0.004 --out out/reproduction/paper000-e5-speed
 	$(PREDVS) compare --scenarios e5-line,e5-circle --sweep task.q_near=0.5,1,2,4,8,12 --out out/reproduction/paper000-e5-gain
 	$(PREDVS) compare --scenarios e5-line-ibvs,e5-circle-ibvs --sweep task.lambda=0.75,1.25,2.25,4.25,8.25,12.25 --out out/reproduction/paper000-e5-gain-ibvs
 	$(PREDVS) compare --scenarios e6-noise-study --out out/reproduction/paper001-e6
-	$(PREDVS) compare --scenarios e7-occlusion --predictors hold,kf-cv,kf-ca,cs-akf-adaptive,fakf-classic,fakf,stkf,st-akf --out out/reproduction/paper001-e7
+	$(PREDVS) compare --scenarios e7-occlusion --predictors hold,kf-cv,kf-ca,cs-akf-adaptive,fakf-classic,fakf,stkf,st-akf --params $(PRE11) --out out/reproduction/paper001-e7
 	$(PREDVS) compare --scenarios e8-vtc,e8-vtc-occlusion,e8-ibvs --out out/reproduction/paper001-e8
 	$(PREDVS) compare --scenarios e8-vtc --sweep timing.delay_frames=0,1,2 --out out/reproduction/paper001-e8-delay
 	$(PREDVS) compare --scenarios e9-broyden,e9-broyden-uncompensated,e9-ibvs --out out/reproduction/paper002-e9
 	$(PREDVS) compare --scenarios e10-rotation-150,e10-rotation-30 --out out/reproduction/paper003-e10
 	$(PREDVS) compare --scenarios e11-depth-error --out out/reproduction/paper003-e11
 	$(PREDVS) compare --scenarios e12-discontinuity,e12-discontinuity-2ms,e12-smooth --out out/reproduction/paper004
-	$(PREDVS) compare --scenarios ibvs-moving-target --predictors $(CLOSED) --out out/reproduction/closed-loop
+	$(PREDVS) compare --scenarios ibvs-moving-target --predictors $(CLOSED) --params $(PRE11) --out out/reproduction/closed-loop
 	$(PREDVS) compare --scenarios delay-study --out out/reproduction/delay-study
 
 clean:
