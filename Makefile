@@ -33,8 +33,8 @@ golden: build
 
 # Every figure of docs/REPRODUCTION.md: one leaderboard per paper (and the closed loop) under
 # out/reproduction/ (about a minute on 2 cores).
-PAPER000 := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf-classic,fakf
-CLOSED := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf,stkf,st-akf
+PAPER000 := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf-classic,fakf,imm
+CLOSED := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf,stkf,st-akf,imm
 # Predictors a line adds to scenarios that do not list them run with the defaults before issue 11.
 PRE11 := data/params/pre-issue-11.yaml
 reproduce: build
@@ -44,7 +44,7 @@ reproduce: build
 	$(PREDVS) compare --scenarios e5-line,e5-circle --sweep task.q_near=0.5,1,2,4,8,12 --out out/reproduction/paper000-e5-gain
 	$(PREDVS) compare --scenarios e5-line-ibvs,e5-circle-ibvs --sweep task.lambda=0.75,1.25,2.25,4.25,8.25,12.25 --out out/reproduction/paper000-e5-gain-ibvs
 	$(PREDVS) compare --scenarios e6-noise-study --out out/reproduction/paper001-e6
-	$(PREDVS) compare --scenarios e7-occlusion --predictors hold,kf-cv,kf-ca,cs-akf-adaptive,fakf-classic,fakf,stkf,st-akf --params $(PRE11) --out out/reproduction/paper001-e7
+	$(PREDVS) compare --scenarios e7-occlusion --predictors hold,kf-cv,kf-ca,cs-akf-adaptive,fakf-classic,fakf,stkf,st-akf,imm --params $(PRE11) --out out/reproduction/paper001-e7
 	$(PREDVS) compare --scenarios e8-vtc,e8-vtc-occlusion,e8-ibvs --out out/reproduction/paper001-e8
 	$(PREDVS) compare --scenarios e8-vtc --sweep timing.delay_frames=0,1,2 --out out/reproduction/paper001-e8-delay
 	$(PREDVS) compare --scenarios e9-broyden,e9-broyden-uncompensated,e9-ibvs --out out/reproduction/paper002-e9
