@@ -38,33 +38,35 @@ golden: build
 # out/reproduction/, the studies the page quotes beside them (a_max and floor sweeps, the fuzzy
 # layers of fakf, stkf's tuning in the closed loop, the monitor's band) and the E7
 # re-initialisation count printed by its unit test (about a minute on 2 cores).
-PAPER000 := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf-classic,fakf
-CLOSED := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf,stkf,st-akf
 # fakf with each fuzzy layer switched off (R held at 1 px^2 by its clamp; P inflation never due).
 FUZZY_LAYERS := cs-akf-adaptive,fakf,fakf-fixed-r=fakf:r_min=0.9999:r_max=1.0001,fakf-no-inflation=fakf:inflation_period=1000,fakf-neither=fakf:r_min=0.9999:r_max=1.0001:inflation_period=1000,csa-r06=cs-akf-adaptive:r=0.6
 # stkf in the closed loop: the squared R, the self-tuning, R_0 and Q_0 changed one at a time.
 STKF_TUNING := hold,kf-cv,stkf,stkf-unsquared=stkf:squared=0,stkf-plain=stkf:window=0,stkf-r025=stkf:r=0.25,stkf-qpos0=stkf:q_pos=0,stkf-qvel200=stkf:q_vel=200
+PAPER000 := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf-classic,fakf,imm
+CLOSED := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf,stkf,st-akf,imm
+# Predictors a line adds to scenarios that do not list them run with the defaults before issue 11.
+PRE11 := data/params/pre-issue-11.yaml
 reproduce: build
-	$(PREDVS) compare --scenarios e1-line,e2-accel-jump,e3-zigzag,e4-circle,e4-circle-large --predictors $(PAPER000) --out out/reproduction/paper000
+	$(PREDVS) compare --scenarios e1-line,e2-accel-jump,e3-zigzag,e4-circle,e4-circle-large --predictors $(PAPER000) --params $(PRE11) --out out/reproduction/paper000
 	$(PREDVS) compare --scenarios e5-line,e5-circle,e5-line-ibvs,e5-circle-ibvs --out out/reproduction/paper000-e5
 	$(PREDVS) compare --scenarios e5-line,e5-line-ibvs --sweep target.trajectory.vy=0.0002,0.0005,0.001,0.002,0.004 --out out/reproduction/paper000-e5-speed
 	$(PREDVS) compare --scenarios e5-line,e5-circle --sweep task.q_near=0.5,1,2,4,8,12 --out out/reproduction/paper000-e5-gain
 	$(PREDVS) compare --scenarios e5-line-ibvs,e5-circle-ibvs --sweep task.lambda=0.75,1.25,2.25,4.25,8.25,12.25 --out out/reproduction/paper000-e5-gain-ibvs
 	$(PREDVS) compare --scenarios e6-noise-study --out out/reproduction/paper001-e6
-	$(PREDVS) compare --scenarios e7-occlusion --predictors hold,kf-cv,kf-ca,cs-akf-adaptive,fakf-classic,fakf,stkf,st-akf --sweep lost.action=extrapolate,hold --out out/reproduction/paper001-e7
+	$(PREDVS) compare --scenarios e7-occlusion --predictors hold,kf-cv,kf-ca,cs-akf-adaptive,fakf-classic,fakf,stkf,st-akf,imm --sweep lost.action=extrapolate,hold --params $(PRE11) --out out/reproduction/paper001-e7
 	$(PREDVS) compare --scenarios e8-vtc,e8-vtc-occlusion,e8-ibvs --out out/reproduction/paper001-e8
 	$(PREDVS) compare --scenarios e8-vtc --sweep timing.delay_frames=0,1,2 --out out/reproduction/paper001-e8-delay
 	$(PREDVS) compare --scenarios e9-broyden,e9-broyden-uncompensated,e9-ibvs --out out/reproduction/paper002-e9
 	$(PREDVS) compare --scenarios e10-rotation-150,e10-rotation-30 --out out/reproduction/paper003-e10
 	$(PREDVS) compare --scenarios e11-depth-error --out out/reproduction/paper003-e11
 	$(PREDVS) compare --scenarios e12-discontinuity,e12-discontinuity-2ms,e12-smooth --out out/reproduction/paper004
-	$(PREDVS) compare --scenarios ibvs-moving-target --predictors $(CLOSED) --out out/reproduction/closed-loop
+	$(PREDVS) compare --scenarios ibvs-moving-target --predictors $(CLOSED) --params $(PRE11) --out out/reproduction/closed-loop
 	$(PREDVS) compare --scenarios delay-study --out out/reproduction/delay-study
-	$(PREDVS) compare --scenarios e2-accel-jump --predictors cs-akf --sweep predictors.cs-akf.params.a_max=5,20,50,100,200,500 --out out/reproduction/paper000-e2-a-max
-	$(PREDVS) compare --scenarios e4-circle-large --predictors cs-akf-adaptive --sweep predictors.cs-akf-adaptive.params.sigma_min_sq=0.001,0.1,1,10,100 --out out/reproduction/paper000-e4-floor
-	$(PREDVS) compare --scenarios e1-line,e2-accel-jump,e3-zigzag,e4-circle,e4-circle-large --predictors $(FUZZY_LAYERS) --out out/reproduction/paper000-fuzzy-layers
-	$(PREDVS) compare --scenarios e1-line,e2-accel-jump,e3-zigzag --predictors $(PAPER000) --set noise.model=none --runs 1 --out out/reproduction/paper000-no-noise
-	$(PREDVS) compare --scenarios ibvs-moving-target --predictors $(STKF_TUNING) --out out/reproduction/closed-loop-stkf
+	$(PREDVS) compare --scenarios e2-accel-jump --params $(PRE11) --predictors cs-akf --sweep predictors.cs-akf.params.a_max=5,20,50,100,200,500 --out out/reproduction/paper000-e2-a-max
+	$(PREDVS) compare --scenarios e4-circle-large --params $(PRE11) --predictors cs-akf-adaptive --sweep predictors.cs-akf-adaptive.params.sigma_min_sq=0.001,0.1,1,10,100 --out out/reproduction/paper000-e4-floor
+	$(PREDVS) compare --scenarios e1-line,e2-accel-jump,e3-zigzag,e4-circle,e4-circle-large --params $(PRE11) --predictors $(FUZZY_LAYERS) --out out/reproduction/paper000-fuzzy-layers
+	$(PREDVS) compare --scenarios e1-line,e2-accel-jump,e3-zigzag --predictors $(PAPER000) --params $(PRE11) --set noise.model=none --runs 1 --out out/reproduction/paper000-no-noise
+	$(PREDVS) compare --scenarios ibvs-moving-target --params $(PRE11) --predictors $(STKF_TUNING) --out out/reproduction/closed-loop-stkf
 	$(PREDVS) compare --scenarios e12-discontinuity-2ms,e12-smooth --predictors st-akf-pm --sweep predictors.st-akf-pm.params.pm_band=3,4,5,6 --out out/reproduction/paper004-band
 	@mkdir -p out/reproduction
 	$(BUILD_DIR)/tests/predictors_tests --gtest_filter='Stkf.OcclusionPredictsOnlyThenReinitialisesWhenPExceedsThreshold' | tee out/reproduction/paper001-e7-reinit.txt

@@ -11,6 +11,10 @@
 #include "servo_command.h"
 #include "track_command.h"
 #include "track_csv.h"
+#include "track_commands.h"
+#include "fit_command.h"
+
+#include "predvs/calibration/noise_fit.h"
 #include "app_error.h"
 #include "gnuplot.h"
 
@@ -122,7 +126,37 @@ struct PredictArgs {
   std::string out_dir;
   std::vector<std::string> params;
   bool no_plots = false;
+  std::string params_file;  ///< --params FILE (fit_command.h)
+  bool fit = false;         ///< --fit
+  std::string fit_split;    ///< --fit-split F
 };
+
+/// Sets the params of a parameter file on the specs of the same name (--params FILE).
+void applyParamsFile(const std::string& file, std::vector<PredictorSpec>& specs) {
+  bool any = false;
+  for (const auto& f : readParamsFile(file))
+    for (auto& s : specs)
+      if (s.name == f.name) {
+        for (const auto& kv : f.params.values()) s.params.set(kv.first, kv.second);
+        for (const auto& kv : f.params.texts()) s.params.setText(kv.first, kv.second);
+        any = true;
+      }
+  if (!any) throw std::invalid_argument("--params " + file + ": names none of the predictors being run");
+}
+
+/// --params FILE for servo / compare: one `--set predictors.NAME.params.KEY=VALUE` per entry.
+void paramsFileOverrides(const std::string& file, std::vector<ScenarioOverride>& overrides) {
+  for (const auto& f : readParamsFile(file)) {
+    std::ostringstream v;
+    for (const auto& kv : f.params.values()) {
+      v.str("");
+      v << std::setprecision(10) << kv.second;
+      overrides.push_back(parseScenarioOverride("predictors." + f.name + ".params." + kv.first + "=" + v.str()));
+    }
+    for (const auto& kv : f.params.texts())
+      overrides.push_back(parseScenarioOverride("predictors." + f.name + ".params." + kv.first + "=" + kv.second));
+  }
+}
 
 int runPredict(const PredictArgs& a, const std::string& command_line, std::ostream& out) {
   // Validate every argument before touching the file system.
@@ -141,6 +175,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
       specs.push_back({name, {}});
     }
   }
+  if (!a.params_file.empty()) applyParamsFile(a.params_file, specs);
   for (const auto& kv : a.params) {
     const auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -184,6 +219,13 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   } else {
     delay_frames = static_cast<int>(parseIntegerArg("--delay-frames", a.delay_frames, 0, 1000000));
   }
+  double fit_split = 1.0;
+  if (!a.fit_split.empty()) {
+    if (!a.fit) throw std::invalid_argument("--fit-split: needs --fit");
+    fit_split = parseNumberArg("--fit-split", a.fit_split);
+    if (!(fit_split > 0.0 && fit_split < 1.0))
+      throw std::invalid_argument("--fit-split: expected a fraction in (0, 1), got '" + a.fit_split + "'");
+  }
   if (!a.no_plots) requireGnuplot();
 
   const FeatureTrack track = readFeatureTrack(a.input);
@@ -192,13 +234,49 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
       throw std::invalid_argument(fileLocation(a.input, 0, "--delay-frames needs at least two data rows to measure the frame period"));
     horizon_s = delay_frames * medianPeriod(track.t_s);
   }
-  const PredictionReport report = predictTrack(track, specs, horizon_s);
+  // --fit: each predictor's noise fitted on the first fit_split of the rows (all rows without
+  // --fit-split), then run on the whole track; with --fit-split only the rest is scored.
+  const auto fit_rows = static_cast<size_t>(std::floor(fit_split * static_cast<double>(track.size())));
+  std::ostringstream fit_log;
+  if (a.fit)
+    for (auto& s : specs) {
+      if (s.name == "hold") continue;
+      try {
+        const NoiseFitResult fit = fitNoise(s.name, s.params, fitTrackOf(track, fit_rows));
+        s.params = fit.params;
+        printFit(fit, fit_log);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(a.input + ": --fit " + s.name + ": " + e.what());
+      }
+    }
+  PredictionReport report = predictTrack(track, specs, horizon_s);
+  if (a.fit && fit_rows < track.size() && !a.fit_split.empty())
+    for (auto& run : report.runs) {
+      // Score only the rows after the fit: the predictions made before it are blanked.
+      std::vector<PredictionErrors> vs_meas, vs_truth;
+      for (size_t p = 0; p < run.points.size(); ++p) {
+        PointPrediction& pp = run.points[p];
+        std::vector<double> u = pp.u_pred_px, v = pp.v_pred_px;
+        for (size_t i = 0; i < fit_rows && i < u.size(); ++i) u[i] = v[i] = std::numeric_limits<double>::quiet_NaN();
+        pp.vs_measurement = predictionErrors(track.t_s, u, v, horizon_s, track.u_px[p], track.v_px[p]);
+        vs_meas.push_back(pp.vs_measurement);
+        if (track.hasTruth()) {
+          pp.vs_truth = predictionErrors(track.t_s, u, v, horizon_s, track.u_true_px[p], track.v_true_px[p]);
+          vs_truth.push_back(pp.vs_truth);
+        }
+      }
+      run.vs_measurement = pooledErrors(vs_meas);
+      if (track.hasTruth()) run.vs_truth = pooledErrors(vs_truth);
+    }
 
   StagedOutputDir dir(a.out_dir);
   writePredictionOutputs(track, report, delay_frames, command_line, !a.no_plots, dir);
   dir.commit();
 
+  out << fit_log.str();
   printPredictionTable(report, track, out);
+  if (a.fit && !a.fit_split.empty())
+    out << "fitted on rows 1.." << fit_rows << ", scored on rows " << fit_rows + 1 << ".." << track.size() << "\n";
   out << "horizon " << horizon_s << " s";
   if (delay_frames >= 0) out << " (" << delay_frames << " frames of " << medianPeriod(track.t_s) << " s)";
   out << "; wrote " << (dir.target() / "predictions.csv").string() << ", summary.json"
@@ -256,6 +334,13 @@ std::vector<ScenarioOverride> fileOverrides(const std::string& set_file, const s
     o.insert(o.end(), c.begin(), c.end());
   }
   return o;
+}
+
+/// True when `name` is one of the app's subcommands.
+bool isSubcommand(CLI::App& app, const std::string& name) {
+  for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+    if (sub->get_name() == name) return true;
+  return false;
 }
 
 }  // namespace
@@ -320,6 +405,14 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                       "predictor parameter KEY=VALUE (repeatable); with several predictors write PREDICTOR.KEY=VALUE")
       ->type_name("KEY=VALUE");
   predict->add_flag("--no-plots", pa.no_plots, "do not draw predictions.png (no gnuplot needed)");
+  predict->add_option("--params", pa.params_file,
+                      "parameter file (YAML, as written by fit-noise) for the predictors it names; --param wins")
+      ->type_name("FILE");
+  predict->add_flag("--fit", pa.fit,
+                    "fit each predictor's noise (fit-noise) on the track first, then predict with the fitted values");
+  predict->add_option("--fit-split", pa.fit_split,
+                      "with --fit: fit on the first fraction F of the rows, score only the rest")
+      ->type_name("F");
 
   TrackArgs ta;
   CLI::App* track = app.add_subcommand("track", "Track points through an image sequence or video and score the predictors on them");
@@ -357,7 +450,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   track->add_flag("--no-plots", ta.no_plots, "do not draw tracks.png / errors.png (no gnuplot needed)");
 
   ScenarioRunOptions so;
-  std::string predictors_csv, seed_text;
+  std::string predictors_csv, seed_text, servo_params_file;
   std::vector<std::string> servo_sets;
   bool servo_no_plots = false;
   CLI::App* servo =
@@ -407,11 +500,15 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   servo->add_option("--out", so.out_dir, "output directory, replaced only when the run succeeds (default: out/<scenario>)")
       ->type_name("DIR");
   servo->add_flag("--no-plots", servo_no_plots, "do not draw PNG plots (no gnuplot needed)");
+  servo->add_option("--params", servo_params_file,
+                    "predictor parameter file (fit-noise): each entry becomes --set predictors.NAME.params.KEY=VALUE")
+      ->type_name("FILE");
 
   CompareOptions co;
   std::string cmp_scenarios = "all", cmp_predictors, cmp_runs, cmp_seed, cmp_jobs;
   std::vector<std::string> cmp_sets;
   bool cmp_no_plots = false;
+  std::string cmp_params_file;
   CLI::App* compare = app.add_subcommand(
       "compare", "Leaderboard: every predictor on every scenario, many seeded runs in parallel");
   compare->footer(
@@ -471,6 +568,59 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->capture_default_str()
       ->type_name("DIR");
   compare->add_flag("--no-plots", cmp_no_plots, "do not draw PNG plots (no gnuplot needed)");
+  compare->add_option("--params", cmp_params_file,
+                      "predictor parameter file (fit-noise): each entry becomes --set predictors.NAME.params.KEY=VALUE")
+      ->type_name("FILE");
+
+  FitNoiseArgs fna;
+  CLI::App* fit_noise = app.add_subcommand("fit-noise", "Fit a predictor's noise parameters on a track (Ceres, innovation likelihood)");
+  fit_noise->footer("Maximises the innovation log-likelihood -1/2 sum(log(2 pi S) + eps^2/S) of the predictor over the "
+                    "track (rows after --burn-in) over its noise parameters on a log scale within bounds (L-BFGS, "
+                    "numeric derivatives); the uncertainty is the inverse Fisher information (ceres::Covariance). "
+                    "Fitted keys: kf-cv, kf-ca, st-akf, fakf-classic: q, r; cs-akf: alpha, a_max, a_neg_max, r; "
+                    "cs-akf-adaptive: alpha, sigma_min_sq, sigma_max_sq, r; fakf: alpha, sigma_min_sq, r; stkf: r, "
+                    "q_pos, q_vel; imm: q_cv, q_ca, r. Writes DIR/params.yaml (use with predict/servo/compare "
+                    "--params) and DIR/fit.json.\n"
+                    "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
+  fit_noise->add_option("--input", fna.input, "track CSV (t,u,v[,u_true,v_true]) as for predict")->required()->type_name("FILE");
+  fit_noise->add_option("--predictor", fna.predictor, "predictor to fit")->required()->type_name("NAME");
+  fit_noise->add_option("--param", fna.params, "fixed value, or start value of a fitted key (repeatable)")->type_name("KEY=VALUE");
+  fit_noise->add_option("--params", fna.params_file, "parameter file whose entry for NAME gives fixed / start values")->type_name("FILE");
+  fit_noise->add_option("--burn-in", fna.burn_in, "rows left out of the likelihood at the start")->capture_default_str()->type_name("N");
+  fit_noise->add_option("--out", fna.out, "output directory (replaced only when the fit succeeds)")->required()->type_name("DIR");
+
+  // Generated maneuvering tracks (app/track_commands.h).
+  MakeTrackArgs mta;
+  CLI::App* make_track = app.add_subcommand("make-track", "Write one generated maneuvering track (truth kept) as a predict input CSV");
+  make_track->footer("Kinds: smooth, turns, stops, bursts, zigzag, hand (servo/include/predvs/servo/maneuver_tracks.h). "
+                     "Writes FILE with t,u,v,u_true,v_true; an empty u,v cell is a dropped frame.");
+  make_track->add_option("--kind", mta.kind, "motion kind")->capture_default_str()->type_name("KIND");
+  make_track->add_option("--rate-hz", mta.rate_hz, "frame rate in Hz")->capture_default_str()->type_name("HZ");
+  make_track->add_option("--noise-px", mta.noise_px, "Gaussian noise std per coordinate, px")->capture_default_str()->type_name("PX");
+  make_track->add_option("--duration-s", mta.duration_s, "duration in s")->capture_default_str()->type_name("S");
+  make_track->add_option("--drop", mta.drop_prob, "probability of a dropped frame (bursts of 3..8 at drop/5)")->capture_default_str()->type_name("P");
+  make_track->add_option("--seed", mta.seed, "random seed")->capture_default_str()->type_name("N");
+  make_track->add_option("--out", mta.out, "output CSV file")->required()->type_name("FILE");
+
+  TrackStudyArgs tsa;
+  std::string ts_kinds = "all", ts_predictors = "all", ts_rates = "10,15,30,60", ts_noise = "0.5,1.5,3";
+  CLI::App* track_study = app.add_subcommand("track-study", "Every predictor against hold on a grid of generated maneuvering tracks");
+  track_study->footer("For each kind x rate x noise x seed, generates a track (make-track), predicts --delay-frames ahead "
+                      "as `predvs predict` does and scores against the truth. Prints per predictor how many tracks it "
+                      "beats hold on, and the mean / worst RMSE ratio to hold. --out DIR writes DIR/study.csv.");
+  track_study->add_option("--kinds", ts_kinds, "comma list of kinds or 'all'")->capture_default_str()->type_name("A,B|all");
+  track_study->add_option("--rates", ts_rates, "comma list of frame rates, Hz")->capture_default_str()->type_name("HZ,...");
+  track_study->add_option("--noise", ts_noise, "comma list of noise std, px")->capture_default_str()->type_name("PX,...");
+  track_study->add_option("--seeds", tsa.seeds, "tracks per cell (seeds S..S+N-1)")->capture_default_str()->type_name("N");
+  track_study->add_option("--seed", tsa.seed, "first seed S")->capture_default_str()->type_name("S");
+  track_study->add_option("--duration-s", tsa.duration_s, "track duration, s")->capture_default_str()->type_name("S");
+  track_study->add_option("--drop", tsa.drop_prob, "dropped-frame probability")->capture_default_str()->type_name("P");
+  track_study->add_option("--delay-frames", tsa.delay_frames, "prediction horizon in frames")->capture_default_str()->type_name("H");
+  track_study->add_option("--predictors", ts_predictors, "comma list of predictors or 'all'")->capture_default_str()->type_name("A,B|all");
+  track_study->add_option("--param", tsa.params, "parameter of one predictor (repeatable)")->type_name("PREDICTOR.KEY=VALUE");
+  track_study->add_flag("--fit", tsa.fit, "fit each predictor's noise on the first part of each track (fit-noise), score on the rest");
+  track_study->add_option("--fit-split", tsa.fit_split, "fraction of each track used for fitting with --fit")->capture_default_str()->type_name("F");
+  track_study->add_option("--out", tsa.out, "optional output directory for study.csv")->type_name("DIR");
 
   CLI::App* calibrate = app.add_subcommand("calibrate", "Calibrate a camera from pattern images, or the vision delay from a servo log");
   calibrate->require_subcommand(1);
@@ -526,16 +676,33 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   cal_latency->add_flag("--no-plots", cl_no_plots, "do not draw profile.png (no gnuplot needed)");
 
   try {
-    if (!args.empty() && !args.front().empty() && args.front()[0] != '-' && args.front() != "list" &&
-        args.front() != "predict" && args.front() != "servo" && args.front() != "compare" && args.front() != "track" &&
-        args.front() != "calibrate")
-      throw std::invalid_argument("unknown subcommand '" + args.front() +
-                                  "' (expected list, predict, servo, compare, track or calibrate)");
+    if (!args.empty() && !args.front().empty() && args.front()[0] != '-' &&
+        !isSubcommand(app, args.front())) {
+      std::string known;
+      for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+        known += (known.empty() ? "" : ", ") + sub->get_name();
+      throw std::invalid_argument("unknown subcommand '" + args.front() + "' (expected " + known + ")");
+    }
     std::vector<std::string> reversed(args.rbegin(), args.rend());
     app.parse(reversed);
     if (app.got_subcommand("list")) return runList(out);
     if (app.got_subcommand("predict")) return runPredict(pa, command_line, out);
     if (app.got_subcommand("track")) return runTrack(ta, command_line, out, err);
+    if (app.got_subcommand("make-track")) return runMakeTrack(mta, out);
+    if (app.got_subcommand("fit-noise")) {
+      fna.command_line = command_line;
+      return runFitNoise(fna, out);
+    }
+    if (app.got_subcommand("track-study")) {
+      tsa.kinds = splitList(ts_kinds);
+      tsa.predictors = splitList(ts_predictors);
+      tsa.rates_hz.clear();
+      for (const auto& r : splitList(ts_rates)) tsa.rates_hz.push_back(parseNumberArg("--rates", r));
+      tsa.noises_px.clear();
+      for (const auto& r : splitList(ts_noise)) tsa.noises_px.push_back(parseNumberArg("--noise", r));
+      tsa.command_line = command_line;
+      return runTrackStudy(tsa, out, err);
+    }
     if (app.got_subcommand("calibrate")) {
       if (calibrate->got_subcommand("camera")) {
         cc.plots = !cc_no_plots;
@@ -562,6 +729,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
         co.seed = static_cast<unsigned long>(parseIntegerArg("--seed", cmp_seed, 0, 2147483647L));
       }
       co.overrides = fileOverrides(cmp_set_file, cmp_camera, cmp_camera_name, compare->count("--camera-name") > 0);
+      if (!cmp_params_file.empty()) paramsFileOverrides(cmp_params_file, co.overrides);
       for (const auto& text : cmp_sets) co.overrides.push_back(parseScenarioOverride(text));
       for (const auto& text : cmp_sweeps) co.sweeps.push_back(parseSweepOption(text));
       checkSweepAxes(co.sweeps);
@@ -583,6 +751,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       so.seed = static_cast<unsigned long>(parseIntegerArg("--seed", seed_text, 0, 2147483647L));
     }
     so.overrides = fileOverrides(servo_set_file, servo_camera, servo_camera_name, servo->count("--camera-name") > 0);
+    if (!servo_params_file.empty()) paramsFileOverrides(servo_params_file, so.overrides);
     for (const auto& text : servo_sets) so.overrides.push_back(parseScenarioOverride(text));
     so.command_line = command_line;
     runScenarioCommand(so, out, err);

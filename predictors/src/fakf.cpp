@@ -1,4 +1,5 @@
 #include "predvs/predictors/fakf.h"
+#include "predvs/predictors/kalman_baselines.h"
 
 #include <algorithm>
 #include <cmath>
@@ -65,14 +66,16 @@ fuzzy::DomSystemConfig domConfig(const Params& p) {
 }  // namespace
 
 FakfClassicPredictor::FakfClassicPredictor(int channels, const Params& params)
-    : ChannelPredictor<2>(channels, params.get("r", 1.0, 1e-12, 1e12), params.get("p0_vel", 1e4, 0.0, 1e12), 0.0),
-      q_(params.get("q", 100.0, 0.0, 1e12)),
+    : ChannelPredictor<2>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12), 0.0),
+      q_(params.get("q", kDefaultQCv, 0.0, 1e12)),
       r_min_(params.get("r_min", 0.01 * r0_, 1e-12, 1e12)),
       r_max_(params.get("r_max", 100.0 * r0_, 1e-12, 1e12)),
       window_length_(static_cast<int>(params.get("window", 10.0, 2.0, 1000.0))),
       dom_(fuzzy::makeFakfDomSystem(domConfig(params))) {
   if (!(r_min_ <= r0_ && r0_ <= r_max_))
     throw std::invalid_argument("fakf-classic: need r_min <= r <= r_max");
+  relative_bounds_ = !params.has("r_min") && !params.has("r_max");
+  if (isAutoMeasurementNoise(params)) enableAutoNoise();
   resetAdaptation();
 }
 
@@ -88,11 +91,14 @@ void FakfClassicPredictor::step(int c, double dt, double z) {
   double& R = r_[static_cast<size_t>(c)];
   InnovationWindow& win = window_[static_cast<size_t>(c)];
   const double eps = z - s.g.x(0);
+  if (!nominalNoiseFinal(c)) R = nominalNoise(c);  // start-up estimate: adapt from it once frozen
   const double S = s.g.P(0, 0) + R;  // theoretical innovation power with R(k-1)
   win.push(eps);
-  if (win.full()) {
+  if (win.full() && nominalNoiseFinal(c)) {
     const double dom = win.meanSquare() - S;
-    R = std::clamp(R + dom_.evaluate(dom), r_min_, r_max_);
+    const double lo = autoNoise() && relative_bounds_ ? 0.01 * nominalNoise(c) : r_min_;
+    const double hi = autoNoise() && relative_bounds_ ? 100.0 * nominalNoise(c) : r_max_;
+    R = std::clamp(R + dom_.evaluate(dom), lo, hi);
   }
   s.innovation = measurementUpdate(s.g, z, R);
 }
@@ -131,6 +137,7 @@ FakfPredictor::FakfPredictor(int channels, const Params& params)
       beta_(fuzzy::makeFakfBetaSystem(betaConfig(params))),
       gamma_(fuzzy::makeFakfGammaSystem(gammaConfig(params))) {
   if (!(r_min_ <= r0_ && r0_ <= r_max_)) throw std::invalid_argument("fakf: need r_min <= r <= r_max");
+  relative_bounds_ = !params.has("r_min") && !params.has("r_max");
   FakfPredictor::resetAdaptation();
 }
 
@@ -154,15 +161,18 @@ void FakfPredictor::inflatePrior(int c, double dt) {
   if (!isMeasured(pending_z_)) return;
   Gaussian<3>& g = channelGaussian(c);
   const double eps = pending_z_ - g.x(0);
+  if (!nominalNoiseFinal(c)) ch.r = nominalNoise(c);  // start-up estimate: adapt from it once frozen
   const double S = g.P(0, 0) + ch.r;  // theoretical innovation power with R(k-1)
   ch.window.push(eps);
-  if (!ch.window.full()) return;
+  if (!ch.window.full() || !nominalNoiseFinal(c)) return;
 
   // R(k) = beta(E', dP') R(k-1)
   const InnovationWindow::Moments m = ch.window.moments();
   const double e_mean = m.mean;
   const double x[2] = {e_mean, m.mean_square - S};
-  ch.r = std::clamp(beta_.evaluate(x) * ch.r, r_min_, r_max_);
+  const double lo = autoNoise() && relative_bounds_ ? 0.01 * nominalNoise(c) : r_min_;
+  const double hi = autoNoise() && relative_bounds_ ? 100.0 * nominalNoise(c) : r_max_;
+  ch.r = std::clamp(beta_.evaluate(x) * ch.r, lo, hi);
 
   // P(k|k-1) <- gamma P(k|k-1), decided every inflation_period measured frames.
   if (ch.measured++ % inflation_period_ != 0) return;

@@ -13,12 +13,16 @@ void HoldPredictor::step(int c, double /*dt*/, double z) {
 }
 
 KfCvPredictor::KfCvPredictor(int channels, const Params& params)
-    : ChannelPredictor<2>(channels, params.get("r", 1.0, 1e-12, 1e12), params.get("p0_vel", 1e4, 0.0, 1e12), 0.0),
-      q_(params.get("q", 100.0, 0.0, 1e12)) {}
+    : ChannelPredictor<2>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12), 0.0),
+      q_(params.get("q", kDefaultQCv, 0.0, 1e12)) {
+  if (isAutoMeasurementNoise(params)) enableAutoNoise();
+}
 
 KfCaPredictor::KfCaPredictor(int channels, const Params& params)
-    : ChannelPredictor<3>(channels, params.get("r", 1.0, 1e-12, 1e12), params.get("p0_vel", 1e4, 0.0, 1e12),
+    : ChannelPredictor<3>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12),
                           params.get("p0_acc", 1e4, 0.0, 1e12)),
-      q_(params.get("q", 1000.0, 0.0, 1e12)) {}
+      q_(params.get("q", kDefaultQCa, 0.0, 1e15)) {
+  if (isAutoMeasurementNoise(params)) enableAutoNoise();
+}
 
 }  // namespace predvs

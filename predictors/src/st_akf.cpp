@@ -8,13 +8,14 @@
 namespace predvs {
 
 StAkfPredictor::StAkfPredictor(int channels, const Params& params)
-    : ChannelPredictor<3>(channels, params.get("r", 1.0, 1e-12, 1e12), params.get("p0_vel", 1e4, 0.0, 1e12),
+    : ChannelPredictor<3>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12),
                           params.get("p0_acc", 1e4, 0.0, 1e12)),
-      q_(params.get("q", 1000.0, 0.0, 1e12)),
+      q_(params.get("q", 1000.0, 0.0, 1e15)),
       rho_(params.get("rho", 0.95, 0.0, 1.0)),
-      beta_(params.get("beta", 1.0, 1.0, 1e6)),
+      beta_(params.get("beta", 5.0, 1.0, 1e6)),
       ext_(static_cast<size_t>(channels)) {
   a_ << params.get("a1", 1.0, 1.0, 1e6), params.get("a2", 1.0, 1.0, 1e6), params.get("a3", 1.0, 1.0, 1e6);
+  if (isAutoMeasurementNoise(params)) enableAutoNoise();
 }
 
 void StAkfPredictor::resetAdaptation() {

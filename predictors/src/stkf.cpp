@@ -30,13 +30,13 @@ Eigen::MatrixXd StkfPredictor::makeResidualMaker(int k) {
 }
 
 StkfPredictor::StkfPredictor(int channels, const Params& params)
-    : ChannelPredictor<2>(channels, params.get("r", 5.0, 1e-12, 1e12), params.get("p0_vel", 1.0, 0.0, 1e12), 0.0),
-      q_pos_(params.get("q_pos", 5.0, 0.0, 1e12)),
-      q_vel_(params.get("q_vel", 20.0, 0.0, 1e12)),
+    : ChannelPredictor<2>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1.0, 0.0, 1e12), 0.0),
+      q_pos_(params.get("q_pos", 0.0, 0.0, 1e12)),
+      q_vel_(params.get("q_vel", 3000.0, 0.0, 1e12)),
       q_period_s_(params.get("q_period_s", 0.1, 1e-9, 1e3)),
       p0_pos_(params.get("p0_pos", 1.0, 0.0, 1e12)),
       window_(windowParam(params)),
-      squared_(params.get("squared", 1.0, 0.0, 1.0) != 0.0),
+      squared_(params.get("squared", 0.0, 0.0, 1.0) != 0.0),
       reinit_threshold_(params.get("reinit_threshold", 4800.0, 1e-12, 1e300)),
       known_v_px_s_(Eigen::VectorXd::Zero(channels)),
       window_y_(static_cast<size_t>(channels), Eigen::VectorXd::Zero(window_)),
@@ -44,6 +44,7 @@ StkfPredictor::StkfPredictor(int channels, const Params& params)
       r_(static_cast<size_t>(channels), r0_),
       pending_(static_cast<size_t>(channels), 0) {
   if (window_ > 0) T_st_ = makeResidualMaker(window_);
+  if (isAutoMeasurementNoise(params)) enableAutoNoise();
 }
 
 Mat<2> StkfPredictor::processNoise(int, double dt) const {
@@ -75,13 +76,13 @@ void StkfPredictor::pushSample(int c, double z) {
     y(window_ - 1) = z;
   }
   if (window_count_[i] < window_) {
-    r_[i] = r0_;
+    r_[i] = nominalNoise(c);
     return;
   }
   // Residuals of the least-squares line through the window (mean zero: the fit has an intercept).
   const Eigen::VectorXd eps = T_st_ * y;
   const double var = eps.squaredNorm() / (window_ - 1);
-  r_[i] = r0_ + (squared_ ? var * var : var);
+  r_[i] = nominalNoise(c) + (squared_ ? var * var : var);
 }
 
 void StkfPredictor::initialize(int c, double z) {
@@ -114,13 +115,14 @@ void StkfPredictor::step(int c, double dt, double z) {
     pushSample(c, z);
   else
     window_count_[i] = 0;  // the fixed T_st assumes consecutive, equally spaced samples
+  if (window_ == 0) r_[i] = nominalNoise(c);
   timeUpdate(s.g, transition(c, dt), processNoise(c, dt));
   s.g.x(0) += dt * known_v_px_s_(c);  // B u: known robot-induced image motion
   if (isMeasured(z)) s.innovation = measurementUpdate(s.g, z, r_[i]);
   if (s.g.P.diagonal().maxCoeff() > reinit_threshold_) {
     pending_[i] = 1;
     window_count_[i] = 0;
-    r_[i] = r0_;
+    r_[i] = nominalNoise(c);
     ++reinits_;
   }
 }

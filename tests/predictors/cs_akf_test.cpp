@@ -142,7 +142,7 @@ TEST(CsModel, MeanPredictionWithCurrentAccelerationIsConstantAcceleration) {
 
 TEST(CsModel, FilterQueryUsesCaMeanAndSingerNoise) {
   // GIVEN a cs-akf that has seen a few measurements
-  CsAkfPredictor f(1, {{"alpha", 0.7}});
+  CsAkfPredictor f(1, {{"alpha", 0.7}, {"a_max", 50.0}, {"a_neg_max", 50.0}});
   Eigen::VectorXd z(1);
   for (int k = 0; k < 10; ++k) {
     z << 3.0 * k * 0.05 + 0.5 * 4.0 * std::pow(k * 0.05, 2);

@@ -99,8 +99,8 @@ void expectPinnedState(const F& f, const GoldenChannel (&expected)[2]) {
 }
 
 TEST(FuzzyGolden, FakfEndsAtThePinnedState) {
-  // GIVEN fakf with its defaults
-  FakfPredictor f(2, {});
+  // GIVEN fakf with its defaults before issue 11 (the pinned state was computed with them)
+  FakfPredictor f(2, {{"sigma_min_sq", 10.0}, {"sigma_max_sq", 1000.0}, {"r", 1.0}});
   // WHEN it filters the golden scenario
   runGoldenScenario(f);
   // THEN position, velocity, position variance and adapted R match the reference, and the P
@@ -113,8 +113,8 @@ TEST(FuzzyGolden, FakfEndsAtThePinnedState) {
 }
 
 TEST(FuzzyGolden, FakfClassicEndsAtThePinnedState) {
-  // GIVEN fakf-classic with its defaults
-  FakfClassicPredictor f(2, {});
+  // GIVEN fakf-classic with its defaults before issue 11 (the pinned state was computed with them)
+  FakfClassicPredictor f(2, {{"q", 100.0}, {"r", 1.0}});
   // WHEN it filters the golden scenario
   runGoldenScenario(f);
   // THEN position, velocity, position variance and adapted R match the reference

@@ -12,6 +12,17 @@
 namespace predvs {
 namespace {
 
+/// `params` completed with paper 001's values (R_0 = 5, Q_0 = diag(5, 20), squared variance), the
+/// stkf defaults before issue 11, for every key it does not give: the tests below are about the
+/// paper's filter.
+Params withPaperValues(const Params& params) {
+  Params p = params;
+  const std::pair<const char*, double> paper[] = {{"r", 5.0}, {"q_pos", 5.0}, {"q_vel", 20.0}, {"squared", 1.0}};
+  for (const auto& kv : paper)
+    if (!p.has(kv.first)) p.set(kv.first, kv.second);
+  return p;
+}
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Round-off on O(100) sums of O(100) numbers.
 constexpr double kLinAlgTol = 1e-9;
@@ -40,7 +51,7 @@ TEST(Stkf, ResidualMakerEqualsLineFitResidualsByQr) {
 
 // Feeds a line plus uniform noise of half-width `half_width` to a 1-channel stkf, and returns it.
 StkfPredictor feedLine(double half_width, const Params& params, int frames, unsigned seed) {
-  StkfPredictor f(1, params);
+  StkfPredictor f(1, withPaperValues(params));
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> w(-1.0, 1.0);
   for (int n = 0; n < frames; ++n) f.update(0.1 * n, vec1(50.0 + 3.0 * n + half_width * w(rng)));
@@ -86,7 +97,7 @@ TEST(Stkf, SquaredAndPlainFormsUseTheWindowResidualVariance) {
 TEST(Stkf, OcclusionPredictsOnlyThenReinitialisesWhenPExceedsThreshold) {
   // GIVEN the paper's filter tracking a ramp of 20 px/s at T = 0.1 s
   const double T = 0.1;
-  StkfPredictor f(1, {});
+  StkfPredictor f(1, withPaperValues({}));
   int n = 0;
   for (; n < 60; ++n) f.update(T * n, vec1(20.0 * T * n));
   const Gaussian<2> g0 = f.gaussian(0);
@@ -166,7 +177,7 @@ E6Result runE6(const std::string& name, const Params& params, double sigma_n, in
   E6Result out;
   for (int s = 0; s < seeds; ++s) {
     std::mt19937 rng(1000u + static_cast<unsigned>(s));
-    auto f = makePredictor(name, 3, params);
+    auto f = makePredictor(name, 3, name == "stkf" ? withPaperValues(params) : params);
     for (size_t n = 0; n < traj.t_s.size(); ++n) {
       f->update(traj.t_s[n], paper::e6Measure(traj.X_px[n], sigma_n, rng));
       for (int c = 0; c < 3; ++c) {

@@ -114,7 +114,9 @@ TEST(ChannelExperiment, OnTwoChannelsEqualsThePlanarExperiment) {
   cfg.occlusions.push_back({2.0, 3.0});
   cfg.lost.action = LostAction::Extrapolate;  // predict-only through the gap (the policy would hold at 1 s)
   const Params p{{"vx", 10}, {"vy", -5}};
-  auto a = makePredictor("kf-cv", 2), b = makePredictor("kf-cv", 2);
+  // (kf-cv with its defaults before issue 11: the velocity bound below was set with them)
+  const Params kf{{"q", 100.0}, {"r", 1.0}};
+  auto a = makePredictor("kf-cv", 2, kf), b = makePredictor("kf-cv", 2, kf);
   // WHEN both experiments run THEN every row has the same prediction and error
   const PredictionResult planar = runPredictionExperiment(cfg, *makeTrajectory("line", p), *a);
   const ChannelExperimentResult chans = runChannelExperiment(cfg, *makeChannelTrajectory("line", p), *b);

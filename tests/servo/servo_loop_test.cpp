@@ -16,8 +16,20 @@
 namespace predvs {
 namespace {
 
+/// The predictor defaults before issue 11, which the figures of these closed-loop tests (and the
+/// golden trace) were measured with; data/scenarios/ibvs-moving-target.yaml pins them too.
+/// (With the issue-11 defaults, tuned on open-loop maneuvering tracks, kf-ca's rmse on this loop is
+/// 24 px against hold's 36 px instead of under half of it, and kf-cv's velocity on a static target
+/// is noisier: 16 px/s instead of under 5.)
+Params preIssue11(const std::string& name) {
+  if (name == "kf-cv" || name == "fakf-classic") return {{"q", 100.0}, {"r", 1.0}};
+  if (name == "kf-ca") return {{"q", 1000.0}, {"r", 1.0}};
+  if (name == "cs-akf-adaptive" || name == "fakf") return {{"sigma_min_sq", 10.0}, {"sigma_max_sq", 1000.0}, {"r", 1.0}};
+  return {};
+}
+
 ServoResult run(const std::string& predictor, const ServoConfig& c = {}) {
-  auto p = makePredictor(predictor, 8);
+  auto p = makePredictor(predictor, 8, preIssue11(predictor));
   return runServoLoop(c, *p);
 }
 
@@ -86,7 +98,7 @@ TEST(ServoLoop, EgoMotionCompensationRemovesCameraInducedMotion) {
   ServoConfig c;
   c.scene.trajectory = "static";
   c.scene.trajectory_params = Params{};
-  auto p = makePredictor("kf-cv", 8);
+  auto p = makePredictor("kf-cv", 8, preIssue11("kf-cv"));
   const ServoResult r = runServoLoop(c, *p);
   // WHEN the camera has moved the features by ~57 px (RMS) to the goal
   const Eigen::VectorXd moved = r.trace.back().truth - r.trace.front().truth;
@@ -143,11 +155,11 @@ TEST(ServoLoop, DeterministicForASeed) {
 }
 
 TEST(ServoLoop, ValidatesConfig) {
-  auto p = makePredictor("kf-cv", 8);
+  auto p = makePredictor("kf-cv", 8, preIssue11("kf-cv"));
   ServoConfig c;
   c.scene.square_side_m = 0.0;
   EXPECT_THROW(ServoLoop(c, *p), std::invalid_argument);
-  auto two = makePredictor("kf-cv", 2);
+  auto two = makePredictor("kf-cv", 2, preIssue11("kf-cv"));
   EXPECT_THROW(ServoLoop(ServoConfig{}, *two), std::invalid_argument);
   c = ServoConfig{};
   c.scene.trajectory_params.set("radiuss", 1.0);
@@ -175,7 +187,7 @@ const std::string kGoldenPath = std::string(PREDVS_SOURCE_DIR) + "/data/golden/i
 
 TEST(ServoGolden, DefaultScenarioMatchesGoldenTrace) {
   const ServoResult r = run("kf-cv");
-  auto p = makePredictor("kf-cv", 8);
+  auto p = makePredictor("kf-cv", 8, preIssue11("kf-cv"));
   ServoLoop loop(ServoConfig{}, *p);
   const auto cols = loop.traceColumns();
   const char* regen = std::getenv("PREDVS_REGENERATE_GOLDEN");

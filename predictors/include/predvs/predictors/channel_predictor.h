@@ -6,6 +6,7 @@
 #pragma once
 
 #include "predvs/predictors/kalman_math.h"
+#include "predvs/predictors/noise_estimate.h"
 #include "predvs/predictors/predictor.h"
 
 #include <stdexcept>
@@ -22,6 +23,7 @@ class ChannelPredictor : public Predictor {
   void reset() override {
     resetClock();
     for (auto& c : state_) c = ChannelState{};
+    for (auto& e : r_est_) e.reset();
     resetAdaptation();
   }
 
@@ -33,6 +35,7 @@ class ChannelPredictor : public Predictor {
     for (int c = 0; c < channels(); ++c) {
       ChannelState& s = state_[c];
       s.innovation = Innovation{};
+      if (!r_est_.empty()) r_est_[static_cast<size_t>(c)].push(t_s, z(c));
       if (!s.initialized) {
         if (isMeasured(z(c))) {
           initialize(c, z(c));
@@ -81,7 +84,15 @@ class ChannelPredictor : public Predictor {
   /// Process noise of channel c over dt.
   virtual Mat<N> processNoise(int c, double dt) const = 0;
   /// Measurement noise variance of channel c (may be adapted).
-  virtual double measurementNoise(int /*c*/) const { return r0_; }
+  virtual double measurementNoise(int c) const { return nominalNoise(c); }
+  /// The nominal R of channel c: r0_, or the start-up estimate when enableAutoNoise() was called.
+  double nominalNoise(int c) const { return r_est_.empty() ? r0_ : r_est_[static_cast<size_t>(c)].variance(); }
+  /// Makes R a start-up estimate per channel (noise_estimate.h) with r0_ as its prior; called by a
+  /// derived constructor when its `r` parameter is absent or `auto`.
+  void enableAutoNoise() { r_est_.assign(state_.size(), StartupNoiseEstimator(r0_)); }
+  bool autoNoise() const { return !r_est_.empty(); }
+  /// True when channel c's nominal R no longer changes (fixed r, or the estimate is frozen).
+  bool nominalNoiseFinal(int c) const { return r_est_.empty() || r_est_[static_cast<size_t>(c)].done(); }
   /// Clears adaptive terms (windows, adapted R, fading memories) on reset().
   virtual void resetAdaptation() {}
 
@@ -105,6 +116,7 @@ class ChannelPredictor : public Predictor {
   }
 
   std::vector<ChannelState> state_;
+  std::vector<StartupNoiseEstimator> r_est_;  ///< empty unless enableAutoNoise()
   double r0_;
   double p0_vel_;
   double p0_acc_;

@@ -73,7 +73,8 @@ double rayleighVariance(double abar, double a_max, double a_neg_max, double sigm
 ///           the time over which an image-feature acceleration (a target turning or speeding up
 ///           by hand or on a conveyor) stays correlated. Q scales with 2 alpha sigma^2, so alpha
 ///           must stay > 0 (alpha = 0 would mean no process noise at all).
-///   r       (px^2, default 1.0): measurement noise variance (1 px feature noise).
+///   r       (px^2, default `auto`: estimated from the first frames, predictors/noise_estimate.h;
+///           a number fixes it): measurement noise variance.
 ///   p0_vel  ((px/s)^2, default 1e4): initial velocity variance (100 px/s std covers 10..100 px/s).
 ///   p0_acc  ((px/s^2)^2, default 1e4): initial acceleration variance (as kf-ca).
 class CsKalmanPredictor : public ChannelPredictor<3> {
@@ -85,7 +86,8 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
 
  protected:
   /// Reads alpha, r, p0_vel, p0_acc from params (derived classes read their own keys).
-  CsKalmanPredictor(int channels, const Params& params);
+  /// auto_r: whether an absent `r` means `auto` (noise_estimate.h) or the number 1 px^2.
+  CsKalmanPredictor(int channels, const Params& params, bool auto_r = true);
 
   Mat<3> transition(int, double dt) const override { return caTransition(dt); }
   Mat<3> processNoise(int c, double dt) const override;
@@ -113,10 +115,15 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
 /// `cs-akf`: CS Kalman filter with the modified-Rayleigh variance and fixed limits:
 /// sigma^2(k) = rayleighVariance(a(k-1|k-1), a_max, a_neg_max, sigma0_sq) (abar = a(k|k-1) = a(k-1|k-1)).
 /// Parameters (besides alpha, r, p0_vel, p0_acc):
-///   a_max      (px/s^2, default 50): largest expected positive acceleration. Targets moving at
-///              10..100 px/s that reverse or turn within ~1..2 s accelerate by up to ~50..100 px/s^2;
-///              the circle of METHODS §10 E4/§11 (200 px, 0.15 rad/s) has 4.5 px/s^2, E2 jumps to 30.
-///   a_neg_max  (px/s^2, default 50): magnitude of the largest negative acceleration.
+///   a_max      (px/s^2, default 200; 50 before issue 11): largest expected positive acceleration.
+///              Targets moving at 50..400 px/s that turn within ~0.5 s accelerate by ~200 px/s^2
+///              (the generated tracks of servo/maneuver_tracks.h); the slow circle of E4 has
+///              4.5 px/s^2, E2 jumps to 30.
+///   a_neg_max  (px/s^2, default 200): magnitude of the largest negative acceleration.
+///   r          unlike the other Kalman predictors, cs-akf keeps the number 1 px^2 as its default
+///              (`auto` on request): measured with `predvs track-study` (216 generated tracks),
+///              a_max 200 with r = 1 beats hold on 210, with the estimated r on 174 (its Rayleigh
+///              Q already follows the manoeuvres; a larger R at 3 px noise only slows it).
 ///   sigma0_sq  ((px/s^2)^2, default 1.0): variance used when abar == 0 (in practice only at start).
 /// Known weakness (the reason for the adaptive variant): small a_max gives smooth estimates but a
 /// slow response to manoeuvres, large a_max the opposite.
@@ -154,10 +161,10 @@ class CsAkfPredictor : public CsKalmanPredictor {
 /// acceleration correction K_a eps is small when sigma^2 is small (low gain), so a low floor
 /// reacts to a jump slowly: the floor, not a_max, is now the parameter that matters.
 /// Parameters (besides alpha, r, p0_vel, p0_acc):
-///   sigma_min_sq ((px/s^2)^2, default 10): the floor. On smooth motion sigma^2 stays on it and it
+///   sigma_min_sq ((px/s^2)^2, default 1e4 since issue 11, 10 before): the floor. On smooth motion sigma^2 stays on it and it
 ///                alone sets the smoothing / lag trade-off (METHODS §11); its effect is measured in
 ///                tests/predictors/cs_akf_test.cpp (see kDefaultSigmaMinSq in cs_akf.cpp).
-///   sigma_max_sq ((px/s^2)^2, default 1000 ~ (4-pi)/pi * 60^2): the ceiling.
+///   sigma_max_sq ((px/s^2)^2, default 1e6 ~ (4-pi)/pi * 3600^2; 1000 before issue 11): the ceiling.
 ///   adapt_tau_s  (s, default 0): time constant of the reference acceleration. 0 is the variant
 ///                above (reference = a(k-1|k-1)); tau > 0 replaces a(k-1|k-1) by a low-passed
 ///                a_ref += (1 - exp(-dt/tau)) (a(k|k) - a_ref), which measures the change over ~tau

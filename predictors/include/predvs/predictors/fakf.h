@@ -82,6 +82,7 @@ class FakfClassicPredictor : public ChannelPredictor<2> {
  private:
   double q_;
   double r_min_, r_max_;
+  bool relative_bounds_ = true;  ///< r_min / r_max not given: with auto R they are 0.01 / 100 x the estimate
   int window_length_;
   fuzzy::MamdaniSystem dom_;
   std::vector<double> r_;
@@ -161,6 +162,7 @@ class FakfPredictor : public CsAkfAdaptivePredictor {
   int window_length_;
   int inflation_period_;
   double r_min_, r_max_;
+  bool relative_bounds_ = true;
   double de_min_;
   bool inflate_below_de_min_;
   fuzzy::MamdaniSystem beta_;

@@ -5,6 +5,16 @@
 
 namespace predvs {
 
+/// Default white-acceleration density of kf-cv (px^2/s^3) and white-jerk density of kf-ca
+/// (px^2/s^5); see the class comments.
+/// Chosen on the generated maneuvering tracks (servo/maneuver_tracks.h: 6 kinds x 10..60 Hz x
+/// 0.5..3 px, `predvs track-study`, docs/PERFORMANCE.md): q = 1e4 px^2/s^3 is an acceleration
+/// change of ~100 px/s^2 per sqrt(s), the turns and sways of a hand-moved or robot-carried target
+/// at image speeds of 50..400 px/s. Before issue 11 the defaults were 100 and 1000, tuned on the
+/// slow E1-E4 scenarios (10 px/s), and lost to `hold` on faster targets.
+inline constexpr double kDefaultQCv = 1e4;
+inline constexpr double kDefaultQCa = 3e5;
+
 /// `hold`: the no-prediction baseline. The estimate at any time is the last measurement
 /// (zero velocity), which is what a servo loop without a predictor acts on.
 class HoldPredictor : public ChannelPredictor<2> {
@@ -21,7 +31,9 @@ class HoldPredictor : public ChannelPredictor<2> {
 
 /// `kf-cv`: constant-velocity Kalman filter per channel, x = [p, v],
 /// F = [[1, T], [0, 1]], Q = q [[T^3/3, T^2/2], [T^2/2, T]] (white acceleration, q in px^2/s^3).
-/// Parameters: q (default 100), r (measurement variance px^2, default 1), p0_vel (default 1e4).
+/// Parameters: q (px^2/s^3, default kDefaultQCv = 1e4), r (measurement variance px^2; default
+/// `auto`: estimated from the first frames of each channel, predictors/noise_estimate.h; a number
+/// fixes it), p0_vel ((px/s)^2, default 1e4).
 class KfCvPredictor : public ChannelPredictor<2> {
  public:
   KfCvPredictor(int channels, const Params& params);
@@ -37,7 +49,8 @@ class KfCvPredictor : public ChannelPredictor<2> {
 
 /// `kf-ca`: constant-acceleration Kalman filter per channel, x = [p, v, a],
 /// F = [[1, T, T^2/2], [0, 1, T], [0, 0, 1]], white-jerk Q of density q (px^2/s^5).
-/// Parameters: q (default 1000), r (default 1), p0_vel (1e4), p0_acc (1e4).
+/// Parameters: q (px^2/s^5, default kDefaultQCa = 3e5), r (px^2, default `auto` as kf-cv),
+/// p0_vel ((px/s)^2, 1e4), p0_acc ((px/s^2)^2, 1e4).
 class KfCaPredictor : public ChannelPredictor<3> {
  public:
   KfCaPredictor(int channels, const Params& params);

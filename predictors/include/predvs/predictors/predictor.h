@@ -80,6 +80,9 @@ class Predictor {
   /// ... and how many discontinuity-monitor alarms it has raised over all channels since reset()
   /// (0 for a predictor without a monitor).
   virtual int monitorAlarms() const { return 0; }
+  /// Named per-channel internals after the last update, for traces (e.g. imm's mode probabilities
+  /// "mu_ca_0", ...). Empty for a predictor without any.
+  virtual NamedValues diagnostics() const { return {}; }
 
   /// Time of the last update (NaN before the first).
   double time() const { return t_last_; }

@@ -1,0 +1,209 @@
+#include "fit_command.h"
+
+#include "output_dir.h"
+
+#include "predvs/calibration/noise_fit.h"
+#include "predvs/predictors/predictor.h"
+
+#include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+namespace predvs {
+
+std::vector<PredictorSpec> readParamsFile(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw std::invalid_argument(path + ": cannot open the parameter file");
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument(path + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
+  }
+  const auto at = [&](const YAML::Node& n) { return path + ":" + std::to_string(n.Mark().line + 1) + ": "; };
+  if (!root.IsMap() || !root["predictors"] || !root["predictors"].IsSequence())
+    throw std::invalid_argument(path + ": expected a mapping with a 'predictors:' list");
+  for (const auto& kv : root)
+    if (kv.first.as<std::string>() != "predictors")
+      throw std::invalid_argument(at(kv.first) + "unknown key '" + kv.first.as<std::string>() + "' (expected predictors)");
+  std::vector<PredictorSpec> specs;
+  for (const auto& e : root["predictors"]) {
+    if (!e.IsMap() || !e["name"] || !e["name"].IsScalar())
+      throw std::invalid_argument(at(e) + "expected {name: PREDICTOR, params: {KEY: VALUE, ...}}");
+    PredictorSpec s;
+    s.name = e["name"].as<std::string>();
+    if (!isPredictor(s.name)) throw std::invalid_argument(at(e) + "unknown predictor '" + s.name + "'");
+    for (const auto& kv : e) {
+      const std::string key = kv.first.as<std::string>();
+      if (key != "name" && key != "params")
+        throw std::invalid_argument(at(kv.first) + "unknown key '" + key + "' (expected name, params)");
+    }
+    if (e["params"]) {
+      if (!e["params"].IsMap()) throw std::invalid_argument(at(e["params"]) + "'params' must be a mapping KEY: VALUE");
+      for (const auto& kv : e["params"]) {
+        const std::string key = kv.first.as<std::string>();
+        const std::string text = kv.second.IsScalar() ? kv.second.as<std::string>() : "";
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (!text.empty() && end && *end == '\0' && std::isfinite(v))
+          s.params.set(key, v);
+        else if (text == "auto")
+          s.params.setText(key, text);
+        else
+          throw std::invalid_argument(at(kv.second) + "parameter '" + key + "' of " + s.name + ": expected a number");
+      }
+    }
+    try {
+      makePredictor(s.name, 2, s.params);
+    } catch (const std::invalid_argument& ex) {
+      throw std::invalid_argument(at(e) + ex.what());
+    }
+    specs.push_back(s);
+  }
+  if (specs.empty()) throw std::invalid_argument(path + ": the 'predictors:' list is empty");
+  return specs;
+}
+
+std::string paramsFileText(const std::vector<PredictorSpec>& specs, const std::vector<std::string>& comment) {
+  std::ostringstream y;
+  for (const auto& c : comment) y << "# " << c << "\n";
+  y << "predictors:\n";
+  for (const auto& s : specs) {
+    y << "  - {name: " << s.name << ", params: {";
+    bool first = true;
+    for (const auto& kv : s.params.values()) {
+      y << (first ? "" : ", ") << kv.first << ": " << std::setprecision(12) << kv.second;
+      first = false;
+    }
+    for (const auto& kv : s.params.texts()) {
+      y << (first ? "" : ", ") << kv.first << ": " << kv.second;
+      first = false;
+    }
+    y << "}}\n";
+  }
+  return y.str();
+}
+
+FitTrack fitTrackOf(const FeatureTrack& track, size_t rows) {
+  FitTrack f;
+  rows = std::min(rows, track.size());
+  f.t_s.assign(track.t_s.begin(), track.t_s.begin() + static_cast<long>(rows));
+  for (int p = 0; p < track.points(); ++p) {
+    const auto& u = track.u_px[static_cast<size_t>(p)];
+    const auto& v = track.v_px[static_cast<size_t>(p)];
+    f.channels.emplace_back(u.begin(), u.begin() + static_cast<long>(rows));
+    f.channels.emplace_back(v.begin(), v.begin() + static_cast<long>(rows));
+  }
+  return f;
+}
+
+void printFit(const NoiseFitResult& fit, std::ostream& out) {
+  out << fit.predictor << ": " << fit.innovations << " innovations, " << fit.iterations << " iterations ("
+      << fit.termination << ")\n";
+  out << "  " << std::left << std::setw(14) << "parameter" << std::right << std::setw(14) << "start" << std::setw(14)
+      << "fitted" << std::setw(30) << "95% interval" << "\n";
+  for (const auto& v : fit.values) {
+    std::ostringstream iv;
+    if (std::isfinite(v.std_log))
+      iv << "[" << std::setprecision(4) << v.lo95 << ", " << v.hi95 << "]";
+    else
+      iv << "(no covariance)";
+    out << "  " << std::left << std::setw(14) << v.key << std::right << std::setw(14) << std::setprecision(5)
+        << v.initial << std::setw(14) << v.value << std::setw(30) << iv.str() << (v.at_bound ? "  at bound" : "")
+        << "\n";
+  }
+  out << "  log-likelihood " << std::fixed << std::setprecision(2) << fit.loglik_before << " -> " << fit.loglik_after
+      << " (per innovation " << std::setprecision(4) << fit.loglik_before / std::max(1, fit.innovations) << " -> "
+      << fit.loglik_after / std::max(1, fit.innovations) << ")\n";
+  out.unsetf(std::ios::fixed);
+}
+
+int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
+  if (!isPredictor(a.predictor)) throw std::invalid_argument("--predictor: unknown predictor '" + a.predictor + "'");
+  try {
+    fitParameters(a.predictor);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--predictor: ") + e.what());
+  }
+  Params base;
+  if (!a.params_file.empty())
+    for (const auto& s : readParamsFile(a.params_file))
+      if (s.name == a.predictor) base = s.params;
+  for (const auto& kv : a.params) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) throw std::invalid_argument("--param: expected KEY=VALUE, got '" + kv + "'");
+    const std::string text = kv.substr(eq + 1);
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+      throw std::invalid_argument("--param " + kv.substr(0, eq) + ": expected a number, got '" + text + "'");
+    base.set(kv.substr(0, eq), v);
+  }
+  try {
+    makePredictor(a.predictor, 2, base);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--param: ") + e.what());
+  }
+  if (a.burn_in < 0) throw std::invalid_argument("--burn-in: expected an integer >= 0");
+  const FeatureTrack track = readFeatureTrack(a.input);
+  NoiseFitOptions opt;
+  opt.burn_in_frames = a.burn_in;
+  NoiseFitResult fit;
+  try {
+    fit = fitNoise(a.predictor, base, fitTrackOf(track, track.size()), opt);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(a.input + ": " + e.what());
+  }
+
+  StagedOutputDir dir(a.out);
+  std::ostringstream ll;
+  ll << std::fixed << std::setprecision(2) << fit.loglik_before << " -> " << fit.loglik_after;
+  const std::string yaml = paramsFileText(
+      {{a.predictor, fit.params}},
+      {"predvs fit-noise: " + a.predictor + " fitted on " + a.input + " (" + std::to_string(track.size()) + " rows)",
+       "innovation log-likelihood " + ll.str() + " over " + std::to_string(fit.innovations) + " innovations",
+       "command: " + a.command_line});
+  {
+    std::ofstream f(dir.file("params.yaml"));
+    f << yaml;
+    if (!f) throw std::runtime_error(dir.file("params.yaml") + ": write failed");
+  }
+  nlohmann::json j;
+  j["command"] = a.command_line;
+  j["input"] = a.input;
+  j["predictor"] = a.predictor;
+  j["objective"] = "innovation log-likelihood -1/2 sum(log(2 pi S) + eps^2/S), rows >= burn_in";
+  j["burn_in_frames"] = a.burn_in;
+  j["innovations"] = fit.innovations;
+  j["loglik_before"] = fit.loglik_before;
+  j["loglik_after"] = fit.loglik_after;
+  j["iterations"] = fit.iterations;
+  j["termination"] = fit.termination;
+  j["covariance_ok"] = fit.covariance_ok;
+  j["fitted"] = nlohmann::json::array();
+  for (const auto& v : fit.values)
+    j["fitted"].push_back({{"key", v.key},
+                           {"start", v.initial},
+                           {"value", v.value},
+                           {"std_log", std::isfinite(v.std_log) ? nlohmann::json(v.std_log) : nlohmann::json(nullptr)},
+                           {"ci95", std::isfinite(v.std_log) ? nlohmann::json({v.lo95, v.hi95}) : nlohmann::json(nullptr)},
+                           {"at_bound", v.at_bound}});
+  j["params"] = nlohmann::json::object();
+  for (const auto& kv : fit.params.values()) j["params"][kv.first] = kv.second;
+  {
+    std::ofstream f(dir.file("fit.json"));
+    f << j.dump(2) << "\n";
+    if (!f) throw std::runtime_error(dir.file("fit.json") + ": write failed");
+  }
+  dir.commit();
+  printFit(fit, out);
+  out << "wrote " << (dir.target() / "params.yaml").string() << ", fit.json\n";
+  return 0;
+}
+
+}  // namespace predvs

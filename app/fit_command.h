@@ -1,0 +1,52 @@
+// predvs app — `predvs fit-noise` and the predictor parameter file it writes (`--params FILE`).
+//
+// Parameter file (YAML), the same shape as a scenario's `predictors:` list:
+//   # comment lines: what was fitted, on which track, the likelihood before/after
+//   predictors:
+//     - {name: kf-cv, params: {q: 123.4, r: 2.25}}
+// Every name must be a registered predictor and every value a number (or `auto` for r); a key the
+// predictor does not know is reported when the predictor is built. `predict --params FILE` sets
+// these params on the predictors it runs with those names (--param given on the command line
+// wins); `servo` and `compare --params FILE` turn each entry into the override
+// `--set predictors.NAME.params.KEY=VALUE` (so a predictor the scenario lacks is added).
+//
+// fit-noise: reads a track (predict's CSV), fits the predictor's noise parameters with
+// calibration/noise_fit.h (innovation log-likelihood, log-scale bounded parameters, L-BFGS with
+// numeric derivatives, uncertainty from ceres::Covariance), writes DIR/params.yaml and
+// DIR/fit.json, and prints each fitted value with its 95 % interval and the log-likelihood before
+// and after.
+#pragma once
+
+#include "predict_command.h"
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace predvs {
+
+struct NoiseFitResult;
+struct FitTrack;
+
+/// Reads a parameter file (format above). Throws std::invalid_argument "FILE: ..." on any defect.
+std::vector<PredictorSpec> readParamsFile(const std::string& path);
+/// The YAML text of a parameter file for `specs`, with `comment` lines first.
+std::string paramsFileText(const std::vector<PredictorSpec>& specs, const std::vector<std::string>& comment);
+/// Every point's u and v columns of the track as a fit input (channels u_0, v_0, u_1, ...), rows [0, rows).
+FitTrack fitTrackOf(const FeatureTrack& track, size_t rows);
+/// Prints one fit: "KEY  VALUE  [LO95, HI95]" rows and the log-likelihood line.
+void printFit(const NoiseFitResult& fit, std::ostream& out);
+
+struct FitNoiseArgs {
+  std::string input;
+  std::string predictor;
+  std::vector<std::string> params;  ///< KEY=VALUE fixed or start values
+  std::string params_file;
+  int burn_in = 10;
+  std::string out;
+  std::string command_line;
+};
+
+int runFitNoise(const FitNoiseArgs& a, std::ostream& out);
+
+}  // namespace predvs

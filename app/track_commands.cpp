@@ -1,0 +1,234 @@
+#include "track_commands.h"
+
+#include "output_dir.h"
+
+#include "predvs/calibration/noise_fit.h"
+#include "predvs/predictors/predictor.h"
+#include "predvs/servo/maneuver_tracks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace predvs {
+namespace {
+
+std::string cell(double x) {
+  if (!std::isfinite(x)) return "";
+  std::ostringstream s;
+  s << std::setprecision(10) << x;
+  return s.str();
+}
+
+}  // namespace
+
+int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
+  ManeuverTrackConfig c;
+  c.kind = parseManeuverKind(a.kind);
+  if (!(a.rate_hz >= 1.0 && a.rate_hz <= 1000.0)) throw std::invalid_argument("--rate-hz: expected a rate in [1, 1000] Hz");
+  if (!(a.noise_px >= 0.0)) throw std::invalid_argument("--noise-px: expected a standard deviation >= 0 px");
+  if (!(a.duration_s > 0.0 && a.duration_s <= 1e6)) throw std::invalid_argument("--duration-s: expected a duration in (0, 1e6] s");
+  if (!(a.drop_prob >= 0.0 && a.drop_prob <= 0.5)) throw std::invalid_argument("--drop: expected a probability in [0, 0.5]");
+  if (a.seed < 0) throw std::invalid_argument("--seed: expected an integer >= 0");
+  if (a.out.empty()) throw std::invalid_argument("--out: expected a file path");
+  c.rate_hz = a.rate_hz;
+  c.noise_px = a.noise_px;
+  c.duration_s = a.duration_s;
+  c.drop_prob = a.drop_prob;
+  c.seed = static_cast<std::uint64_t>(a.seed);
+  const ManeuverTrack track = generateManeuverTrack(c);
+
+  namespace fs = std::filesystem;
+  const fs::path target(a.out);
+  std::error_code ec;
+  if (fs::is_directory(target, ec)) throw std::invalid_argument("--out: '" + a.out + "' is a directory, expected a file path");
+  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (!fs::is_directory(parent, ec)) throw std::invalid_argument("--out: directory '" + parent.string() + "' does not exist");
+  const fs::path tmp = parent / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  {
+    std::ofstream csv(tmp);
+    csv << "t,u,v,u_true,v_true\n";
+    for (size_t i = 0; i < track.size(); ++i)
+      csv << cell(track.t_s[i]) << "," << cell(track.u_px[i]) << "," << cell(track.v_px[i]) << ","
+          << cell(track.u_true_px[i]) << "," << cell(track.v_true_px[i]) << "\n";
+    if (!csv) {
+      fs::remove(tmp, ec);
+      throw std::runtime_error("--out: cannot write '" + a.out + "'");
+    }
+  }
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw std::runtime_error("--out: cannot write '" + a.out + "': " + ec.message());
+  }
+  size_t dropped = 0;
+  for (double u : track.u_px) dropped += std::isfinite(u) ? 0 : 1;
+  out << "wrote " << a.out << ": " << maneuverKindName(c.kind) << ", " << track.size() << " frames at " << c.rate_hz
+      << " Hz, noise " << c.noise_px << " px, " << dropped << " dropped frames, seed " << c.seed << "\n";
+  return 0;
+}
+
+int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& /*err*/) {
+  std::vector<ManeuverKind> kinds;
+  if (a.kinds.empty() || (a.kinds.size() == 1 && a.kinds[0] == "all"))
+    kinds = maneuverKinds();
+  else
+    for (const auto& k : a.kinds) kinds.push_back(parseManeuverKind(k));
+  std::vector<std::string> names = a.predictors;
+  if (names.empty() || (names.size() == 1 && names[0] == "all")) {
+    names.clear();
+    for (const auto& p : predictorRegistry()) names.push_back(p.name);
+  }
+  for (const auto& n : names)
+    if (!isPredictor(n)) throw std::invalid_argument("--predictors: unknown predictor '" + n + "'");
+  if (std::find(names.begin(), names.end(), "hold") == names.end()) names.insert(names.begin(), "hold");
+  if (a.seeds < 1) throw std::invalid_argument("--seeds: expected an integer >= 1");
+  if (a.delay_frames < 0) throw std::invalid_argument("--delay-frames: expected an integer >= 0");
+  for (double r : a.rates_hz)
+    if (!(r >= 1.0 && r <= 1000.0)) throw std::invalid_argument("--rates: expected rates in [1, 1000] Hz");
+  for (double s : a.noises_px)
+    if (!(s >= 0.0)) throw std::invalid_argument("--noise: expected standard deviations >= 0 px");
+  std::map<std::string, Params> fixed;
+  for (const auto& kv : a.params) {
+    const auto eq = kv.find('='), dot = kv.find('.');
+    if (eq == std::string::npos || dot == std::string::npos || dot > eq)
+      throw std::invalid_argument("--param: expected PREDICTOR.KEY=VALUE, got '" + kv + "'");
+    const std::string name = kv.substr(0, dot), key = kv.substr(dot + 1, eq - dot - 1), text = kv.substr(eq + 1);
+    if (!isPredictor(name)) throw std::invalid_argument("--param " + kv + ": unknown predictor '" + name + "'");
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+      throw std::invalid_argument("--param " + kv + ": expected a number");
+    fixed[name].set(key, v);
+  }
+  for (const auto& [name, p] : fixed) {
+    try {
+      makePredictor(name, 2, p);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--param: ") + e.what());
+    }
+  }
+  if (a.fit && !(a.fit_split > 0.0 && a.fit_split < 1.0))
+    throw std::invalid_argument("--fit-split: expected a fraction in (0, 1)");
+
+  struct Row {
+    std::string kind;
+    double rate_hz, noise_px;
+    long seed;
+    std::string predictor;
+    TrackScore score;
+    double ratio;
+  };
+  std::vector<Row> rows;
+  for (ManeuverKind kind : kinds)
+    for (double rate : a.rates_hz)
+      for (double noise : a.noises_px)
+        for (int s = 0; s < a.seeds; ++s) {
+          ManeuverTrackConfig c;
+          c.kind = kind;
+          c.rate_hz = rate;
+          c.noise_px = noise;
+          c.duration_s = a.duration_s;
+          c.drop_prob = a.drop_prob;
+          c.seed = static_cast<std::uint64_t>(a.seed + s);
+          const ManeuverTrack track = generateManeuverTrack(c);
+          const double horizon = a.delay_frames / rate;
+          double hold_rmse = std::numeric_limits<double>::quiet_NaN();
+          const size_t split = a.fit ? static_cast<size_t>(a.fit_split * static_cast<double>(track.size())) : 0;
+          FitTrack head;
+          head.t_s.assign(track.t_s.begin(), track.t_s.begin() + static_cast<long>(split));
+          head.channels = {std::vector<double>(track.u_px.begin(), track.u_px.begin() + static_cast<long>(split)),
+                           std::vector<double>(track.v_px.begin(), track.v_px.begin() + static_cast<long>(split))};
+          for (const auto& name : names) {
+            Params params = fixed.count(name) ? fixed.at(name) : Params{};
+            if (a.fit && name != "hold") params = fitNoise(name, params, head).params;
+            auto p = makePredictor(name, 2, params);
+            const TrackScore sc = scoreOnTrack(track, *p, horizon, split);
+            if (name == "hold") hold_rmse = sc.rmse_truth_px;
+            rows.push_back({maneuverKindName(kind), rate, noise, a.seed + s, name, sc, sc.rmse_truth_px / hold_rmse});
+          }
+        }
+
+  // Summary per predictor.
+  size_t w = 9;
+  for (const auto& n : names) w = std::max(w, n.size());
+  out << std::left << std::setw(static_cast<int>(w)) << "predictor" << std::right << std::setw(12) << "beats hold"
+      << std::setw(12) << "mean ratio" << std::setw(12) << "worst ratio" << "  worst track (kind rate noise seed)\n";
+  for (const auto& name : names) {
+    if (name == "hold") continue;
+    int wins = 0, total = 0;
+    double sum = 0.0, worst = -1.0;
+    const Row* worst_row = nullptr;
+    for (const auto& r : rows) {
+      if (r.predictor != name) continue;
+      ++total;
+      if (r.ratio < 1.0) ++wins;
+      sum += std::log(r.ratio);
+      if (r.ratio > worst) {
+        worst = r.ratio;
+        worst_row = &r;
+      }
+    }
+    std::ostringstream wt;
+    if (worst_row)
+      wt << worst_row->kind << " " << worst_row->rate_hz << " Hz " << worst_row->noise_px << " px #" << worst_row->seed;
+    out << std::left << std::setw(static_cast<int>(w)) << name << std::right << std::setw(12)
+        << (std::to_string(wins) + "/" + std::to_string(total)) << std::setw(12) << std::fixed << std::setprecision(3)
+        << std::exp(sum / std::max(1, total)) << std::setw(12) << worst << "  " << wt.str() << "\n";
+    out.unsetf(std::ios::fixed);
+  }
+  out << "ratio = RMSE vs truth / RMSE(hold) vs truth, " << a.delay_frames
+      << " frames ahead; mean = geometric mean over tracks\n";
+  // imm against the best of its single models, track by track.
+  const auto has = [&](const char* n) { return std::find(names.begin(), names.end(), n) != names.end(); };
+  if (has("imm") && has("kf-cv") && has("kf-ca")) {
+    std::map<std::string, double> best, imm;  // key: kind rate noise seed
+    for (const auto& r : rows) {
+      std::ostringstream k;
+      k << r.kind << " " << r.rate_hz << " Hz " << r.noise_px << " px #" << r.seed;
+      if (r.predictor == "imm") imm[k.str()] = r.score.rmse_truth_px;
+      if (r.predictor == "kf-cv" || r.predictor == "kf-ca")
+        best[k.str()] = best.count(k.str()) ? std::min(best[k.str()], r.score.rmse_truth_px) : r.score.rmse_truth_px;
+    }
+    int within = 0;
+    double worst = 0.0, sum = 0.0;
+    std::string worst_key;
+    for (const auto& [k, v] : imm) {
+      const double ratio = v / best[k];
+      within += ratio <= 1.1 ? 1 : 0;
+      sum += std::log(ratio);
+      if (ratio > worst) {
+        worst = ratio;
+        worst_key = k;
+      }
+    }
+    out << "imm / best of kf-cv, kf-ca: within 10 % on " << within << "/" << imm.size() << " tracks, geometric mean "
+        << std::setprecision(3) << std::exp(sum / std::max<size_t>(1, imm.size())) << ", worst " << worst << " ("
+        << worst_key << ")\n";
+  }
+
+  if (!a.out.empty()) {
+    StagedOutputDir dir(a.out);
+    std::ofstream csv(dir.file("study.csv"));
+    csv << "kind,rate_hz,noise_px,seed,predictor,rmse_truth_px,rmse_meas_px,n,ratio_to_hold\n";
+    for (const auto& r : rows)
+      csv << r.kind << "," << r.rate_hz << "," << r.noise_px << "," << r.seed << "," << r.predictor << ","
+          << cell(r.score.rmse_truth_px) << "," << cell(r.score.rmse_meas_px) << "," << r.score.n << ","
+          << cell(r.ratio) << "\n";
+    if (!csv) throw std::runtime_error(dir.file("study.csv") + ": write failed");
+    csv.close();
+    dir.commit();
+    out << "wrote " << (dir.target() / "study.csv").string() << "\n";
+  }
+  return 0;
+}
+
+}  // namespace predvs
