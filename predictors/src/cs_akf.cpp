@@ -220,7 +220,7 @@ double CsAkfPredictor::accelerationVariance(int c) const {
 // ---------------------------------------------------------------------------------------------
 
 /// Default floor of the adaptive variance ((px/s^2)^2). On smooth motion sigma^2 sits on it
-/// (METHODS §11), so it sets the smoothing / lag trade-off. Measured (tests/predictors/cs_akf_test.cpp,
+/// (docs/MODELS.md §11), so it sets the smoothing / lag trade-off. Measured (tests/predictors/cs_akf_test.cpp,
 /// 30 Hz, 1 px noise, 2 frames ahead): on the 200 px circle 1e-3 -> 3.0 px, 0.1..1 -> 0.52 px,
 /// 10 -> 0.63 px; on the E2 acceleration jump (3 s after it) 1 -> 2.9 px, 10 -> 1.3 px. 10 is the
 /// compromise: a small loss on smooth motion for a much faster reaction to a manoeuvre.

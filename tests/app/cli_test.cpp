@@ -482,7 +482,7 @@ TEST(Scenarios, DefaultScenarioIsTheDocumentedOne) {
 }
 
 TEST(Scenarios, OpenLoopExperimentsMatchMethods) {
-  // E1-E4 set-ups of METHODS §10 (paper 000 §6.1/6.2).
+  // E1-E4 set-ups of docs/MODELS.md §10 (paper 000 §6.1/6.2).
   const auto e4 = predvs::loadScenario(predvs::resolveScenario("e4-circle"));
   EXPECT_EQ(e4.kind, predvs::ScenarioKind::OpenLoop);
   EXPECT_EQ(e4.trajectory, "circle");

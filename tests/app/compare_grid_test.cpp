@@ -83,7 +83,7 @@ class CompareGridTest : public ScratchDirTest {
   CompareGridTest() : ScratchDirTest("predvs_compare_grid_test") {}
   void SetUp() override {
     ScratchDirTest::SetUp();
-    // METHODS §11 E10's stand-in, small: IBVS on a static 4-point square turned by 150 degrees
+    // docs/MODELS.md §11 E10's stand-in, small: IBVS on a static 4-point square turned by 150 degrees
     // about the optical axis, no velocity saturation, delta = 10 ms, one frame of latency, 5 s.
     scenario_ = write("tiny-grid.yaml", body_);
   }

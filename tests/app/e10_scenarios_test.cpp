@@ -1,4 +1,4 @@
-// E10 (paper 003 §4.1, METHODS §9, §10, §11 E10): data/scenarios/e10-rotation-150.yaml holds the
+// E10 (paper 003 §4.1, docs/MODELS.md §9, §10, §11 E10): data/scenarios/e10-rotation-150.yaml holds the
 // 150 deg rotation of paper 003 in the regime where single-rate IBVS fails because of latency
 // (current interaction matrix, true depth, no saturation, delta = 10 ms, one frame of latency).
 // The headline cell, through the real loop: at N = 8 and lambda = 1.6 the dual-rate law converges
@@ -59,7 +59,7 @@ TEST(E10Scenarios, HoldPaper003sSetUp) {
 }
 
 TEST(E10Scenarios, DualRateConvergesWhereSingleRateLowFrequencyFailsAtN8) {
-  // GIVEN the 150 deg task at N = 8 with lambda = 1.6 (METHODS §11: classic IBVS fails from 1.4)
+  // GIVEN the 150 deg task at N = 8 with lambda = 1.6 (docs/MODELS.md §11: classic IBVS fails from 1.4)
   // WHEN the dual-rate law and single-rate low-frequency IBVS each run it in the closed loop
   const NamedValues dr = runCell("dr-ekfs-ibvs", "1.6");
   const NamedValues sr = runCell("sr-lf-ibvs", "1.6");

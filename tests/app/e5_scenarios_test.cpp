@@ -1,4 +1,4 @@
-// E5 of paper 000 §6.2 (METHODS §10 E5): the scenario files data/scenarios/e5-{line,circle}.yaml
+// E5 of paper 000 §6.2 (docs/MODELS.md §10 E5): the scenario files data/scenarios/e5-{line,circle}.yaml
 // (the `vsc` law) and their classic-IBVS twins e5-{line,circle}-ibvs.yaml, loaded as `predvs`
 // loads them and run through the closed loop on their own seeds. The headline of
 // docs/REPRODUCTION.md is pinned here: without a predictor the follower's y error keeps the
@@ -148,7 +148,7 @@ TEST(E5Scenarios, IbvsTwinsDifferOnlyInTheLaw) {
 TEST(E5Scenarios, SetUpMatchesThePaper) {
   // GIVEN the files WHEN loaded THEN the scale is 5 px per mm (px / Z), the leader moves 1 mm/s
   // on the line, 20 mm (100 px) at 0.15 rad/s on the circle, and s* = (340, 480) is the leader
-  // +300 px from the image centre column (paper 000 §6.2, METHODS §10 E5)
+  // +300 px from the image centre column (paper 000 §6.2, docs/MODELS.md §10 E5)
   const predvs::Scenario line = load("e5-line"), circle = load("e5-circle");
   const predvs::ServoConfig& c = line.closed_loop;
   constexpr double kExact = 1e-12;

@@ -1,4 +1,4 @@
-// E8 (paper 001 §5.3, §5.5; METHODS §10-11 E8): the scenario files e8-vtc, e8-vtc-occlusion and
+// E8 (paper 001 §5.3, §5.5; docs/MODELS.md §10-11 E8): the scenario files e8-vtc, e8-vtc-occlusion and
 // e8-ibvs, loaded as `predvs` loads them and run as `predvs compare` runs them (run r: seed S + r,
 // the same for every predictor). Checks the set-up they document, the headline comparison on
 // their 20 seeds, a static board driven to convergence through the ServoLoop, and the one-line
@@ -33,7 +33,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The first 3 s of a run: the initial 29 px error in y_i decays with kg_y = 0.75 /s (2.3 time
-// constants); "the transient" of METHODS §11.
+// constants); "the transient" of docs/MODELS.md §11.
 constexpr double kTransientEnd_s = 3.0;
 
 Scenario e8(const std::string& name, const std::vector<std::string>& sets = {}) {
@@ -318,7 +318,7 @@ TEST(E8Vtc, TracksTheMovingBoardWithAnEstimatorAndLagsWithout) {
   EXPECT_GT(over(hold, finalOf).mean, 10.0);
   EXPECT_GT(over(hold, rmseOf).mean, 1.8 * over(stkf, rmseOf).mean);  // measured 2.2x
   // AND y_e and d_e settle at the noise floor (measured steady RMS 0.6-0.7 and 1.3-1.4 px) while x_e
-  // keeps the CV model's lag, larger with the STKF than with the plain KF (METHODS §11: measured
+  // keeps the CV model's lag, larger with the STKF than with the plain KF (docs/MODELS.md §11: measured
   // 6.6 against 3.6 px)
   for (const auto* runs : {&stkf, &kf}) {
     EXPECT_LT(over(*runs, [](const RunFigures& f) { return steadyRms(f, 1); }).mean, 1.5);
@@ -330,7 +330,7 @@ TEST(E8Vtc, TracksTheMovingBoardWithAnEstimatorAndLagsWithout) {
   EXPECT_LT(x_stkf, 0.7 * over(hold, [](const RunFigures& f) { return steadyRms(f, 0); }).mean);
   // AND the Lyapunov bound of eq. 45 is positive during the transient (measured: every tick of
   // the first 3 s with stkf, 99.5 % with kf-cv, whose noisier velocity enters delta f) but not
-  // throughout the run (METHODS §11; measured 97 % and 93 % of the ticks)
+  // throughout the run (docs/MODELS.md §11; measured 97 % and 93 % of the ticks)
   for (const auto* runs : {&stkf, &kf}) {
     EXPECT_GT(over(*runs, [](const RunFigures& f) { return f.bound_fraction_transient; }).mean, 0.98);
     const MeanStd run = over(*runs, [](const RunFigures& f) { return f.bound_fraction; });

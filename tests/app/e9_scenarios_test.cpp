@@ -1,7 +1,7 @@
-// E9 (paper 002 §3, METHODS §7, §10, §11): the scenario files data/scenarios/e9-broyden.yaml,
+// E9 (paper 002 §3, docs/MODELS.md §7, §10, §11): the scenario files data/scenarios/e9-broyden.yaml,
 // e9-broyden-uncompensated.yaml and e9-ibvs.yaml hold paper 002's set-up; on their own seed (900,
 // what `predvs servo --scenario e9-broyden` runs) the delay-compensated uncalibrated law beats the
-// uncompensated one where METHODS §11 says it should (near the delayed loop's stability limit, and
+// uncompensated one where docs/MODELS.md §11 says it should (near the delayed loop's stability limit, and
 // at a low gain only with a CA predictor); its online Jacobian stays 10-40 % off the true one while
 // tracking; a bad ibvs-broyden key in such a file is one error line naming the key and its line.
 // The figures over 20 seeds per gain are in docs/REPRODUCTION.md (E9).
@@ -108,7 +108,7 @@ TEST(E9Scenarios, CompensationWinsNearTheStabilityLimit) {
   for (const char* gain : {"4", "6"}) {
     SCOPED_TRACE(std::string("task.gain = ") + gain);
     // GIVEN the compensated and the uncompensated law at a gain near the uncompensated loop's
-    // stability limit (K T < 2 sin(pi / 10) ~ 0.62 with a 2-frame delay, METHODS §11)
+    // stability limit (K T < 2 sin(pi / 10) ~ 0.62 with a 2-frame delay, docs/MODELS.md §11)
     const auto comp = runAll(e9("e9-broyden", {std::string("task.gain=") + gain}));
     const auto uncomp = runAll(e9("e9-broyden-uncompensated", {std::string("task.gain=") + gain}));
     const double none = value(uncomp.at("hold"), "rmse");
@@ -126,7 +126,7 @@ TEST(E9Scenarios, AtLowGainOnlyTheCaPredictorHelps) {
   // THEN compensation with kf-ca beats none (the CA extrapolation of ft has no bias on a
   // sinusoid's smooth acceleration) ...
   EXPECT_LT(value(comp.at("kf-ca"), "rmse"), none / 1.3);
-  // ... while with kf-cv it does not (METHODS §11: the CV extrapolation of ft is biased; measured
+  // ... while with kf-cv it does not (docs/MODELS.md §11: the CV extrapolation of ft is biased; measured
   // 17.2 px against 14.3 px)
   EXPECT_GT(value(comp.at("kf-cv"), "rmse"), none);
 }
@@ -135,7 +135,7 @@ TEST(E9Scenarios, OnlineJacobianStaysOffTheTrueOneWhileTracking) {
   // GIVEN the compensated and the uncompensated law at K = 4 /s
   const auto comp = runAll(e9("e9-broyden", {"task.gain=4"}));
   const auto uncomp = runAll(e9("e9-broyden-uncompensated", {"task.gain=4"}));
-  // THEN the estimate over the last 4 s is 10-40 % off the true L cVe eJe(q) with kf-cv (METHODS
+  // THEN the estimate over the last 4 s is 10-40 % off the true L cVe eJe(q) with kf-cv (docs/MODELS.md
   // §11: robot and target motion are confounded; measured 17 %), and further off without
   // compensation, whose updates attribute the target's motion to the robot (measured 64 %)
   const double with_cv = value(comp.at("kf-cv"), "jacobian_error_final");

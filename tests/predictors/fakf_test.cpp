@@ -1,4 +1,4 @@
-// Tests of the fuzzy adaptive Kalman filters (METHODS §3): R adaptation follows the real noise,
+// Tests of the fuzzy adaptive Kalman filters (docs/MODELS.md §3): R adaptation follows the real noise,
 // R stays inside [r_min, r_max], P inflation fires on a manoeuvre, and the E4 circle ranking.
 #include "predvs/predictors/fakf.h"
 #include "predvs/predictors/predictor.h"
@@ -157,7 +157,7 @@ TEST(Fakf, RegisteredWithItsParameters) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Paper-000 simulations (METHODS §10 E1-E4), generated here. One frame every kPeriodS, Gaussian
+// Paper-000 simulations (docs/MODELS.md §10 E1-E4), generated here. One frame every kPeriodS, Gaussian
 // noise of 1 px per axis, every predictor built from the registry with its defaults, prediction
 // error = Euclidean distance between the prediction `horizon` frames ahead and the true position.
 
@@ -221,7 +221,7 @@ void report(const std::string& scenario, const std::string& name, const Scenario
 const std::vector<std::string> kCompared = {"kf-cv", "fakf-classic", "fakf"};
 
 TEST(FakfScenarios, E1LineE2AccelJumpE3Zigzag) {
-  // METHODS §10: E1 line v = (10, 10) px/s; E2 v0 = (20, 20), a = (1, 1) jumping to (30, 30) px/s^2
+  // docs/MODELS.md §10: E1 line v = (10, 10) px/s; E2 v0 = (20, 20), a = (1, 1) jumping to (30, 30) px/s^2
   // at 14 s; E3 vx = 1, vy = 10 switching to -10 px/s at 9 s. One frame ahead, 20 seeds.
   struct Case {
     std::string id;
@@ -278,7 +278,7 @@ std::map<std::string, double> circleFinalErrors(double radius_px, double omega_r
 TEST(FakfScenarios, E4CircleHeadline) {
   // GIVEN the paper's literal set-up: radius 20 px, omega 0.15 rad/s, one frame (0.1 s) ahead
   const auto literal = circleFinalErrors(20.0, 0.15, 1);
-  // THEN every predictor is within about 1 px (METHODS §11) and fakf is the best: measured
+  // THEN every predictor is within about 1 px (docs/MODELS.md §11) and fakf is the best: measured
   // kf-cv 1.08, fakf-classic 1.10, fakf 0.91 px (paper: ~8 / ~4 / ~2 px, another set-up).
   // fakf inherits cs-akf-adaptive's defaults; its CS variance floor decides the smooth-motion
   // error (with sigma_min_sq = 1 instead of the default 10, fakf measures 0.70 px here).

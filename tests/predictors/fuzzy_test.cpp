@@ -1,5 +1,5 @@
 // Tests of the Mamdani fuzzy system and the three ready-made systems of the fuzzy adaptive
-// Kalman filters (METHODS §3).
+// Kalman filters (docs/MODELS.md §3).
 #include "predvs/predictors/fuzzy.h"
 
 #include <gtest/gtest.h>

@@ -13,7 +13,7 @@
 namespace predvs {
 namespace paper {
 
-/// E6 (METHODS §10, paper 001 §5.1-5.2): a target moving in a horizontal plane, seen by a static
+/// E6 (docs/MODELS.md §10, paper 001 §5.1-5.2): a target moving in a horizontal plane, seen by a static
 /// pinhole camera, observed as Xi = [x_i, y_i, d_x] (image centroid and image width, px).
 ///
 /// Target motion (paper 001 eq. 44), in cm and cm/s, camera frame (x right, y down, z forward):
@@ -77,7 +77,7 @@ inline Eigen::Vector3d e6Measure(const Eigen::Vector3d& X_px, double sigma_n, st
   return z;
 }
 
-/// E12 (METHODS §10, paper 004 §5): a target at rest at 0 until t_start_s, then moving on a
+/// E12 (docs/MODELS.md §10, paper 004 §5): a target at rest at 0 until t_start_s, then moving on a
 /// sinusoid x(t) = A sin(2 pi (t - t_start) / period) (metres). Position is continuous at the
 /// start, the velocity jumps from 0 to 2 pi A / period (4.19 m/s for A = 2 m, period 3 s).
 struct E12Config {

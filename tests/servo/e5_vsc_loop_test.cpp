@@ -1,4 +1,4 @@
-// The `vsc` law (tasks/vsc_task.h, METHODS §8) through the real closed loop (ServoLoop: timing
+// The `vsc` law (tasks/vsc_task.h, docs/MODELS.md §8) through the real closed loop (ServoLoop: timing
 // model, delayed frames, command lag, robot): a static target is reached on the x-y stage with one
 // point (the E5 follower plant of paper 000 §6.2) and on the free-flying camera with 4 points.
 // The law's own tests (tests/tasks/vsc_task_test.cpp) use hand-written plants; these go through

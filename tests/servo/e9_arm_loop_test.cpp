@@ -1,4 +1,4 @@
-// The Viper850 arm in the closed loop (METHODS §10 E9; paper 002 §3): classic `ibvs` (vpServo
+// The Viper850 arm in the closed loop (docs/MODELS.md §10 E9; paper 002 §3): classic `ibvs` (vpServo
 // through the arm's camera Jacobian cVe eJe(q)) and the uncalibrated `ibvs-broyden` drive the real
 // ServoLoop to a static target; the camera the loop scores is where ViSP's own kinematic model
 // (vpViper850, placed by the base pose) puts it; the online Jacobian learnt by exploration on the

@@ -145,7 +145,7 @@ ServoConfig staticTarget() {
   return c;
 }
 
-/// METHODS §11 E10's failing regime as a stand-in: 150 degrees about the optical axis, no velocity
+/// docs/MODELS.md §11 E10's failing regime as a stand-in: 150 degrees about the optical axis, no velocity
 /// saturation, delta = 10 ms, N = 16 (T = 0.16 s) with one frame of latency, lambda = 2. The
 /// current-matrix IBVS backs away and then comes through the object plane on stale commands.
 ServoConfig rotation150() {

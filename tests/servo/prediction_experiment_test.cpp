@@ -1,5 +1,5 @@
 // Open-loop prediction experiment: timing of deliveries, the hold baseline's known error, and the
-// Kalman predictors' behaviour on E1-like motion (METHODS §10).
+// Kalman predictors' behaviour on E1-like motion (docs/MODELS.md §10).
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/prediction_experiment.h"
 

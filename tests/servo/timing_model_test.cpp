@@ -1,4 +1,4 @@
-// Timing model: release ticks, effect times and horizons (METHODS §0).
+// Timing model: release ticks, effect times and horizons (docs/MODELS.md §0).
 #include "predvs/servo/timing_model.h"
 
 #include <gtest/gtest.h>

@@ -21,7 +21,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 // Five-point differences with h = 1e-4 on poses of ~1 m and features of a few hundred px: about
-// 1e-10 (truncation h^4, rounding 1e-16 * 400 / 1e-4), well inside METHODS §11's 1e-8.
+// 1e-10 (truncation h^4, rounding 1e-16 * 400 / 1e-4), well inside docs/MODELS.md §11's 1e-8.
 constexpr double kFdStep = 1e-4;
 constexpr double kFdTol = 1e-8;
 
@@ -359,7 +359,7 @@ TEST(VtcClosedLoop, TargetRateFeedForwardRemovesTheLagOnTheEq44Motion) {
   EXPECT_LT(with.rms_error, 0.5);
   // GIVEN 10 % parameter errors (seed 1) THEN it still tracks (measured 1.1 px) but the bound of
   // eq. 45 is positive only part of the time (measured 28.5 % of the ticks; f(u) 41.5 %), as
-  // METHODS §11 reports for E8
+  // docs/MODELS.md §11 reports for E8
   const MovingResult perturbed = runMovingLoop(Params{{"param_error", 0.1}}, true, 1);
   EXPECT_LT(perturbed.rms_error, 3.0);
   EXPECT_GT(perturbed.summary[0].second, 0.05);

@@ -1,4 +1,4 @@
-// Tests of `ibvs-broyden` (METHODS §7): closed-loop convergence on a static target for two small
+// Tests of `ibvs-broyden` (docs/MODELS.md §7): closed-loop convergence on a static target for two small
 // plants written here (a linear map s = s0 + A p, and a free-flying camera looking at 4 points),
 // with and without delay compensation, the learnt Jacobian against finite differences of the
 // plant, the damped inverse on singular estimates, diagnostics and configuration errors.

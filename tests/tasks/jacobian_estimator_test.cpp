@@ -1,4 +1,4 @@
-// Tests of the online Jacobian estimators (METHODS §7): recovery of a known linear map, tracking
+// Tests of the online Jacobian estimators (docs/MODELS.md §7): recovery of a known linear map, tracking
 // of a changing map with forgetting, the target-motion term, the excitation threshold, the
 // covariance cap, lost rows and configuration errors.
 #include "predvs/tasks/jacobian_estimator.h"

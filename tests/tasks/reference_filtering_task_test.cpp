@@ -249,7 +249,7 @@ INSTANTIATE_TEST_SUITE_P(ReferenceFilteringTask, EveryLaw,
                            return n;
                          });
 
-/// E10 (paper 003 §4.1, METHODS §10-11): 4 coplanar points, a 300 mm square at 0.38 m, the camera
+/// E10 (paper 003 §4.1, docs/MODELS.md §10-11): 4 coplanar points, a 300 mm square at 0.38 m, the camera
 /// rotated 150 deg about its optical axis; delta = 10 ms, N = 8, one frame of latency; CURRENT
 /// interaction matrix, true depth, no saturation.
 struct E10 {

@@ -1,4 +1,4 @@
-// predvs — the current statistical (CS) motion model and its Kalman filters (METHODS §2, paper 000 §3).
+// predvs — the current statistical (CS) motion model and its Kalman filters (docs/MODELS.md §2, paper 000 §3).
 //
 // Model, per channel, state x = [p, v, a]. The acceleration is a mean abar plus a first-order Markov
 // deviation with correlation rate alpha (1/s), driven by white noise of density 2 alpha sigma^2:
@@ -10,18 +10,18 @@
 //   x(k+1) = F x(k) + U abar + w(k),   Cov w(k) = Q,
 //   F = [[1, dt, (e - 1 + x)/alpha^2], [0, 1, (1 - e)/alpha], [0, 0, e]]            (singerTransition)
 //   U = [(1 - x + x^2/2 - e)/alpha^2, dt - (1 - e)/alpha, 1 - e]'                    (singerInput)
-//   Q = 2 alpha sigma^2 [q_ij] with the q_ij of METHODS §2                           (singerProcessNoise)
+//   Q = 2 alpha sigma^2 [q_ij] with the q_ij of docs/MODELS.md §2                           (singerProcessNoise)
 //
 // CS filter (the "current" statistical model): the mean abar is the filter's own predicted
 // acceleration, abar = a(k|k-1). Since a(k|k-1) = e a(k-1|k-1) + (1 - e) abar, that choice makes
 // a(k|k-1) = a(k-1|k-1), and the mean prediction F x + U abar = (F + U [0 0 1]) x is exactly the
 // constant-acceleration prediction F_CA x. alpha and sigma^2 then act only through Q.
 //
-// Covariance propagation (our choice, METHODS §11): P(k|k-1) = F_CA P F_CA' + Q_singer. The map the
+// Covariance propagation (our choice, docs/MODELS.md §11): P(k|k-1) = F_CA P F_CA' + Q_singer. The map the
 // mean actually applies is F_CA (abar is a function of the state, not an exogenous input), so F_CA is
 // its exact Jacobian. Propagating with the Singer F instead would shrink the acceleration variance by
 // e^2 every step while the mean keeps the full acceleration: P would understate the actual error,
-// the gain would fall, and the filter would become overconfident and lag (the fragility METHODS §11
+// the gain would fall, and the filter would become overconfident and lag (the fragility docs/MODELS.md §11
 // reports). The same F_CA / Q_singer pair is used by update() and by the const prediction query,
 // so a horizon prediction is consistent with the filter's own time update.
 #pragma once
@@ -141,7 +141,7 @@ class CsAkfPredictor : public CsKalmanPredictor {
 
 /// `cs-akf-adaptive`: CS Kalman filter whose acceleration variance adapts from the filter's own
 /// acceleration estimates instead of a fixed a_max (paper 000 §3.2; its eq. 10 is lost, this is the
-/// variant METHODS §2 suggests):
+/// variant docs/MODELS.md §2 suggests):
 ///
 ///   sigma^2(k) = clamp((4 - pi)/pi (a(k|k) - a(k-1|k-1))^2, sigma_min_sq, sigma_max_sq),
 ///
@@ -162,7 +162,7 @@ class CsAkfPredictor : public CsKalmanPredictor {
 /// reacts to a jump slowly: the floor, not a_max, is now the parameter that matters.
 /// Parameters (besides alpha, r, p0_vel, p0_acc):
 ///   sigma_min_sq ((px/s^2)^2, default 1e4 since issue 11, 10 before): the floor. On smooth motion sigma^2 stays on it and it
-///                alone sets the smoothing / lag trade-off (METHODS §11); its effect is measured in
+///                alone sets the smoothing / lag trade-off (docs/MODELS.md §11); its effect is measured in
 ///                tests/predictors/cs_akf_test.cpp (see kDefaultSigmaMinSq in cs_akf.cpp).
 ///   sigma_max_sq ((px/s^2)^2, default 1e6 ~ (4-pi)/pi * 3600^2; 1000 before issue 11): the ceiling.
 ///   adapt_tau_s  (s, default 0): time constant of the reference acceleration. 0 is the variant
@@ -170,7 +170,7 @@ class CsAkfPredictor : public CsKalmanPredictor {
 ///                a_ref += (1 - exp(-dt/tau)) (a(k|k) - a_ref), which measures the change over ~tau
 ///                and makes a small floor less harmful on smooth motion (measured, not the default).
 ///
-/// Extension points for subclasses (e.g. the improved fuzzy AKF, METHODS §3): override
+/// Extension points for subclasses (e.g. the improved fuzzy AKF, docs/MODELS.md §3): override
 /// measurementNoise(c) for a per-channel adapted R, inflatePrior() to scale P(k|k-1), afterStep()
 /// to update windows (call CsAkfAdaptivePredictor::afterStep to keep the variance adaptation), and
 /// resetAdaptation() (call the base version too). channelGaussian(c), innovation(c) and state_

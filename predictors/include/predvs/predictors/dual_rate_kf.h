@@ -1,4 +1,4 @@
-// predvs — the dual-rate Kalman filter of paper 003 (§3.1, Algorithm 2; METHODS §9): features
+// predvs — the dual-rate Kalman filter of paper 003 (§3.1, Algorithm 2; docs/MODELS.md §9): features
 // measured once per frame T = N delta, estimated and predicted at the base period delta.
 //
 // Model per base period delta (paper eqs. 4-5), per feature channel (x, y or Z of a point):

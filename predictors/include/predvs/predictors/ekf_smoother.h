@@ -1,6 +1,6 @@
 // predvs — reference filtering: the extended Kalman filter / smoother that turns the goal s* into
 // a sequence of feasible intermediate references (paper 003 §2.3 and §3.2, Algorithms 3 and 4;
-// METHODS §9).
+// docs/MODELS.md §9).
 //
 // The state is a filtered reference s_hat* (the 3n features (x, y, Z) of n points). It starts at
 // the current features, s_hat*(t|t) = s_t with P(t|t) = 0 (they are known), and evolves with the

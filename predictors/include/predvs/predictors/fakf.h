@@ -1,4 +1,4 @@
-// predvs — fuzzy adaptive Kalman filters (METHODS §3, paper 000 §4).
+// predvs — fuzzy adaptive Kalman filters (docs/MODELS.md §3, paper 000 §4).
 //
 // Both filters watch the innovation sequence of each channel over a sliding window of N_w frames,
 //   E'(k) = (1/N_w) sum eps(i),   C(k) = (1/N_w) sum eps(i)^2,   i = k-N_w+1 .. k,
@@ -54,7 +54,7 @@ class InnovationWindow {
 };
 
 /// `fakf-classic`: the traditional fuzzy adaptive KF of Escamilla-Ambrosio & Mort, the baseline
-/// paper 000 compares against (METHODS §3). Constant-velocity state x = [p, v] per channel
+/// paper 000 compares against (docs/MODELS.md §3). Constant-velocity state x = [p, v] per channel
 /// (same model and defaults as kf-cv), no CS model, no P inflation. Per frame, once the window is
 /// full:
 ///   DoM(k) = C(k) - S(k)                  (actual minus theoretical innovation power)
@@ -90,7 +90,7 @@ class FakfClassicPredictor : public ChannelPredictor<2> {
 };
 
 
-/// `fakf`: the improved fuzzy adaptive KF of paper 000 §4 (METHODS §3), built on the adaptive CS
+/// `fakf`: the improved fuzzy adaptive KF of paper 000 §4 (docs/MODELS.md §3), built on the adaptive CS
 /// filter (cs-akf-adaptive: state [p, v, a], Singer Q with the adapted acceleration variance).
 /// At every measured frame k of a channel, after the time update and before the measurement update:
 ///

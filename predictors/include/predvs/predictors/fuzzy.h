@@ -1,5 +1,5 @@
 // predvs — a small Mamdani fuzzy inference system and the three systems the fuzzy adaptive
-// Kalman filters use (METHODS §3, paper 000 §4).
+// Kalman filters use (docs/MODELS.md §3, paper 000 §4).
 //
 // Inference (Mamdani, max-min):
 //   * every input is clamped to its universe [lo, hi] and fuzzified by its membership functions;
@@ -203,7 +203,7 @@ class MamdaniSystem {
 double clippedCentroid(const MembershipFunction* sets, const double* w, int n, double lo, double hi);
 
 // ---------------------------------------------------------------------------------------------
-// The ready-made systems of METHODS §3.
+// The ready-made systems of docs/MODELS.md §3.
 
 /// Universes of the improved-FAKF R adaptation (paper 000 §4.1; defaults are the paper's ranges).
 struct BetaSystemConfig {
@@ -222,7 +222,7 @@ struct BetaSystemConfig {
 ///   PB = (1 + 0.25 U, 1 + 0.75 U, beta_max, beta_max),  U = beta_max - 1
 /// With the defaults: PS (0.8,0.8,0.85,0.95), PM (0.9,0.98,1.02,1.1), PB (1.05,1.15,1.2,1.2); the
 /// centroid keeps beta within about [0.854, 1.146].
-/// Rules (METHODS §3; E' rows, dP' columns N ZE P): N: PS PS PM; ZE: PS PM PB; P: PM PB PB.
+/// Rules (docs/MODELS.md §3; E' rows, dP' columns N ZE P): N: PS PS PM; ZE: PS PM PB; P: PM PB PB.
 /// Input 0 is E', input 1 is dP'. Throws std::invalid_argument on a bad configuration.
 MamdaniSystem makeFakfBetaSystem(const BetaSystemConfig& config = {});
 
@@ -246,7 +246,7 @@ struct DomSystemConfig {
   double dr_max = 0.5;      ///< output dR universe [-dr_max, dr_max] (px^2 per frame)
 };
 
-/// dR = f(DoM), DoM = C - S (METHODS §3 sign: actual minus theoretical), used as R(k) = R(k-1) + dR.
+/// dR = f(DoM), DoM = C - S (docs/MODELS.md §3 sign: actual minus theoretical), used as R(k) = R(k-1) + dR.
 /// Input and output: triangles N = (lo, lo, 0), ZE = (lo, 0, hi), P = (0, hi, hi); rules
 /// N -> N (decrease R), ZE -> ZE (keep), P -> P (increase R). Odd-symmetric, dR(0) = 0 exactly,
 /// |dR| <= 2/3 dr_max (centroid of a full shoulder triangle).

@@ -1,7 +1,7 @@
 // predvs — interacting multiple model (IMM) predictor: constant velocity + Singer (correlated)
 // acceleration.
 //
-// Not in any of the five papers: the standard estimator for manoeuvring targets in the tracking
+// docs/MODELS.md §14. Not in any of the five papers: the standard estimator for manoeuvring targets in the tracking
 // literature (Blom & Bar-Shalom 1988; Bar-Shalom, Li, Kirubarajan, "Estimation with Applications
 // to Tracking and Navigation", 2001, §11.6). Each channel runs two Kalman filters on a common
 // state x = [p, v, a] (px, px/s, px/s^2) and H = [1, 0, 0]:

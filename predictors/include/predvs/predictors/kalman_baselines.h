@@ -1,4 +1,4 @@
-// predvs — the baselines every adaptive predictor is compared with (METHODS §1).
+// predvs — the baselines every adaptive predictor is compared with (docs/MODELS.md §1).
 #pragma once
 
 #include "predvs/predictors/channel_predictor.h"

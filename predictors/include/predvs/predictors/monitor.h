@@ -1,4 +1,4 @@
-// predvs — predictive monitor: detects discontinuities of the target motion (METHODS §6,
+// predvs — predictive monitor: detects discontinuities of the target motion (docs/MODELS.md §6,
 // paper 004 §4).
 //
 // A filter tuned for smooth motion reacts slowly to a sudden start, stop or reversal. The monitor
@@ -35,7 +35,7 @@ struct MonitorConfig {
   // (the faded gain makes the two-step errors heavy-tailed, and sigma_n is estimated from few samples).
   int window = 20;                ///< n, number of past errors in sigma_n (band)
   double band_factor = 6.0;       ///< lambda_b (band)
-  double centre_gain = 0.5;       ///< g of the centre low-pass (band; 0.5 as METHODS §6)
+  double centre_gain = 0.5;       ///< g of the centre low-pass (band; 0.5 as docs/MODELS.md §6)
   double band_floor = 1e-6;       ///< smallest band half-width, in the signal's units (band):
                                   ///< keeps a noise-free signal from alarming on round-off
   double chi2_threshold = 15.13;  ///< chi-square(1) quantile, 15.13 = false-alarm prob. 1e-4

@@ -2,7 +2,7 @@
 //
 // A predictor sits ahead of the servo task: it fuses time-stamped (delayed) feature measurements
 // and answers "where will each feature be at time t" so the task can act on where the target will
-// be when the command takes effect, not where it was when the image was taken (METHODS §0).
+// be when the command takes effect, not where it was when the image was taken (docs/MODELS.md §0).
 //
 // Conventions
 //  * A predictor tracks `channels()` independent scalar signals (for the servo loop: u and v of

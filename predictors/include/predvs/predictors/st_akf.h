@@ -1,5 +1,5 @@
-// predvs — strong-tracking adaptive Kalman filter (ST-AKF, METHODS §5, paper 004 §3) and its
-// variant supervised by the predictive monitor (METHODS §6, paper 004 §4).
+// predvs — strong-tracking adaptive Kalman filter (ST-AKF, docs/MODELS.md §5, paper 004 §3) and its
+// variant supervised by the predictive monitor (docs/MODELS.md §6, paper 004 §4).
 #pragma once
 
 #include "predvs/predictors/channel_predictor.h"

@@ -1,4 +1,4 @@
-// predvs — self-tuning Kalman filter (STKF, METHODS §4, paper 001 §4).
+// predvs — self-tuning Kalman filter (STKF, docs/MODELS.md §4, paper 001 §4).
 #pragma once
 
 #include "predvs/predictors/channel_predictor.h"

@@ -1,4 +1,4 @@
-// predvs — the open-loop prediction experiment on N channels (METHODS §10: E1-E4, E6, E7, E12).
+// predvs — the open-loop prediction experiment on N channels (docs/MODELS.md §10: E1-E4, E6, E7, E12).
 //
 // The same simulation as runPredictionExperiment() (prediction_experiment.h: acquisition at the
 // frame ticks, noise per channel in channel order, occlusions, delivery at the release tick,
@@ -8,7 +8,7 @@
 //  * the predictor's velocity at the effect time and the true velocity there, so that the
 //    velocity error of the estimate can be scored (paper 001 Table 2 reports velocity MSE);
 //  * the acquisition time of every frame that raised a discontinuity-monitor alarm (predictors of
-//    the st-akf family, METHODS §6; never for the others), for detection delay and false alarms.
+//    the st-akf family, docs/MODELS.md §6; never for the others), for detection delay and false alarms.
 // With a zero horizon (no vision latency, no command lag) the prediction is the filtered estimate
 // x(k|k) at the acquisition time, which is what paper 001 §5.2 and paper 004 §5 score.
 #pragma once

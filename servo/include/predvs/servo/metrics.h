@@ -1,5 +1,5 @@
 // predvs — error metrics shared by the open-loop prediction experiment and the closed loop
-// (METHODS §10: RMSE, final error, peak error, convergence time, integrated absolute error,
+// (docs/MODELS.md §10: RMSE, final error, peak error, convergence time, integrated absolute error,
 // control effort).
 //
 // Input: a scalar error e(t_i) >= 0 per step on a uniform or non-uniform time grid (open loop:
@@ -100,13 +100,13 @@ std::pair<std::string, double> lostPolicyValue(const std::vector<bool>& expired,
 /// rmse, final, max, peak, iae, settling_s, effort (the fields above, in that order).
 NamedValues metricValues(const Metrics& m);
 
-/// The outcome of a closed-loop positioning run (metrics.outcome; paper 003 §4.1, METHODS §10 E10:
+/// The outcome of a closed-loop positioning run (metrics.outcome; paper 003 §4.1, docs/MODELS.md §10 E10:
 /// "converges where ... fails", the reachable region over (lambda, frame period)).
 ///
 /// Failure (divergence), checked by the loop on the TRUE state after every control step (and at
 /// t = 0), first match wins:
 ///   behind     some target point has depth Z <= 0 in the camera frame (the camera came through the
-///              object plane: the failure of METHODS §11 E10);
+///              object plane: the failure of docs/MODELS.md §11 E10);
 ///   image      with fail_outside_image, some point's true projection (u, v) is outside the image
 ///              0 <= u < width, 0 <= v < height (camera.width / camera.height, servo_loop.h);
 ///   robot      with fail_robot_limit, the robot reports that it is at a hard limit (Robot::atLimit():

@@ -1,4 +1,4 @@
-// predvs — seeded measurement-noise models (METHODS §10: E6 noise study, default scenario).
+// predvs — seeded measurement-noise models (docs/MODELS.md §10: E6 noise study, default scenario).
 //
 //   none      n = 0
 //   gaussian  n ~ N(0, sigma^2)                                    (variance sigma^2)

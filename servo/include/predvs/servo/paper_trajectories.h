@@ -1,5 +1,5 @@
 // predvs — N-channel target signals for the open-loop experiments, including the papers' own
-// simulation set-ups (METHODS §10: E6 / E7 of paper 001, E12 of paper 004).
+// simulation set-ups (docs/MODELS.md §10: E6 / E7 of paper 001, E12 of paper 004).
 //
 // A ChannelTrajectory is what a camera would measure of a target, channel by channel (E6: the
 // image centroid x_i, y_i and the apparent width d_x, px; E12: one position in mm), with the exact

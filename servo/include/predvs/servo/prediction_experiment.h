@@ -1,4 +1,4 @@
-// predvs — the open-loop prediction experiment (METHODS §10, E1–E4, E7): a target moves on a 2D
+// predvs — the open-loop prediction experiment (docs/MODELS.md §10, E1–E4, E7): a target moves on a 2D
 // trajectory in the image, a camera observes it with noise and delay, and a predictor must say
 // where the target will be when a command computed now would take effect.
 //

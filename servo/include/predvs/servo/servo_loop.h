@@ -1,5 +1,5 @@
 // predvs — the closed loop, a composition: a feature source, a predictor, a task (control law)
-// and a robot, timed by the timing model (METHODS §0, §10; default scenario `ibvs-moving-target`).
+// and a robot, timed by the timing model (docs/MODELS.md §0, §10; default scenario `ibvs-moving-target`).
 //
 // The loop knows none of them by name: it asks their interfaces (task.h, robot.h,
 // feature_source.h, predictor.h). A new law, robot or source is new files plus one registry line.
@@ -16,7 +16,7 @@
 //     and the robot's command integral p(t_acq);
 //  3. frames whose release tick has come are delivered in order: the task features f are
 //     computed, the task observes (f, p(t_acq)) (online Jacobian estimators pair increments this
-//     way, METHODS §7), and the predictor is updated with f - E(t_acq) when the prediction path is
+//     way, docs/MODELS.md §7), and the predictor is updated with f - E(t_acq) when the prediction path is
 //     on, with f otherwise (NaN where a point is lost: predict-only for that channel). The latest
 //     finite value of every channel is kept: for `hold`, a lost feature stays at its last value;
 //  4. the task computes the command u at t_c = t from:

@@ -1,4 +1,4 @@
-// predvs — the timing and delay model of a (dual-rate) visual servo loop (METHODS §0;
+// predvs — the timing and delay model of a (dual-rate) visual servo loop (docs/MODELS.md §0;
 // paper 000 §2, paper 002 §2, paper 003 §2.1).
 //
 // One explicit object decides every time in the loop:

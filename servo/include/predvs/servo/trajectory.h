@@ -1,4 +1,4 @@
-// predvs — 2D target trajectories: position and velocity at any time t (METHODS §10, E1–E4, E8, E9).
+// predvs — 2D target trajectories: position and velocity at any time t (docs/MODELS.md §10, E1–E4, E8, E9).
 //
 // Unit-agnostic: the same trajectory describes a target in pixels (open-loop prediction, E1–E4)
 // or the in-plane translation of the target in metres (closed loop). Every trajectory is built by

@@ -1,4 +1,4 @@
-// predvs — a unicycle carrying a camera on a tilt joint (paper 001 §2, Fig. 1, appendix; METHODS
+// predvs — a unicycle carrying a camera on a tilt joint (paper 001 §2, Fig. 1, appendix; docs/MODELS.md
 // §10 E8).
 //
 // World frame: z up, the robot drives on the x-y plane. State q = (x, y, psi, phi): the ground

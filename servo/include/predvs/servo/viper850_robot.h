@@ -30,7 +30,7 @@
 // software bound is the documented default.
 //
 // `saturation: 0` switches the speed scaling off (the command is executed at any speed), as the
-// free camera's key of the same name does: METHODS §11 E10 shows that a velocity bound alone can
+// free camera's key of the same name does: docs/MODELS.md §11 E10 shows that a velocity bound alone can
 // keep a single-rate loop convergent, so a reachability map is drawn without it. The joint limits
 // stay (they are the arm's geometry, not a software bound).
 //
@@ -45,7 +45,7 @@
 // Joint limits in limit(). A joint resting on a limit cannot execute a velocity pushing it further
 // (step() clamps it), so limit() sets that component to zero before the speed scaling: the command
 // the loop integrates (its command integral p, the ego-motion E = integral of J u, and the task's
-// online Jacobian increments, METHODS §7) is then the motion the arm made, not a motion it refused.
+// online Jacobian increments, docs/MODELS.md §7) is then the motion the arm made, not a motion it refused.
 // (Until this was added p kept growing while the joint stood still, which fed the Jacobian
 // estimator increments dp the image never saw.) A joint that reaches its limit within a step still
 // overshoots in p for that one step: limit() does not know the step's duration.
