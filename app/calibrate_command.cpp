@@ -57,12 +57,6 @@ std::vector<std::string> imageFiles(const std::string& spec) {
   return files;
 }
 
-std::string fixed(double x, int digits) {
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << x;
-  return s.str();
-}
-
 nlohmann::json cameraJson(const CalibratedCamera& c) {
   return {{"fx_px", c.fx_px}, {"fy_px", c.fy_px}, {"cx_px", c.cx_px}, {"cy_px", c.cy_px},
           {"distortion_k1_k2_p1_p2_k3", c.distortion}, {"rms_px", c.rms_px},
@@ -89,16 +83,16 @@ void plotResiduals(const CameraCalibrationResult& r, const StagedOutputDir& dir)
   const int w = r.full.width_px, h = r.full.height_px;
   PlotFigure f;
   f.base = "residuals";
-  f.title = "reprojection residuals per image (arrows x" + fixed(scale, 0) + "; overall RMS " + fixed(r.full.rms_px, 3) + " px)";
+  f.title = "reprojection residuals per image (arrows x" + fixedNumber(scale, 0) + "; overall RMS " + fixedNumber(r.full.rms_px, 3) + " px)";
   for (size_t v = 0; v < r.views.size(); ++v) {
     PlotPanel p;
-    p.title = r.views[v].name + ": RMS " + fixed(r.views[v].rms_px, 3) + " px, max " + fixed(r.views[v].max_px, 3) + " px";
+    p.title = r.views[v].name + ": RMS " + fixedNumber(r.views[v].rms_px, 3) + " px, max " + fixedNumber(r.views[v].max_px, 3) + " px";
     p.xlabel = "u [px]";
     p.ylabel = "v [px] (rows, downwards)";
     p.setup = "set size ratio -1\nset xrange [0:" + std::to_string(w) + "]\nset yrange [" + std::to_string(h) + ":0]\nset key off\n";
     const std::string sel = "index " + std::to_string(v);
     p.lines.push_back({"residuals.dat", "1:2", "points pt 7 ps 0.5", "gray40", "", sel});
-    p.lines.push_back({"residuals.dat", "1:2:($3*" + fixed(scale, 0) + "):($4*" + fixed(scale, 0) + ")",
+    p.lines.push_back({"residuals.dat", "1:2:($3*" + fixedNumber(scale, 0) + "):($4*" + fixedNumber(scale, 0) + ")",
                        "vectors head size 4,20 filled lw 1.5", "#c0392b", "", sel});
     f.panels.push_back(p);
   }
@@ -203,10 +197,10 @@ void runCalibrateCamera(const CalibrateCameraOptions& o, std::ostream& out, std:
   out << "  " << std::left << std::setw(static_cast<int>(w)) << "image" << std::right << "  points  rms_px  max_px\n";
   for (const auto& v : r.views)
     out << "  " << std::left << std::setw(static_cast<int>(w)) << v.name << std::right << "  " << std::setw(6)
-        << v.residual_px.size() << "  " << std::setw(6) << fixed(v.rms_px, 3) << "  " << std::setw(6) << fixed(v.max_px, 3) << "\n";
+        << v.residual_px.size() << "  " << std::setw(6) << fixedNumber(v.rms_px, 3) << "  " << std::setw(6) << fixedNumber(v.max_px, 3) << "\n";
   auto line = [&](const std::string& what, const CalibratedCamera& c, const std::string& extra) {
-    out << "  " << what << ": RMS " << fixed(c.rms_px, 4) << " px  fx " << fixed(c.fx_px, 2) << "  fy " << fixed(c.fy_px, 2)
-        << "  cx " << fixed(c.cx_px, 2) << "  cy " << fixed(c.cy_px, 2) << extra << "\n";
+    out << "  " << what << ": RMS " << fixedNumber(c.rms_px, 4) << " px  fx " << fixedNumber(c.fx_px, 2) << "  fy " << fixedNumber(c.fy_px, 2)
+        << "  cx " << fixedNumber(c.cx_px, 2) << "  cy " << fixedNumber(c.cy_px, 2) << extra << "\n";
   };
   std::ostringstream k;
   k << std::setprecision(4) << "  k1 " << r.full.distortion[0] << " k2 " << r.full.distortion[1] << " p1 " << r.full.distortion[2]
@@ -384,8 +378,8 @@ void runCalibrateLatency(const CalibrateLatencyOptions& o, std::ostream& out, st
   y << "# predvs calibrate latency: scenario fragment measured from " << o.log
     << (p.predictor.empty() ? "" : " (predictor " + p.predictor + ")") << "\n"
     << "# use: predvs servo --set-file timing.yaml (or compare). Estimates (s): vision delay "
-    << fixed(r.vision_delay_s, 4) << " +- " << fixed(r.vision_sigma_s, 4);
-  if (r.has_actuation) y << ", actuation lag " << fixed(r.actuation.delay_s, 4) << " +- " << fixed(r.actuation.sigma_s, 4);
+    << fixedNumber(r.vision_delay_s, 4) << " +- " << fixedNumber(r.vision_sigma_s, 4);
+  if (r.has_actuation) y << ", actuation lag " << fixedNumber(r.actuation.delay_s, 4) << " +- " << fixedNumber(r.actuation.sigma_s, 4);
   y << "; the lags below are rounded to the nearest base period and the vision delay split evenly\n"
     << "# between acquisition and processing (the timing model needs only their sum, and a parallel\n"
     << "# pipeline needs each at most one frame period).\n"
@@ -452,18 +446,18 @@ void runCalibrateLatency(const CalibrateLatencyOptions& o, std::ostream& out, st
   dir.commit();
 
   out << "calibrate latency: " << o.log << (p.predictor.empty() ? "" : " (predictor " + p.predictor + ")") << ": "
-      << p.log.tick_t_s.size() << " ticks of " << fixed(base * 1000.0, 2) << " ms, " << p.log.frame_delivery_s.size()
-      << " frames every " << fixed(r.frame_period_s * 1000.0, 2) << " ms, " << p.features.size() << " features, commands";
+      << p.log.tick_t_s.size() << " ticks of " << fixedNumber(base * 1000.0, 2) << " ms, " << p.log.frame_delivery_s.size()
+      << " frames every " << fixedNumber(r.frame_period_s * 1000.0, 2) << " ms, " << p.features.size() << " features, commands";
   for (const auto& c : p.commands) out << " " << c;
-  out << "\n  delivery fit (command as logged -> delivered features): " << fixed(r.total.delay_s * 1000.0, 1) << " +- "
-      << fixed(r.total.sigma_s * 1000.0, 1) << " ms (" << r.total.frames
+  out << "\n  delivery fit (command as logged -> delivered features): " << fixedNumber(r.total.delay_s * 1000.0, 1) << " +- "
+      << fixedNumber(r.total.sigma_s * 1000.0, 1) << " ms (" << r.total.frames
       << (lo.point_model ? " frames, point model over the whole run)\n" : " frames around the start of motion)\n");
   if (r.has_actuation)
-    out << "  acquisition fit (command as logged -> features at acquisition): " << fixed(r.actuation.delay_s * 1000.0, 1)
-        << " +- " << fixed(r.actuation.sigma_s * 1000.0, 1) << " ms; stamped delivery - acquisition: median "
-        << fixed(r.stamped_delay_s * 1000.0, 1) << " ms\n";
-  out << "  vision delay: " << fixed(r.vision_delay_s * 1000.0, 1) << " +- " << fixed(r.vision_sigma_s * 1000.0, 1) << " ms ("
-      << fixed(r.vision_delay_s / r.frame_period_s, 2) << " frames); fragment: acquisition_lag_s = processing_lag_s = "
+    out << "  acquisition fit (command as logged -> features at acquisition): " << fixedNumber(r.actuation.delay_s * 1000.0, 1)
+        << " +- " << fixedNumber(r.actuation.sigma_s * 1000.0, 1) << " ms; stamped delivery - acquisition: median "
+        << fixedNumber(r.stamped_delay_s * 1000.0, 1) << " ms\n";
+  out << "  vision delay: " << fixedNumber(r.vision_delay_s * 1000.0, 1) << " +- " << fixedNumber(r.vision_sigma_s * 1000.0, 1) << " ms ("
+      << fixedNumber(r.vision_delay_s / r.frame_period_s, 2) << " frames); fragment: acquisition_lag_s = processing_lag_s = "
       << csvNumber(0.5 * vision, 6) << " s";
   if (r.has_actuation) out << ", controller_lag_s = " << csvNumber(actuation, 6) << " s";
   out << "\n";

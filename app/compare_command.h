@@ -1,5 +1,5 @@
 // predvs app — `predvs compare`: every chosen predictor on every chosen scenario, many seeded runs
-// each, in parallel, summarised as a leaderboard with plots (METHODS §10: "a figure that predictor
+// each, in parallel, summarised as a leaderboard with plots (docs/MODELS.md §10: "a figure that predictor
 // A beats predictor B is only claimed when measured on the same seeds in one run").
 //
 // Runs and seeds: a scenario runs `runs` times per predictor (--runs, else the scenario's `runs:`

@@ -1,5 +1,7 @@
 #include "predict_command.h"
 
+#include "report.h"
+
 #include "gnuplot.h"
 #include "output_dir.h"
 
@@ -20,14 +22,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-/// A CSV cell: empty for NaN, else the number with enough digits to round-trip a float pixel.
-std::string cell(double x) {
-  if (!std::isfinite(x)) return "";
-  std::ostringstream s;
-  s << std::setprecision(10) << x;
-  return s.str();
-}
-
 nlohmann::json errorsJson(const PredictionErrors& e) {
   nlohmann::json j;
   j["rmse_px"] = e.n > 0 ? e.rmse_px : kNaN;
@@ -35,13 +29,6 @@ nlohmann::json errorsJson(const PredictionErrors& e) {
   j["rmse_v_px"] = e.n > 0 ? e.rmse_v_px : kNaN;
   j["n"] = e.n;
   return j;
-}
-
-std::string fixed(double x, int precision) {
-  if (!std::isfinite(x)) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(precision) << x;
-  return s.str();
 }
 
 }  // namespace
@@ -146,11 +133,11 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
     for (size_t i = 0; i < track.size(); ++i)
       for (int p = 0; p < n; ++p) {
         const size_t pp = static_cast<size_t>(p);
-        csv << cell(track.t_s[i]) << ",";
+        csv << csvCell(track.t_s[i]) << ",";
         if (!single) csv << track.point_names[pp] << ",";
-        csv << cell(track.u_px[pp][i]) << "," << cell(track.v_px[pp][i]) << "," << cell(track.t_s[i] + report.horizon_s);
+        csv << csvCell(track.u_px[pp][i]) << "," << csvCell(track.v_px[pp][i]) << "," << csvCell(track.t_s[i] + report.horizon_s);
         for (const auto& run : report.runs)
-          csv << "," << cell(run.points[pp].u_pred_px[i]) << "," << cell(run.points[pp].v_pred_px[i]);
+          csv << "," << csvCell(run.points[pp].u_pred_px[i]) << "," << csvCell(run.points[pp].v_pred_px[i]);
         csv << "\n";
       }
     if (!csv) throw std::runtime_error(dir.file("predictions.csv") + ": write failed");
@@ -201,12 +188,11 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
     dat << "# t_s u_px v_px t_target_s u_true_px v_true_px";
     for (const auto& run : report.runs) dat << " " << run.spec.name << ".u_pred " << run.spec.name << ".v_pred";
     dat << "\n" << std::setprecision(10);
-    auto num = [](double x) { return std::isfinite(x) ? std::to_string(x) : std::string("NaN"); };
     for (size_t i = 0; i < track.size(); ++i) {
-      dat << num(track.t_s[i]) << " " << num(track.u_px[0][i]) << " " << num(track.v_px[0][i]) << " "
-          << num(track.t_s[i] + report.horizon_s) << " " << num(track.hasTruth() ? track.u_true_px[0][i] : kNaN)
-          << " " << num(track.hasTruth() ? track.v_true_px[0][i] : kNaN);
-      for (const auto& run : report.runs) dat << " " << num(run.points[0].u_pred_px[i]) << " " << num(run.points[0].v_pred_px[i]);
+      dat << datNumber(track.t_s[i]) << " " << datNumber(track.u_px[0][i]) << " " << datNumber(track.v_px[0][i]) << " "
+          << datNumber(track.t_s[i] + report.horizon_s) << " " << datNumber(track.hasTruth() ? track.u_true_px[0][i] : kNaN)
+          << " " << datNumber(track.hasTruth() ? track.v_true_px[0][i] : kNaN);
+      for (const auto& run : report.runs) dat << " " << datNumber(run.points[0].u_pred_px[i]) << " " << datNumber(run.points[0].v_pred_px[i]);
       dat << "\n";
     }
   }
@@ -251,8 +237,8 @@ void printPredictionTable(const PredictionReport& report, const FeatureTrack& tr
   out << std::setw(7) << "n" << "\n";
   for (const auto& run : report.runs) {
     out << std::left << std::setw(static_cast<int>(w)) << run.spec.name << std::right << std::setw(20)
-        << fixed(run.vs_measurement.rmse_px, 3);
-    if (has_truth) out << std::setw(20) << fixed(run.vs_truth.rmse_px, 3);
+        << fixedNumber(run.vs_measurement.rmse_px, 3);
+    if (has_truth) out << std::setw(20) << fixedNumber(run.vs_truth.rmse_px, 3);
     out << std::setw(7) << run.vs_measurement.n << "\n";
   }
   if (track.points() < 2) return;
@@ -267,7 +253,7 @@ void printPredictionTable(const PredictionReport& report, const FeatureTrack& tr
     for (const auto& run : report.runs) {
       out << std::left << std::setw(static_cast<int>(w)) << run.spec.name << std::right;
       for (const auto& pt : run.points)
-        out << std::setw(static_cast<int>(cw)) << fixed(which == 0 ? pt.vs_measurement.rmse_px : pt.vs_truth.rmse_px, 3);
+        out << std::setw(static_cast<int>(cw)) << fixedNumber(which == 0 ? pt.vs_measurement.rmse_px : pt.vs_truth.rmse_px, 3);
       out << "\n";
     }
   }

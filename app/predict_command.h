@@ -4,7 +4,7 @@
 // predictor (one instance with 2N channels: u and v of every point, channel 2p and 2p + 1) is
 // updated with (t_i, z_i) (predict-only for empty cells, a point missing from a long-format frame)
 // and then asked, without changing its state, for every position at t_i + horizon. This is
-// x(k+h|k) of METHODS §0/§1. The channels are independent, so a point's predictions are those a
+// x(k+h|k) of docs/MODELS.md §0/§1. The channels are independent, so a point's predictions are those a
 // 2-channel predictor fed that point alone would make.
 //
 // Horizon. --horizon-s S gives it in seconds. --delay-frames H gives it in frames:

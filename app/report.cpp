@@ -55,6 +55,15 @@ std::string csvNumber(double x, int precision) {
   return s.str();
 }
 
+std::string csvCell(double x) { return csvNumber(x, 10); }
+
+std::string fixedNumber(double x, int decimals) {
+  if (!std::isfinite(x)) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(decimals) << x;
+  return s.str();
+}
+
 std::string datNumber(double x) { return std::isfinite(x) ? csvNumber(x, 8) : "NaN"; }
 
 std::string tableNumber(double x) {

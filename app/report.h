@@ -47,6 +47,10 @@ Stats stats(const std::vector<double>& xs);
 std::string csvNumber(double x, int precision = 6);
 std::string datNumber(double x);
 std::string tableNumber(double x);
+/// A CSV cell that round-trips a pixel coordinate or a time: "" for NaN, 10 significant digits.
+std::string csvCell(double x);
+/// Fixed-point text with `decimals` decimals, "-" for NaN (tables).
+std::string fixedNumber(double x, int decimals);
 /// JSON number, null for NaN.
 nlohmann::json jsonNumber(double x);
 /// A file-name-safe version of a name (anything but [A-Za-z0-9_-] becomes '_').

@@ -7,7 +7,7 @@
 //   kind: open-loop | closed-loop                                                  (REQUIRED)
 //   seed: 1                      integer >= 0, seeds the measurement noise
 //   duration_s: 20 (open) / 25 (closed)
-//   timing:                      TimingConfig (METHODS §0)
+//   timing:                      TimingConfig (docs/MODELS.md §0)
 //     base_period_s: 0.04        control period delta
 //     frame_period_n: 1          vision period T = N delta
 //     delay_frames: H            shorthand for the vision latency t_ac + t_p = H T, split evenly

@@ -30,24 +30,8 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string cell(double x) {
-  if (!std::isfinite(x)) return "";
-  std::ostringstream s;
-  s << std::setprecision(10) << x;
-  return s.str();
-}
-
-std::string fixed(double x, int precision) {
-  if (!std::isfinite(x)) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(precision) << x;
-  return s.str();
-}
-
-nlohmann::json num(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
-
 nlohmann::json statsJson(const TrackErrorStats& s) {
-  return {{"rmse_px", num(s.rmse_px)}, {"median_px", num(s.median_px)}, {"max_px", num(s.max_px)}, {"n", s.n}};
+  return {{"rmse_px", jsonNumber(s.rmse_px)}, {"median_px", jsonNumber(s.median_px)}, {"max_px", jsonNumber(s.max_px)}, {"n", s.n}};
 }
 
 double seconds(std::chrono::steady_clock::duration d) { return std::chrono::duration<double>(d).count(); }
@@ -261,7 +245,7 @@ void writeCsvs(const TrackResult& r, int delay_frames, const StagedOutputDir& di
     csv << "t,point,u,v\n";
     for (size_t row = 0; row < r.rows(); ++row)
       for (size_t p = 0; p < n; ++p)
-        csv << cell(r.t_s[row]) << "," << p << "," << cell(r.u_px[p][row]) << "," << cell(r.v_px[p][row]) << "\n";
+        csv << csvCell(r.t_s[row]) << "," << p << "," << csvCell(r.u_px[p][row]) << "," << csvCell(r.v_px[p][row]) << "\n";
     if (!csv) throw std::runtime_error(dir.file("tracks.csv") + ": write failed");
   }
   {
@@ -270,8 +254,8 @@ void writeCsvs(const TrackResult& r, int delay_frames, const StagedOutputDir& di
     for (size_t p = 0; p < n; ++p) csv << ",u" << p << ",v" << p;
     csv << "\n";
     for (size_t row = 0; row < r.rows(); ++row) {
-      csv << cell(r.t_s[row]);
-      for (size_t p = 0; p < n; ++p) csv << "," << cell(r.u_px[p][row]) << "," << cell(r.v_px[p][row]);
+      csv << csvCell(r.t_s[row]);
+      for (size_t p = 0; p < n; ++p) csv << "," << csvCell(r.u_px[p][row]) << "," << csvCell(r.v_px[p][row]);
       csv << "\n";
     }
     if (!csv) throw std::runtime_error(dir.file("tracks_wide.csv") + ": write failed");
@@ -284,9 +268,9 @@ void writeCsvs(const TrackResult& r, int delay_frames, const StagedOutputDir& di
     const double horizon_s = delay_frames * r.frame_period_s;
     for (size_t row = 0; row < r.rows(); ++row)
       for (size_t p = 0; p < n; ++p) {
-        csv << cell(r.t_s[row]) << "," << p << "," << cell(r.u_px[p][row]) << "," << cell(r.v_px[p][row]) << ","
-            << cell(r.t_s[row] + horizon_s);
-        for (const auto& pr : r.predictions) csv << "," << cell(pr.u_pred_px[p][row]) << "," << cell(pr.v_pred_px[p][row]);
+        csv << csvCell(r.t_s[row]) << "," << p << "," << csvCell(r.u_px[p][row]) << "," << csvCell(r.v_px[p][row]) << ","
+            << csvCell(r.t_s[row] + horizon_s);
+        for (const auto& pr : r.predictions) csv << "," << csvCell(pr.u_pred_px[p][row]) << "," << csvCell(pr.v_pred_px[p][row]);
         csv << "\n";
       }
     if (!csv) throw std::runtime_error(dir.file("predictions.csv") + ": write failed");
@@ -295,11 +279,11 @@ void writeCsvs(const TrackResult& r, int delay_frames, const StagedOutputDir& di
     std::ofstream csv(dir.file("leaderboard.csv"));
     csv << "predictor,point,rmse_px,median_px,max_px,n\n";
     for (const auto& pr : r.predictions) {
-      csv << pr.spec.name << ",all," << cell(pr.pooled.rmse_px) << "," << cell(pr.pooled.median_px) << ","
-          << cell(pr.pooled.max_px) << "," << pr.pooled.n << "\n";
+      csv << pr.spec.name << ",all," << csvCell(pr.pooled.rmse_px) << "," << csvCell(pr.pooled.median_px) << ","
+          << csvCell(pr.pooled.max_px) << "," << pr.pooled.n << "\n";
       for (size_t p = 0; p < n; ++p)
-        csv << pr.spec.name << "," << p << "," << cell(pr.per_point[p].rmse_px) << "," << cell(pr.per_point[p].median_px)
-            << "," << cell(pr.per_point[p].max_px) << "," << pr.per_point[p].n << "\n";
+        csv << pr.spec.name << "," << p << "," << csvCell(pr.per_point[p].rmse_px) << "," << csvCell(pr.per_point[p].median_px)
+            << "," << csvCell(pr.per_point[p].max_px) << "," << pr.per_point[p].n << "\n";
     }
     if (!csv) throw std::runtime_error(dir.file("leaderboard.csv") + ": write failed");
   }
@@ -444,8 +428,8 @@ std::vector<std::string> writePlots(const TrackResult& r, int delay_frames, cons
     for (size_t row = 0; row < r.rows(); ++row) {
       dat << r.t_s[row];
       for (size_t p = 0; p < n; ++p)
-        dat << " " << (std::isfinite(r.u_px[p][row]) ? cell(r.u_px[p][row]) : "NaN") << " "
-            << (std::isfinite(r.v_px[p][row]) ? cell(r.v_px[p][row]) : "NaN");
+        dat << " " << (std::isfinite(r.u_px[p][row]) ? csvCell(r.u_px[p][row]) : "NaN") << " "
+            << (std::isfinite(r.v_px[p][row]) ? csvCell(r.v_px[p][row]) : "NaN");
       dat << "\n";
     }
   }
@@ -486,7 +470,7 @@ std::vector<std::string> writePlots(const TrackResult& r, int delay_frames, cons
             ++count;
           }
         }
-        dat << " " << (count ? cell(sum / count) : "NaN");
+        dat << " " << (count ? csvCell(sum / count) : "NaN");
       }
       dat << "\n";
     }
@@ -524,9 +508,9 @@ void printLeaderboard(const TrackResult& r, int delay_frames, std::ostream& out)
   for (size_t k = 0; k < r.predictions.size(); ++k) {
     const auto& pr = r.predictions[k];
     out << std::left << std::setw(4) << (k + 1) << std::setw(static_cast<int>(w)) << pr.spec.name << std::right
-        << std::setw(9) << fixed(pr.pooled.rmse_px, 3) << std::setw(9) << fixed(pr.pooled.median_px, 3) << std::setw(9)
-        << fixed(pr.pooled.max_px, 2) << std::setw(9) << pr.pooled.n;
-    for (size_t p = 0; p < shown && p < pr.per_point.size(); ++p) out << std::setw(8) << fixed(pr.per_point[p].rmse_px, 3);
+        << std::setw(9) << fixedNumber(pr.pooled.rmse_px, 3) << std::setw(9) << fixedNumber(pr.pooled.median_px, 3) << std::setw(9)
+        << fixedNumber(pr.pooled.max_px, 2) << std::setw(9) << pr.pooled.n;
+    for (size_t p = 0; p < shown && p < pr.per_point.size(); ++p) out << std::setw(8) << fixedNumber(pr.per_point[p].rmse_px, 3);
     out << "\n";
   }
 }

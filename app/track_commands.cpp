@@ -1,5 +1,7 @@
 #include "track_commands.h"
 
+#include "report.h"
+
 #include "output_dir.h"
 
 #include "predvs/calibration/noise_fit.h"
@@ -19,13 +21,6 @@
 
 namespace predvs {
 namespace {
-
-std::string cell(double x) {
-  if (!std::isfinite(x)) return "";
-  std::ostringstream s;
-  s << std::setprecision(10) << x;
-  return s.str();
-}
 
 }  // namespace
 
@@ -56,8 +51,8 @@ int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
     std::ofstream csv(tmp);
     csv << "t,u,v,u_true,v_true\n";
     for (size_t i = 0; i < track.size(); ++i)
-      csv << cell(track.t_s[i]) << "," << cell(track.u_px[i]) << "," << cell(track.v_px[i]) << ","
-          << cell(track.u_true_px[i]) << "," << cell(track.v_true_px[i]) << "\n";
+      csv << csvCell(track.t_s[i]) << "," << csvCell(track.u_px[i]) << "," << csvCell(track.v_px[i]) << ","
+          << csvCell(track.u_true_px[i]) << "," << csvCell(track.v_true_px[i]) << "\n";
     if (!csv) {
       fs::remove(tmp, ec);
       throw std::runtime_error("--out: cannot write '" + a.out + "'");
@@ -221,8 +216,8 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& /*er
     csv << "kind,rate_hz,noise_px,seed,predictor,rmse_truth_px,rmse_meas_px,n,ratio_to_hold\n";
     for (const auto& r : rows)
       csv << r.kind << "," << r.rate_hz << "," << r.noise_px << "," << r.seed << "," << r.predictor << ","
-          << cell(r.score.rmse_truth_px) << "," << cell(r.score.rmse_meas_px) << "," << r.score.n << ","
-          << cell(r.ratio) << "\n";
+          << csvCell(r.score.rmse_truth_px) << "," << csvCell(r.score.rmse_meas_px) << "," << r.score.n << ","
+          << csvCell(r.ratio) << "\n";
     if (!csv) throw std::runtime_error(dir.file("study.csv") + ": write failed");
     csv.close();
     dir.commit();

@@ -27,6 +27,8 @@
 // std::invalid_argument "FILE:LINE: what was expected".
 #pragma once
 
+#include "predvs/servo/sampled_signal.h"  // interpolateAt
+
 #include <string>
 #include <vector>
 
@@ -61,8 +63,5 @@ std::vector<std::string> splitCsvLine(const std::string& line);
 /// Throws std::invalid_argument when fewer than two times are given.
 double medianPeriod(const std::vector<double>& t_s);
 
-/// Linear interpolation of the samples (t_s, y) at time t, using only finite y. NaN when t lies
-/// outside the span of the finite samples (no extrapolation).
-double interpolateAt(const std::vector<double>& t_s, const std::vector<double>& y, double t);
 
 }  // namespace predvs

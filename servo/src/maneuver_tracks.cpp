@@ -1,5 +1,7 @@
 #include "predvs/servo/maneuver_tracks.h"
 
+#include "predvs/servo/sampled_signal.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -201,21 +203,6 @@ class Motion {
   bool turning_ = false, moving_ = false;
 };
 
-double interpolate(const std::vector<double>& t_s, const std::vector<double>& y, double t) {
-  const auto it = std::lower_bound(t_s.begin(), t_s.end(), t);
-  long hi = static_cast<long>(it - t_s.begin());
-  const long n = static_cast<long>(t_s.size());
-  while (hi < n && !std::isfinite(y[static_cast<size_t>(hi)])) ++hi;
-  if (hi >= n) return kNaN;
-  if (t_s[static_cast<size_t>(hi)] == t) return y[static_cast<size_t>(hi)];
-  long lo = static_cast<long>(it - t_s.begin()) - 1;
-  while (lo >= 0 && !std::isfinite(y[static_cast<size_t>(lo)])) --lo;
-  if (lo < 0) return kNaN;
-  const double t0 = t_s[static_cast<size_t>(lo)], t1 = t_s[static_cast<size_t>(hi)];
-  const double w = (t - t0) / (t1 - t0);
-  return (1.0 - w) * y[static_cast<size_t>(lo)] + w * y[static_cast<size_t>(hi)];
-}
-
 }  // namespace
 
 const std::vector<ManeuverKind>& maneuverKinds() {
@@ -319,12 +306,12 @@ TrackScore scoreOnTrack(const ManeuverTrack& track, Predictor& predictor, double
     const double t = track.t_s[i] + horizon_s;
     const Eigen::VectorXd p = predictor.predictPositions(t);
     if (!std::isfinite(p(0)) || !std::isfinite(p(1))) continue;
-    const double um = interpolate(track.t_s, track.u_px, t), vm = interpolate(track.t_s, track.v_px, t);
+    const double um = interpolateAt(track.t_s, track.u_px, t), vm = interpolateAt(track.t_s, track.v_px, t);
     if (std::isfinite(um) && std::isfinite(vm)) {
       sm += (p(0) - um) * (p(0) - um) + (p(1) - vm) * (p(1) - vm);
       ++nm;
     }
-    const double ut = interpolate(track.t_s, track.u_true_px, t), vt = interpolate(track.t_s, track.v_true_px, t);
+    const double ut = interpolateAt(track.t_s, track.u_true_px, t), vt = interpolateAt(track.t_s, track.v_true_px, t);
     if (std::isfinite(ut) && std::isfinite(vt)) {
       st += (p(0) - ut) * (p(0) - ut) + (p(1) - vt) * (p(1) - vt);
       ++score.n;
