@@ -46,7 +46,7 @@ bool forEachInnovation(Predictor& p, const FitTrack& track, int burn_in, F&& f) 
 struct Model {
   std::string predictor;
   Params base;
-  std::vector<FitParameter> keys;
+  std::vector<NoiseParameter> keys;
   const FitTrack* track = nullptr;
   int burn_in = 10;
 
@@ -173,22 +173,10 @@ class FisherResiduals : public ceres::CostFunction {
 
 }  // namespace
 
-std::vector<FitParameter> fitParameters(const std::string& predictor) {
-  // Bounds: wide enough for 0.1..10 px noise at 1..1000 Hz on targets up to ~1e4 px/s^2.
-  const FitParameter r{"r", 1e-3, 1e3, 1.0};
-  // Initial values: the predictors' defaults (kept in step with their headers).
-  if (predictor == "kf-cv" || predictor == "fakf-classic") return {{"q", 1e-2, 1e8, 1e4}, r};
-  if (predictor == "kf-ca") return {{"q", 1e-1, 1e11, 3e5}, r};
-  if (predictor == "st-akf" || predictor == "st-akf-pm") return {{"q", 1e-1, 1e11, 1000.0}, r};
-  if (predictor == "cs-akf")
-    return {{"alpha", 1e-3, 1e2, 1.0}, {"a_max", 1e-1, 1e5, 200.0}, {"a_neg_max", 1e-1, 1e5, 200.0}, r};
-  if (predictor == "cs-akf-adaptive")
-    return {{"alpha", 1e-3, 1e2, 1.0}, {"sigma_min_sq", 1e-3, 1e8, 1e4}, {"sigma_max_sq", 1e-1, 1e10, 1e6}, r};
-  if (predictor == "fakf") return {{"alpha", 1e-3, 1e2, 1.0}, {"sigma_min_sq", 1e-3, 1e8, 1e4}, r};
-  if (predictor == "stkf") return {r, {"q_pos", 1e-6, 1e4, 1e-3}, {"q_vel", 1e-4, 1e7, 3000.0}};
-  if (predictor == "imm") return {{"q_cv", 1e-2, 1e8, 100.0}, {"q_ca", 1e-1, 1e11, 1e6}, r};
-  if (predictor == "hold") throw std::invalid_argument("predictor 'hold' has no parameters to fit");
-  throw std::invalid_argument("no noise fit is defined for predictor '" + predictor + "'");
+std::vector<NoiseParameter> fitParameters(const std::string& predictor) {
+  std::vector<NoiseParameter> keys = makePredictor(predictor, 1)->noiseParameters();
+  if (keys.empty()) throw std::invalid_argument("predictor '" + predictor + "' has no parameters to fit");
+  return keys;
 }
 
 double innovationLogLikelihood(const std::string& predictor, const Params& params, const FitTrack& track,
@@ -235,8 +223,8 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
   BoundMap b;
   std::vector<double> theta0(k);
   for (size_t i = 0; i < k; ++i) {
-    const FitParameter& fp = m.keys[i];
-    double v = fp.initial;
+    const NoiseParameter& fp = m.keys[i];
+    double v = fp.value;
     if (base.values().count(fp.key))
       v = base.values().at(fp.key);
     else if (fp.key == "r")

@@ -10,7 +10,7 @@
 // quasi-likelihood for the adaptive ones, and for imm the moment-matched Gaussian of its mixture.
 // The first `burn_in_frames` rows are left out (initial transient with P0).
 //
-// Parameters. Each predictor has its default set of fitted keys (fitParameters()), all positive
+// Parameters. Each predictor names the keys to fit (Predictor::noiseParameters()), all positive
 // and fitted on a log scale: theta_i = log(value_i), bounded in [log lo_i, log hi_i] by the smooth
 // map theta = lo + (hi - lo) / (1 + exp(-phi)) with phi free, so the solver sees no bound at all.
 // Minimised: -log L(theta(phi)) with ceres::GradientProblemSolver (L-BFGS, Armijo/Wolfe line search).
@@ -29,27 +29,19 @@
 #pragma once
 
 #include "predvs/predictors/params.h"
+#include "predvs/predictors/predictor.h"
 
 #include <string>
 #include <vector>
 
 namespace predvs {
 
-/// One fitted key: positive, bounded, on a log scale.
-struct FitParameter {
-  std::string key;
-  double lo = 0.0, hi = 0.0;  ///< bounds of the value (not of its log), 0 < lo < hi
-  double initial = 1.0;       ///< starting value when neither `base` nor the track gives one
-};
+/// The keys fitted for `predictor`: the noiseParameters() of the predictor built with its
+/// defaults (their `value` is the default, the starting value when neither `base` nor the track
+/// gives one). Throws std::invalid_argument for an unknown predictor, or one with nothing to fit
+/// (`hold`).
+std::vector<NoiseParameter> fitParameters(const std::string& predictor);
 
-/// The keys fitted by default for `predictor` (throws std::invalid_argument for `hold`, which has
-/// nothing to fit, or an unknown predictor):
-///   kf-cv, fakf-classic: q, r          kf-ca, st-akf, st-akf-pm: q, r
-///   cs-akf: alpha, a_max, a_neg_max, r   cs-akf-adaptive: alpha, sigma_min_sq, sigma_max_sq, r
-///   fakf: alpha, sigma_min_sq, r          stkf: r (R_0), q_pos, q_vel          imm: q_cv, q_ca, r
-std::vector<FitParameter> fitParameters(const std::string& predictor);
-
-/// A two-channel track (u, v in px; NaN = not measured).
 /// A track to fit on: frame times and any number of measured channels (u_0, v_0, u_1, v_1, ...),
 /// [channel][frame], NaN where not measured. One predictor with that many channels runs over it;
 /// the likelihood sums every channel's innovations.
@@ -89,9 +81,9 @@ struct NoiseFitResult {
 double innovationLogLikelihood(const std::string& predictor, const Params& params, const FitTrack& track,
                                int burn_in_frames, int* n = nullptr);
 
-/// Fits the default keys of `predictor` (fitParameters) on the track. Starting values: the value
-/// in `base` if given, else the predictor's default, and for r the start-up noise estimate of the
-/// track (noise_estimate.h). Other keys of `base` are kept fixed. Throws std::invalid_argument
+/// Fits the keys of `predictor` (fitParameters) on the track. Starting values: the value in `base`
+/// if given, else for r the start-up noise estimate of the track (noise_estimate.h), else the
+/// predictor's default; each clamped into its bounds. Other keys of `base` are kept fixed. Throws std::invalid_argument
 /// (bad predictor, fewer than 4 * burn_in measured rows, no finite likelihood at the start).
 NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,
                         const NoiseFitOptions& options = {});

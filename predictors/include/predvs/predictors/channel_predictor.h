@@ -91,6 +91,10 @@ class ChannelPredictor : public Predictor {
   /// derived constructor when its `r` parameter is absent or `auto`.
   void enableAutoNoise() { r_est_.assign(state_.size(), StartupNoiseEstimator(r0_)); }
   bool autoNoise() const { return !r_est_.empty(); }
+  /// The `r` entry of noiseParameters(): r0_, i.e. the number given for `r`, or, when `r` is
+  /// `auto`, the prior the start-up estimate begins from (not the running estimate, which depends
+  /// on the data seen so far and differs per channel). For the fuzzy filters it is the initial R.
+  NoiseParameter measurementNoiseParameter() const { return measurementVarianceParameter(r0_); }
   /// True when channel c's nominal R no longer changes (fixed r, or the estimate is frozen).
   bool nominalNoiseFinal(int c) const { return r_est_.empty() || r_est_[static_cast<size_t>(c)].done(); }
   /// Clears adaptive terms (windows, adapted R, fading memories) on reset().

@@ -85,6 +85,9 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
   virtual double accelerationVariance(int c) const = 0;
 
  protected:
+  /// The `alpha` entry of noiseParameters() (1/s, bounds 1e-3..1e2).
+  NoiseParameter alphaParameter() const { return {"alpha", 1e-3, 1e2, alpha_}; }
+
   /// Reads alpha, r, p0_vel, p0_acc from params (derived classes read their own keys).
   /// auto_r: whether an absent `r` means `auto` (noise_estimate.h) or the number 1 px^2.
   CsKalmanPredictor(int channels, const Params& params, bool auto_r = true);
@@ -132,6 +135,10 @@ class CsAkfPredictor : public CsKalmanPredictor {
   CsAkfPredictor(int channels, const Params& params);
   std::string name() const override { return "cs-akf"; }
   double accelerationVariance(int c) const override;
+  std::vector<NoiseParameter> noiseParameters() const override {
+    return {alphaParameter(), {"a_max", 1e-1, 1e5, a_max_}, {"a_neg_max", 1e-1, 1e5, a_neg_max_},
+            measurementNoiseParameter()};
+  }
 
  private:
   double a_max_;
@@ -182,8 +189,14 @@ class CsAkfAdaptivePredictor : public CsKalmanPredictor {
   double accelerationVariance(int c) const override { return sigma2_[static_cast<size_t>(c)]; }
   double sigmaMinSq() const { return sigma_min_sq_; }
   double sigmaMaxSq() const { return sigma_max_sq_; }
+  std::vector<NoiseParameter> noiseParameters() const override {
+    return {alphaParameter(), sigmaMinSqParameter(), {"sigma_max_sq", 1e-1, 1e10, sigma_max_sq_},
+            measurementNoiseParameter()};
+  }
 
  protected:
+  /// The `sigma_min_sq` entry of noiseParameters() ((px/s^2)^2, bounds 1e-3..1e8).
+  NoiseParameter sigmaMinSqParameter() const { return {"sigma_min_sq", 1e-3, 1e8, sigma_min_sq_}; }
   /// Adapts sigma^2(c) from a(k|k) - a(k-1|k-1) when z was measured.
   void afterStep(int c, double dt, double z) override;
   /// sigma^2 back to sigma_max_sq and the acceleration memory cleared, on every channel.

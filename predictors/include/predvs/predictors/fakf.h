@@ -68,6 +68,9 @@ class FakfClassicPredictor : public ChannelPredictor<2> {
  public:
   FakfClassicPredictor(int channels, const Params& params);
   std::string name() const override { return "fakf-classic"; }
+  std::vector<NoiseParameter> noiseParameters() const override {
+    return {accelerationDensityParameter("q", q_), measurementNoiseParameter()};
+  }
 
   /// Current (adapted) measurement variance of channel c, px^2.
   double adaptedR(int c) const { return measurementNoise(c); }
@@ -133,6 +136,10 @@ class FakfPredictor : public CsAkfAdaptivePredictor {
  public:
   FakfPredictor(int channels, const Params& params);
   std::string name() const override { return "fakf"; }
+  /// alpha, sigma_min_sq and r (the initial R); the ceiling sigma_max_sq is left out.
+  std::vector<NoiseParameter> noiseParameters() const override {
+    return {alphaParameter(), sigmaMinSqParameter(), measurementNoiseParameter()};
+  }
 
   /// Current (adapted) measurement variance of channel c, px^2.
   double adaptedR(int c) const { return measurementNoise(c); }

@@ -62,6 +62,11 @@ class ImmPredictor : public Predictor {
   ChannelEstimate predict(int channel, double t_s) const override;
   Innovation innovation(int channel) const override { return chan_.at(static_cast<size_t>(channel)).innovation; }
   NamedValues diagnostics() const override;
+  /// q_cv, q_ca and r: the number given, or, when `r` is `auto`, the estimator's prior (1 px^2).
+  std::vector<NoiseParameter> noiseParameters() const override {
+    return {accelerationDensityParameter("q_cv", q_cv_), jerkDensityParameter("q_ca", q_ca_),
+            measurementVarianceParameter(r_)};
+  }
 
   /// Probability of mode j (0 = CV, 1 = CA) of channel c after the last update.
   double modeProbability(int c, int j) const { return chan_.at(static_cast<size_t>(c)).mu[static_cast<size_t>(j)]; }

@@ -38,6 +38,9 @@ class KfCvPredictor : public ChannelPredictor<2> {
  public:
   KfCvPredictor(int channels, const Params& params);
   std::string name() const override { return "kf-cv"; }
+  std::vector<NoiseParameter> noiseParameters() const override {
+    return {accelerationDensityParameter("q", q_), measurementNoiseParameter()};
+  }
 
  protected:
   Mat<2> transition(int, double dt) const override { return cvTransition(dt); }
@@ -55,6 +58,9 @@ class KfCaPredictor : public ChannelPredictor<3> {
  public:
   KfCaPredictor(int channels, const Params& params);
   std::string name() const override { return "kf-ca"; }
+  std::vector<NoiseParameter> noiseParameters() const override {
+    return {jerkDensityParameter("q", q_), measurementNoiseParameter()};
+  }
 
  protected:
   Mat<3> transition(int, double dt) const override { return caTransition(dt); }

@@ -136,6 +136,14 @@ inline Mat<3> caProcessNoise(double q, double dt) {
   return q * Q;
 }
 
+/// noiseParameters() entries shared by several filters (bounds: see Predictor::noiseParameters).
+/// Measurement variance `r` (px^2): 1e-3..1e3, i.e. 0.03..30 px standard deviation.
+inline NoiseParameter measurementVarianceParameter(double r_px2) { return {"r", 1e-3, 1e3, r_px2}; }
+/// White-acceleration density (cvProcessNoise's q, px^2/s^3): 1e-2..1e8.
+inline NoiseParameter accelerationDensityParameter(const std::string& key, double q) { return {key, 1e-2, 1e8, q}; }
+/// White-jerk density (caProcessNoise's q, px^2/s^5; also the Singer density 2 alpha sigma^2): 1e-1..1e11.
+inline NoiseParameter jerkDensityParameter(const std::string& key, double q) { return {key, 1e-1, 1e11, q}; }
+
 /// Estimate of a fixed-size Gaussian as the interface's ChannelEstimate.
 /// Copied element by element: for these runtime-sized (at most 3x3) types Eigen's assignment
 /// goes through an out-of-line memmove, which was a measurable share of a whole kf-cv step.

@@ -53,6 +53,15 @@ struct Innovation {
   bool valid = false;
 };
 
+/// One parameter that sets a predictor's process or measurement noise, as a noise fit tunes it
+/// (calibration/noise_fit.h: positive, on a log scale).
+struct NoiseParameter {
+  std::string key;  ///< the Params key that sets it, e.g. "q" or "r"
+  double lo = 0.0;  ///< bounds of the value itself (not of its log), 0 < lo < hi
+  double hi = 0.0;
+  double value = 0.0;  ///< the value this instance runs with (may lie outside [lo, hi] if built so)
+};
+
 class Predictor {
  public:
   virtual ~Predictor() = default;
@@ -83,6 +92,11 @@ class Predictor {
   /// Named per-channel internals after the last update, for traces (e.g. imm's mode probabilities
   /// "mu_ca_0", ...). Empty for a predictor without any.
   virtual NamedValues diagnostics() const { return {}; }
+  /// The parameters that set this predictor's process and measurement noise, with bounds wide
+  /// enough for 0.1..10 px noise at 1..1000 Hz on targets up to ~1e4 px/s^2, and the values this
+  /// instance was built with. Empty: nothing to fit (e.g. `hold`). Each key is a Params key of the
+  /// predictor, so makePredictor(name(), n, {key: value}) builds it.
+  virtual std::vector<NoiseParameter> noiseParameters() const { return {}; }
 
   /// Time of the last update (NaN before the first).
   double time() const { return t_last_; }

@@ -36,6 +36,10 @@ class StAkfPredictor : public ChannelPredictor<3> {
  public:
   StAkfPredictor(int channels, const Params& params);
   std::string name() const override { return "st-akf"; }
+  /// q and r (also those of st-akf-pm: the monitor adds no noise parameter).
+  std::vector<NoiseParameter> noiseParameters() const override {
+    return {jerkDensityParameter("q", q_), measurementNoiseParameter()};
+  }
 
   /// Fading factors lambda_i of channel c at its last measured update (1 when no fading).
   Vec<3> fadingFactors(int c) const { return ext_.at(static_cast<size_t>(c)).lambda; }

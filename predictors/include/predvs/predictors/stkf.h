@@ -49,6 +49,10 @@ class StkfPredictor : public ChannelPredictor<2> {
  public:
   StkfPredictor(int channels, const Params& params);
   std::string name() const override { return "stkf"; }
+  /// r (R_0), q_pos, q_vel. q_pos defaults to 0, below its bound: a fit starts it at the bound.
+  std::vector<NoiseParameter> noiseParameters() const override {
+    return {measurementNoiseParameter(), {"q_pos", 1e-6, 1e4, q_pos_}, {"q_vel", 1e-4, 1e7, q_vel_}};
+  }
 
   void update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) override;
   using Predictor::update;
