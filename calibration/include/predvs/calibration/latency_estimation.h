@@ -1,5 +1,5 @@
 // predvs calibration — the vision delay of a servo loop estimated from its log: commanded motion
-// against observed feature motion (METHODS §0, servo/timing_model.h).
+// against observed feature motion (docs/MODELS.md §0, servo/timing_model.h).
 //
 // Data (LatencyLog): control ticks t_k with the command u_k acting over [t_k, t_{k+1}) (zero-order
 // hold, m components: a camera twist, joint speeds, ...), and frames j with their features s_j

@@ -1,5 +1,5 @@
 // predvs — `ibvs-broyden`: uncalibrated IBVS of image points with an online Jacobian estimate
-// and optional delay compensation (METHODS §7, §10 E9; paper 002 §2-3, after Piepmeier et al.).
+// and optional delay compensation (docs/MODELS.md §7, §10 E9; paper 002 §2-3, after Piepmeier et al.).
 //
 // Uncalibrated: the law uses no camera model, no depth and no robot Jacobian. Its model is the
 // estimate J (2N features x m commands) of ds/du, learnt by a JacobianEstimator (rls or broyden)
@@ -11,7 +11,7 @@
 // so a singular or badly estimated J gives a bounded command, never an exception (J = 0, e.g.
 // before anything was learnt, gives u = 0). Lost features (NaN) drop their rows from the law.
 //
-// Learning (METHODS §7, "pairing under delay"): observe() pairs each MEASURED feature increment
+// Learning (docs/MODELS.md §7, "pairing under delay"): observe() pairs each MEASURED feature increment
 // between two consecutive delivered measurements with the increment of the command integral p
 // (TaskMeasurement::command_integral) between the SAME acquisition times; the image is old but p
 // at its acquisition time is known, so the pair is consistent whatever the delay. Predicted
@@ -49,7 +49,7 @@
 //    U uniform in [-1, 1] per entry (seeded with the context seed), J_true = in.true_point_jacobian
 //    of the first tick. TaskInput calls that matrix ground truth for diagnostics; this is the one
 //    documented exception, for experiments such as "started from the truth, does it stay there"
-//    (METHODS §11 E9). Increments observed before the first tick are not learnt.
+//    (docs/MODELS.md §11 E9). Increments observed before the first tick are not learnt.
 //
 // Parameters (task.<key>): gain (K, 1/s, > 0, default 1), method (rls | broyden, default rls),
 // lambda (forgetting, (0, 1], default 0.99: a memory of ~100 increments), min_dp (skip threshold on

@@ -1,5 +1,5 @@
 // predvs — `ibvs`: classic image-based visual servoing of image points through ViSP's vpServo
-// (eye-in-hand, METHODS §10 E9/E10; paper 003 §2).
+// (eye-in-hand, docs/MODELS.md §10 E9/E10; paper 003 §2).
 //
 // Features: the N points in pixels (PointTask), converted to normalised coordinates
 // x = (u - u0) / px, y = (v - v0) / py with the controller's intrinsics, each with its depth Z.

@@ -1,5 +1,5 @@
 // predvs — online estimation of a feature Jacobian J = df/dp from paired increments
-// (METHODS §7; paper 002 §2, eqs. 3-4; Piepmeier, McMurray & Lipkin, IEEE T-RA 20(1), 2004).
+// (docs/MODELS.md §7; paper 002 §2, eqs. 3-4; Piepmeier, McMurray & Lipkin, IEEE T-RA 20(1), 2004).
 //
 // Eigen only (no ViSP): the estimator knows nothing of cameras or robots. f (n features) and p
 // (m inputs, the integral of the robot command: joint angles on an arm, the integrated camera
@@ -19,7 +19,7 @@
 //     J minimises sum_k lambda^(K-k) |df_k - J dp_k - ft_k dt_k|^2 (+ the prior J0, P0); lambda < 1
 //     forgets old increments so a changing J is tracked, lambda = 1 is plain RLS.
 //
-// Choices (documented here, METHODS §7 "choose and document"):
+// Choices (documented here, docs/MODELS.md §7 "choose and document"):
 //  * No excitation: when |dp| (Euclidean norm in p's units) < min_dp the update is skipped (J and
 //    P untouched) and update() returns false. A still robot teaches nothing and, with lambda < 1,
 //    would only inflate P.

@@ -1,5 +1,5 @@
 // predvs — paper 003's single- and dual-rate IBVS laws, with and without reference filtering
-// (paper 003 §2.2-§3.3, Algorithms 1-5; METHODS §9, §10 E10-E11).
+// (paper 003 §2.2-§3.3, Algorithms 1-5; docs/MODELS.md §9, §10 E10-E11).
 //
 // Features. Each point i is f_i = (x_i, y_i, Z_i): normalised image coordinates x = (u - u0) / px,
 // y = (v - v0) / py (the controller's intrinsics) and depth (paper §2.2). The loop hands the task
@@ -19,7 +19,7 @@
 // J^+ H; keeping the depth rows in J (`depth_rows = 1`) makes the least-squares command also hold
 // every depth still, which turns the 150 deg task into a pure rotation for every law (measured on
 // the test plant, N = 8, one frame of latency: sr-lf-ibvs then converges up to lambda = 6, while
-// the classic law the paper compares against fails from 1.4, METHODS §11). The pseudo-inverse is
+// the classic law the paper compares against fails from 1.4, docs/MODELS.md §11). The pseudo-inverse is
 // an SVD with singular values below kPinvRelTolerance of the largest dropped.
 //
 // The five laws (the paper's names, §2.3), T = N delta the frame period, h the horizon in frames:

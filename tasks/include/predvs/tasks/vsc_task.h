@@ -1,5 +1,5 @@
 // predvs — variable-structure (sliding-mode) point servoing with a discrete exponential reaching
-// law and a scheduled gain (METHODS §8; paper 000 §5, whose equations 20-29 are lost).
+// law and a scheduled gain (docs/MODELS.md §8; paper 000 §5, whose equations 20-29 are lost).
 //
 // Model (one control period T = context.base_period_s, features s = image points in pixels):
 //     e(k) = s(k) - s*,     e(k+1) = e(k) + T J u(k) + T f_t(k),

@@ -1,5 +1,5 @@
 // predvs — paper 001's visual tracking controller (VTC) for a unicycle with a tilt camera
-// (paper 001 §2-3 and appendix; METHODS §4, §10 E8).
+// (paper 001 §2-3 and appendix; docs/MODELS.md §4, §10 E8).
 //
 // Features X = (x_i, y_i, d_x) in pixels, from the N points of the source (all of them are the
 // target's outline, e.g. the 4 corners of a board):
