@@ -74,7 +74,9 @@ TEST_F(FitNoiseCli, PredictFitSplitScoresTheRest) {
   const nlohmann::json s = apptest::readJson(path("pred") + "/summary.json");
   for (const auto& pr : s["predictors"]) {
     EXPECT_LE(pr["vs_truth"]["n"].get<int>(), 1000) << pr["name"];
-    if (pr["name"] != "hold") EXPECT_TRUE(pr["params"].contains("r")) << pr["name"];
+    if (pr["name"] != "hold") {
+      EXPECT_TRUE(pr["params"].contains("r")) << pr["name"];
+    }
   }
   expectError(run({"predict", "--input", f, "--predictor", "kf-cv", "--delay-frames", "2", "--fit-split", "0.5",
                    "--no-plots", "--out", path("p2")}),

@@ -24,7 +24,9 @@ TEST(ManeuverTracks, SameSeedSameTrackOtherSeedOtherTrack) {
   ASSERT_EQ(a.size(), b.size());
   for (size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(a.u_true_px[i], b.u_true_px[i]);
-    if (std::isfinite(a.u_px[i])) EXPECT_EQ(a.u_px[i], b.u_px[i]);
+    if (std::isfinite(a.u_px[i])) {
+      EXPECT_EQ(a.u_px[i], b.u_px[i]);
+    }
   }
   EXPECT_NE(a.u_true_px.back(), d.u_true_px.back());
 }
