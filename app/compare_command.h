@@ -101,7 +101,12 @@ struct CompareOptions {
   std::string out_dir = "out/compare";
   bool plots = true;
   bool progress_bar = false;            ///< redraw a bar on `err` (a terminal); else a few lines
-  std::string command_line;             ///< recorded in leaderboard.json / .md
+  std::string command_line;             ///< recorded in leaderboard.json / .md (campaignArgs(): without --out, --jobs, ...)
+  // Campaigns (campaign.h, issue #12)
+  int shard_index = 0;                  ///< --shard I/N: I (1-based); 0 = the whole campaign
+  int shard_count = 0;                  ///< N
+  std::string resume_dir;               ///< --resume DIR: reuse the run records found there
+  int stop_after = 0;                   ///< --stop-after N (test hook): fail after N runs are stored
 };
 
 /// Runs without a `runs:` key and without --runs.
