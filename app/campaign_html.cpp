@@ -94,6 +94,11 @@ const char* kScript = R"JS(
   for (var i = 0; i < heads.length; ++i)
     heads[i].addEventListener('click', (function (c) { return function () { sortBy(c); }; })(i));
   document.body.setAttribute('data-report-ready', String(body.rows.length));
+  window.addEventListener('load', function () {
+    var ok = 0, imgs = document.images;
+    for (var i = 0; i < imgs.length; ++i) if (imgs[i].complete && imgs[i].naturalWidth > 0) ++ok;
+    document.body.setAttribute('data-images-loaded', ok + '/' + imgs.length);
+  });
 })();
 )JS";
 

@@ -5,8 +5,9 @@
 // plot of the output directory embedded as data: URIs (base64), the scenario set-ups (file,
 // description, runs, seeds, overrides, sweep or grid, and the scenario file's text) and the
 // campaign command (campaign.h: without --out, --jobs, --shard, --resume). The script marks
-// <body data-report-ready="ROWS"> once it has run, so a headless browser can tell it ran without
-// error. Nothing in it depends on wall time, threads or ranks.
+// <body data-report-ready="ROWS"> once it has run, and data-images-loaded="OK/ALL" (images decoded
+// with a non-zero width / images) at the load event, so a headless browser can tell that it ran
+// without error and showed every plot. Nothing in it depends on wall time, threads or ranks.
 #pragma once
 
 #include "compare_command.h"
