@@ -76,6 +76,13 @@
 //                     when some failed), a cross where some run failed, each cell labelled; one
 //                     figure per combination of the values of the further keys (task.type as a
 //                     third key: one heat map per task)
+//   report.html       the leaderboard (sortable), heat maps, plots, scenario set-ups and command in one
+//                     self-contained page (campaign_html.h)
+//   runs/             one record per run (campaign.h); a shard (--shard I/N) writes only runs/ and
+//                     shard.json
+// Campaigns (campaign.h, issue #12): the outputs are byte-identical whatever --jobs, the MPI ranks
+// (mpirun), the shards merged (predvs merge) or --resume: they hold no wall time or thread count,
+// and the command without --out, --jobs, --shard, --resume, --stop-after.
 #pragma once
 
 #include "scenario.h"
