@@ -375,7 +375,14 @@ void runCampaign(const CompareOptions& o, std::ostream& out, std::ostream& err) 
     return recordText(plan, job, keys[j], r);  // drops the error series of variants not plotted
   };
   // Rank 0, one call at a time: parse (so every path reads its runs back the same way), journal.
+  double store_s = 0.0;  // rank 0's time in `done` (parse + journal), for the coordination figures
   auto done = [&](size_t j, const std::string& text) {
+    const auto t0 = std::chrono::steady_clock::now();
+    struct Clock {  // adds the time of this call to store_s however it leaves
+      double& total;
+      std::chrono::steady_clock::time_point t0;
+      ~Clock() { total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+    } clock{store_s, t0};
     std::string why;
     if (!parseRecord(text, plan, jobs[j], keys[j], outcomes[j], why))
       throw std::logic_error("run record of " + keys[j].record_name + ": " + why);
@@ -412,6 +419,9 @@ void runCampaign(const CompareOptions& o, std::ostream& out, std::ostream& err) 
     throw;
   }
 
+  if (stored > 0)
+    err << "predvs: compare: rank 0 stored " << stored << " run records, " << std::setprecision(3)
+        << 1e3 * store_s / stored << " ms each (parse + journal write)\n" << std::setprecision(6);
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   writeOutputs(plan, o, jobs, keys, selected, outcomes, campaignFingerprint(keys), workers, wall_s, out);
   std::error_code ec;

@@ -211,7 +211,7 @@ void mpiRunJobs(const MpiWorld& world, const std::vector<size_t>& todo, int thre
     MPI_Status status;
     MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
     if (!flag) {
-      std::this_thread::sleep_for(std::chrono::microseconds(200));
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));  // the reserve hides this latency
       continue;
     }
     int count = 0;

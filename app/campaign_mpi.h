@@ -6,10 +6,13 @@
 // an error instead of K copies of the same campaign.
 //
 // Dynamic hand-out (runs differ in cost by orders of magnitude): every rank runs `threads` worker
-// threads; a free worker sends rank 0 a message "ready" (carrying the record of the run it just
-// finished) and receives the index of its next run, or -1 when there is none left. Rank 0's own
-// threads take runs from the same list; rank 0's main thread only answers (MPI_Iprobe, then a
-// 0.2 ms sleep when idle) and passes every finished record to `done` (on one thread at a time).
+// threads (slots); a slot asks rank 0 for a run index, and holds one more in reserve: when a run
+// ends it starts the reserved one at once and sends the record of the finished run (a
+// non-blocking send) with a request for the next index, so the round trip overlaps a run. -1
+// means none left. Rank 0's own threads take runs from the same list; rank 0's main thread only
+// answers (MPI_Iprobe, then a 1 ms sleep when idle, hidden by the reserve) and passes every
+// finished record to `done` (on one thread at a time). At the end each rank reports its
+// hand-out wait and run times, printed on stderr by rank 0 (never in the outputs).
 // The first failure (a run's exception here or on another rank, or `done` throwing, e.g.
 // --stop-after) stops the hand-out: every rank finishes the runs it holds, then rank 0 rethrows.
 // Every rank builds the same plan from the same files (a shared file system, or the same copies).
