@@ -13,6 +13,7 @@
 #include "scenario_run.h"
 
 #include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <chrono>
@@ -100,7 +101,17 @@ nlohmann::json optionsJson(const CompareOptions& o) {
   j["predictors"] = o.predictors;
   j["runs"] = o.runs;
   j["seed"] = o.seed_given ? nlohmann::json(o.seed) : nlohmann::json(nullptr);
-  j["overrides"] = overrideTexts(o.overrides);
+  // Each override as PATH=VALUE (what parseScenarioOverride reads back) and its text as recorded
+  // ("camera.px=400 (--camera FILE)" for one from a file, whose file merge need not read again).
+  j["overrides"] = nlohmann::json::array();
+  for (const auto& ov : o.overrides) {
+    std::string path;
+    for (const auto& seg : ov.path) path += (path.empty() ? "" : ".") + seg;
+    YAML::Emitter e;
+    e << YAML::Flow << ov.value;
+    j["overrides"].push_back({{"set", path + "=" + (ov.value.IsNull() ? std::string() : std::string(e.c_str()))},
+                              {"text", ov.text}});
+  }
   j["sweeps"] = nlohmann::json::array();
   for (const auto& sw : o.sweeps) j["sweeps"].push_back(sweepText(sw));
   return j;
@@ -115,7 +126,10 @@ CompareOptions optionsFrom(const nlohmann::json& j) {
     o.seed_given = true;
     o.seed = j.at("seed").get<unsigned long>();
   }
-  for (const auto& t : j.at("overrides")) o.overrides.push_back(parseScenarioOverride(t.get<std::string>()));
+  for (const auto& t : j.at("overrides")) {
+    o.overrides.push_back(parseScenarioOverride(t.at("set").get<std::string>()));
+    o.overrides.back().text = t.at("text").get<std::string>();
+  }
   for (const auto& t : j.at("sweeps")) o.sweeps.push_back(parseSweepOption(t.get<std::string>()));
   return o;
 }

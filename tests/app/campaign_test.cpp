@@ -131,6 +131,29 @@ TEST_F(CampaignTest, ThreeShardsMergedGiveTheOutputsOfOneRun) {
   expectSameOutputs(single(), path("merged"));
 }
 
+TEST_F(CampaignTest, ShardsWithOverridesFromASetFileMergeToo) {
+  // GIVEN shards of a campaign with --set-file and --set overrides (recorded as "PATH=VALUE (--set-file F)")
+  const std::string frag = write("frag.yaml", "task:\n  lambda: 1.5\nnoise: {sigma: 0.4}\n");
+  const std::vector<std::string> extra = {"--set-file", frag, "--set", "task.interaction=desired", "--runs", "1",
+                                          "--no-plots"};
+  std::vector<std::string> a = {"compare", "--scenarios", scenario_};
+  a.insert(a.end(), extra.begin(), extra.end());
+  for (int i = 1; i <= 2; ++i) {
+    auto s = a;
+    for (const char* x : {"--shard", i == 1 ? "1/2" : "2/2", "--out"}) s.push_back(x);
+    s.push_back(path("s" + std::to_string(i)));
+    ASSERT_EQ(run(s).code, 0);
+  }
+  // WHEN merged THEN the outputs are one run's
+  const CliRun m = run({"merge", path("s1"), path("s2"), "--no-plots", "--out", path("merged")});
+  ASSERT_EQ(m.code, 0) << m.err;
+  auto one = a;
+  one.push_back("--out");
+  one.push_back(path("one"));
+  ASSERT_EQ(run(one).code, 0);
+  expectSameOutputs(path("one"), path("merged"));
+}
+
 TEST_F(CampaignTest, AMissingOrDuplicatedShardIsAnErrorNamingIt) {
   for (int i = 1; i <= 2; ++i)
     ASSERT_EQ(compare(path("s" + std::to_string(i)), {"--shard", std::to_string(i) + "/3"}).code, 0);
