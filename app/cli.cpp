@@ -1,6 +1,7 @@
 #include "cli.h"
 
 #include "calibrate_command.h"
+#include "campaign.h"
 #include "compare_command.h"
 #include "output_dir.h"
 #include "predict_command.h"
@@ -568,6 +569,31 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->capture_default_str()
       ->type_name("DIR");
   compare->add_flag("--no-plots", cmp_no_plots, "do not draw PNG plots (no gnuplot needed)");
+  // Campaigns (app/campaign.h, README "Campaigns")
+  std::string cmp_shard, cmp_stop_after;
+  compare->add_option("--shard", cmp_shard,
+                      "run only the I-th of N deterministic slices of the runs and write their records and "
+                      "shard.json (join them with predvs merge)")
+      ->type_name("I/N");
+  compare->add_option("--resume", co.resume_dir,
+                      "reuse the run records of an interrupted (DIR.partial) or earlier campaign or shard; compute "
+                      "only the rest")
+      ->type_name("DIR");
+  compare->add_option("--stop-after", cmp_stop_after, "test hook: fail after N runs are stored (then --resume)")
+      ->type_name("N");
+  MergeOptions mg;
+  bool mg_no_plots = false;
+  CLI::App* merge = app.add_subcommand("merge", "Leaderboard, grids, plots and report.html of a campaign from its shards");
+  merge->footer(
+      "Reads the directories written by `predvs compare ... --shard I/N --out DIR_I` for I = 1..N (each exactly "
+      "once; a missing or duplicated shard is an error naming it) and writes the outputs one `predvs compare` "
+      "would (byte-identical).\nErrors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
+  merge->add_option("dirs", mg.dirs, "shard output directories")->required()->type_name("DIR");
+  merge->add_option("--out", mg.out_dir, "output directory, replaced only when the merge succeeds")
+      ->capture_default_str()
+      ->type_name("DIR");
+  merge->add_flag("--no-plots", mg_no_plots, "do not draw PNG plots (no gnuplot needed)");
+
   compare->add_option("--params", cmp_params_file,
                       "predictor parameter file (fit-noise): each entry becomes --set predictors.NAME.params.KEY=VALUE")
       ->type_name("FILE");
@@ -715,7 +741,18 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       }
       return 0;
     }
+    if (app.got_subcommand("merge")) {
+      mg.plots = !mg_no_plots;
+      runMergeCommand(mg, out, err);
+      return 0;
+    }
     if (app.got_subcommand("compare")) {
+      if (!cmp_shard.empty()) {
+        const ShardSpec shard = parseShard(cmp_shard);
+        co.shard_index = shard.index;
+        co.shard_count = shard.count;
+      }
+      if (!cmp_stop_after.empty()) co.stop_after = static_cast<int>(parseIntegerArg("--stop-after", cmp_stop_after, 1, 100000000));
       co.scenarios = splitList(cmp_scenarios);
       if (co.scenarios.empty()) throw std::invalid_argument("--scenarios: expected a comma-separated list of scenarios or 'all'");
       if (compare->count("--predictors")) {
@@ -736,7 +773,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       if (!cmp_jobs.empty()) co.jobs = static_cast<int>(parseIntegerArg("--jobs", cmp_jobs, 1, 1024));
       co.plots = !cmp_no_plots;
       co.progress_bar = &err == &std::cerr && ::isatty(STDERR_FILENO);
-      co.command_line = command_line;
+      co.command_line = commandLine(campaignArgs(args));  // without --out, --jobs, --shard, --resume
       runCompareCommand(co, out, err);
       return 0;
     }

@@ -76,6 +76,13 @@
 //                     when some failed), a cross where some run failed, each cell labelled; one
 //                     figure per combination of the values of the further keys (task.type as a
 //                     third key: one heat map per task)
+//   report.html       the leaderboard (sortable), heat maps, plots, scenario set-ups and command in one
+//                     self-contained page (campaign_html.h)
+//   runs/             one record per run (campaign.h); a shard (--shard I/N) writes only runs/ and
+//                     shard.json
+// Campaigns (campaign.h, issue #12): the outputs are byte-identical whatever --jobs, the MPI ranks
+// (mpirun), the shards merged (predvs merge) or --resume: they hold no wall time or thread count,
+// and the command without --out, --jobs, --shard, --resume, --stop-after.
 #pragma once
 
 #include "scenario.h"
@@ -101,7 +108,12 @@ struct CompareOptions {
   std::string out_dir = "out/compare";
   bool plots = true;
   bool progress_bar = false;            ///< redraw a bar on `err` (a terminal); else a few lines
-  std::string command_line;             ///< recorded in leaderboard.json / .md
+  std::string command_line;             ///< recorded in leaderboard.json / .md (campaignArgs(): without --out, --jobs, ...)
+  // Campaigns (campaign.h, issue #12)
+  int shard_index = 0;                  ///< --shard I/N: I (1-based); 0 = the whole campaign
+  int shard_count = 0;                  ///< N
+  std::string resume_dir;               ///< --resume DIR: reuse the run records found there
+  int stop_after = 0;                   ///< --stop-after N (test hook): fail after N runs are stored
 };
 
 /// Runs without a `runs:` key and without --runs.

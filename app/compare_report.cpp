@@ -153,12 +153,13 @@ std::string leaderboardJson(const Plan& plan, const Results& res, const CompareO
   return j.dump(2) + "\n";
 }
 
+// No wall time or thread count here (the terminal has them): the outputs of a campaign are
+// byte-identical however it was spread (threads, MPI ranks, shards, resumed; campaign.h).
 std::string leaderboardMarkdown(const Plan& plan, const Results& res, const CompareOptions& o,
-                                const CompareRunInfo& info) {
+                                const CompareRunInfo&) {
   std::ostringstream md;
   md << "# predvs compare: leaderboard\n\n"
-     << "Command: `" << o.command_line << "` (" << info.workers << " worker threads, wall time " << std::fixed
-     << std::setprecision(1) << info.wall_s << " s)" << std::defaultfloat << ".\n\n"
+     << "Command: `" << o.command_line << "`.\n\n"
      << "Each cell is mean ± std over the runs (min and max in leaderboard.csv / leaderboard.json); run r uses seed "
         "S + r for every predictor. Predictors are ranked by mean rmse (steady-window RMS error). Metric definitions: "
         "leaderboard.json (metric_definitions) and servo/include/predvs/servo/run_metrics.h.\n";

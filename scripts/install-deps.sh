@@ -16,6 +16,8 @@ PACKAGES=(
   gnuplot-nox          # PNG plots (pngcairo terminal)
   visp-images-data     # ViSP's image sets (mire-2, AprilTag, calibration grids): track, tests
   libceres-dev         # offline noise fitting (predvs fit-noise)
+  libopenmpi-dev openmpi-bin  # optional: `mpirun -np K predvs compare` (campaigns over MPI ranks)
+  chromium             # headless browser: the report.html test (tests/app/campaign_report_test)
 )
 
 missing=()
