@@ -178,9 +178,16 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   const int n = track.points();
   const bool single = n == 1;
   {
-    // csvCell's format (10 significant digits), built in memory and written at once.
+    // csvCell's format (10 significant digits), built in a buffer written out every ~4 MB.
+    const std::string csv_path = dir.file("predictions.csv");
+    std::ofstream csv_file(csv_path, std::ios::binary);
+    constexpr size_t kChunk = size_t{4} << 20;
     std::string csv;
-    csv.reserve(track.size() * static_cast<size_t>(n) * (40 + 24 * report.runs.size()));
+    csv.reserve(kChunk + 4096);
+    auto flush = [&] {
+      csv_file.write(csv.data(), static_cast<std::streamsize>(csv.size()));
+      csv.clear();
+    };
     csv += single ? "t,u,v,t_target" : "t,point,u,v,t_target";
     for (const auto& run : report.runs) csv += "," + run.spec.name + ".u_pred," + run.spec.name + ".v_pred";
     csv += '\n';
@@ -202,8 +209,10 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
           appendNumber(csv, run.points[pp].v_pred_px[i], 10);
         }
         csv += '\n';
+        if (csv.size() >= kChunk) flush();
       }
-    writeWhole(dir.file("predictions.csv"), csv);
+    flush();
+    if (!csv_file) throw std::runtime_error(csv_path + ": write failed");
   }
 
   nlohmann::json summary;
@@ -251,7 +260,7 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   {
     std::string dat = "# t_s u_px v_px t_target_s u_true_px v_true_px";
     for (const auto& run : report.runs) dat += " " + run.spec.name + ".u_pred " + run.spec.name + ".v_pred";
-    if (stride > 1) dat += "\n# every " + std::to_string(stride) + "th row of " + std::to_string(track.size());
+    if (stride > 1) dat += "\n# 1 row in " + std::to_string(stride) + " of " + std::to_string(track.size());
     dat += '\n';
     auto num = [&](double x) { appendNumber(dat, x, 8, "NaN"); };  // datNumber's format
     for (size_t i = 0; i < track.size(); i += stride) {
@@ -281,7 +290,7 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   title << "Prediction " << std::setprecision(4) << report.horizon_s << " s ahead";
   if (delay_frames >= 0) title << " (" << delay_frames << " frames)";
   if (!single) title << ", point " << track.point_names[0] << " of " << n << " (all in predictions.csv)";
-  if (stride > 1) title << ", every " << stride << "th of " << track.size() << " rows drawn";
+  if (stride > 1) title << ", 1 row in " << stride << " of " << track.size() << " drawn";
   gp << "# Regenerate with: gnuplot predictions.gp\n"
      << "set terminal pngcairo size 1200,850 enhanced font 'Sans,10'\n"
      << "set output 'predictions.png'\n"
