@@ -53,7 +53,7 @@ reproduce: build
 	$(PREDVS) compare --scenarios e5-line,e5-circle --sweep task.q_near=0.5,1,2,4,8,12 --out out/reproduction/paper000-e5-gain
 	$(PREDVS) compare --scenarios e5-line-ibvs,e5-circle-ibvs --sweep task.lambda=0.75,1.25,2.25,4.25,8.25,12.25 --out out/reproduction/paper000-e5-gain-ibvs
 	$(PREDVS) compare --scenarios e6-noise-study --out out/reproduction/paper001-e6
-	$(PREDVS) compare --scenarios e7-occlusion --predictors hold,kf-cv,kf-ca,cs-akf-adaptive,fakf-classic,fakf,stkf,st-akf,imm --sweep lost.action=extrapolate,hold --params $(PRE11) --out out/reproduction/paper001-e7
+	$(PREDVS) compare --scenarios e7-occlusion --predictors hold,kf-cv,kf-ca,cs-akf-adaptive,fakf-classic,fakf,stkf,st-akf,imm --sweep lost.action=extrapolate,hold --params data/params/e7-like-for-like.yaml --out out/reproduction/paper001-e7
 	$(PREDVS) compare --scenarios e8-vtc,e8-vtc-occlusion,e8-ibvs --out out/reproduction/paper001-e8
 	$(PREDVS) compare --scenarios e8-vtc --sweep timing.delay_frames=0,1,2 --out out/reproduction/paper001-e8-delay
 	$(PREDVS) compare --scenarios e9-broyden,e9-broyden-uncompensated,e9-ibvs --out out/reproduction/paper002-e9

@@ -9,7 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <algorithm>
 #include <iomanip>
@@ -31,17 +33,48 @@ nlohmann::json errorsJson(const PredictionErrors& e) {
   return j;
 }
 
+/// Appends x as csvNumber(x, precision) would write it (printf "%.{precision}g": std::to_chars in
+/// the general format is specified to give the same characters), without a stream or a temporary
+/// string; nothing for a non-finite x (an empty cell), or `nan_text` when given.
+void appendNumber(std::string& out, double x, int precision, const char* nan_text = "") {
+  if (!std::isfinite(x)) {
+    out += nan_text;
+    return;
+  }
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, precision);
+  out.append(buf, r.ptr);
+}
+
+/// Writes `text` to `path` in one call; throws std::runtime_error naming the file on failure.
+void writeWhole(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f.write(text.data(), static_cast<std::streamsize>(text.size()));
+  if (!f) throw std::runtime_error(path + ": write failed");
+}
+
 }  // namespace
 
-PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vector<double>& u_pred,
-                                  const std::vector<double>& v_pred, double horizon_s,
-                                  const std::vector<double>& u_ref, const std::vector<double>& v_ref) {
+size_t plotStride(size_t rows) { return rows <= kMaxPlotRows ? 1 : (rows + kMaxPlotRows - 1) / kMaxPlotRows; }
+
+namespace {
+
+/// y interpolated at t_s[i] + horizon_s for every row i (interpolateAt), computed once per point
+/// and shared by every predictor's scoring.
+std::vector<double> referenceAt(const std::vector<double>& t_s, const std::vector<double>& y, double horizon_s) {
+  std::vector<double> r(t_s.size());
+  for (size_t i = 0; i < t_s.size(); ++i) r[i] = interpolateAt(t_s, y, t_s[i] + horizon_s);
+  return r;
+}
+
+/// predictionErrors against references already interpolated at t + horizon (referenceAt).
+PredictionErrors errorsAgainst(const std::vector<double>& u_pred, const std::vector<double>& v_pred,
+                               const std::vector<double>& u_ref_at, const std::vector<double>& v_ref_at) {
   PredictionErrors e;
   double su = 0.0, sv = 0.0;
-  for (size_t i = 0; i < t_s.size(); ++i) {
+  for (size_t i = 0; i < u_pred.size(); ++i) {
     if (!std::isfinite(u_pred[i]) || !std::isfinite(v_pred[i])) continue;
-    const double t = t_s[i] + horizon_s;
-    const double ur = interpolateAt(t_s, u_ref, t), vr = interpolateAt(t_s, v_ref, t);
+    const double ur = u_ref_at[i], vr = v_ref_at[i];
     if (!std::isfinite(ur) || !std::isfinite(vr)) continue;
     su += (u_pred[i] - ur) * (u_pred[i] - ur);
     sv += (v_pred[i] - vr) * (v_pred[i] - vr);
@@ -55,6 +88,14 @@ PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vec
   e.rmse_v_px = std::sqrt(sv / e.n);
   e.rmse_px = std::sqrt((su + sv) / e.n);
   return e;
+}
+
+}  // namespace
+
+PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vector<double>& u_pred,
+                                  const std::vector<double>& v_pred, double horizon_s,
+                                  const std::vector<double>& u_ref, const std::vector<double>& v_ref) {
+  return errorsAgainst(u_pred, v_pred, referenceAt(t_s, u_ref, horizon_s), referenceAt(t_s, v_ref, horizon_s));
 }
 
 PredictionErrors pooledErrors(const std::vector<PredictionErrors>& parts) {
@@ -83,10 +124,23 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
   PredictionReport report;
   report.horizon_s = horizon_s;
   const int n = track.points();
+  // The references at t + horizon, per point: measured and (if any) true.
+  std::vector<std::vector<double>> u_meas_at, v_meas_at, u_true_at, v_true_at;
+  for (size_t p = 0; p < static_cast<size_t>(n); ++p) {
+    u_meas_at.push_back(referenceAt(track.t_s, track.u_px[p], horizon_s));
+    v_meas_at.push_back(referenceAt(track.t_s, track.v_px[p], horizon_s));
+    if (!track.hasTruth()) continue;
+    u_true_at.push_back(referenceAt(track.t_s, track.u_true_px[p], horizon_s));
+    v_true_at.push_back(referenceAt(track.t_s, track.v_true_px[p], horizon_s));
+  }
   for (const auto& spec : predictors) {
     PredictionRun run;
     run.spec = spec;
     run.points.resize(static_cast<size_t>(n));
+    for (auto& pt : run.points) {
+      pt.u_pred_px.reserve(track.size());
+      pt.v_pred_px.reserve(track.size());
+    }
     auto predictor = makePredictor(spec.name, 2 * n, spec.params);
     Eigen::VectorXd z(2 * n);
     for (size_t i = 0; i < track.size(); ++i) {
@@ -105,12 +159,10 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
     for (int p = 0; p < n; ++p) {
       const size_t pp = static_cast<size_t>(p);
       PointPrediction& pt = run.points[pp];
-      pt.vs_measurement = predictionErrors(track.t_s, pt.u_pred_px, pt.v_pred_px, horizon_s, track.u_px[pp],
-                                           track.v_px[pp]);
+      pt.vs_measurement = errorsAgainst(pt.u_pred_px, pt.v_pred_px, u_meas_at[pp], v_meas_at[pp]);
       meas.push_back(pt.vs_measurement);
       if (track.hasTruth()) {
-        pt.vs_truth = predictionErrors(track.t_s, pt.u_pred_px, pt.v_pred_px, horizon_s, track.u_true_px[pp],
-                                       track.v_true_px[pp]);
+        pt.vs_truth = errorsAgainst(pt.u_pred_px, pt.v_pred_px, u_true_at[pp], v_true_at[pp]);
         truth.push_back(pt.vs_truth);
       }
     }
@@ -126,21 +178,41 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   const int n = track.points();
   const bool single = n == 1;
   {
-    std::ofstream csv(dir.file("predictions.csv"));
-    csv << (single ? "t,u,v,t_target" : "t,point,u,v,t_target");
-    for (const auto& run : report.runs) csv << "," << run.spec.name << ".u_pred," << run.spec.name << ".v_pred";
-    csv << "\n";
+    // csvCell's format (10 significant digits), built in a buffer written out every ~4 MB.
+    const std::string csv_path = dir.file("predictions.csv");
+    std::ofstream csv_file(csv_path, std::ios::binary);
+    constexpr size_t kChunk = size_t{4} << 20;
+    std::string csv;
+    csv.reserve(kChunk + 4096);
+    auto flush = [&] {
+      csv_file.write(csv.data(), static_cast<std::streamsize>(csv.size()));
+      csv.clear();
+    };
+    csv += single ? "t,u,v,t_target" : "t,point,u,v,t_target";
+    for (const auto& run : report.runs) csv += "," + run.spec.name + ".u_pred," + run.spec.name + ".v_pred";
+    csv += '\n';
     for (size_t i = 0; i < track.size(); ++i)
       for (int p = 0; p < n; ++p) {
         const size_t pp = static_cast<size_t>(p);
-        csv << csvCell(track.t_s[i]) << ",";
-        if (!single) csv << track.point_names[pp] << ",";
-        csv << csvCell(track.u_px[pp][i]) << "," << csvCell(track.v_px[pp][i]) << "," << csvCell(track.t_s[i] + report.horizon_s);
-        for (const auto& run : report.runs)
-          csv << "," << csvCell(run.points[pp].u_pred_px[i]) << "," << csvCell(run.points[pp].v_pred_px[i]);
-        csv << "\n";
+        appendNumber(csv, track.t_s[i], 10);
+        csv += ',';
+        if (!single) (csv += track.point_names[pp]) += ',';
+        appendNumber(csv, track.u_px[pp][i], 10);
+        csv += ',';
+        appendNumber(csv, track.v_px[pp][i], 10);
+        csv += ',';
+        appendNumber(csv, track.t_s[i] + report.horizon_s, 10);
+        for (const auto& run : report.runs) {
+          csv += ',';
+          appendNumber(csv, run.points[pp].u_pred_px[i], 10);
+          csv += ',';
+          appendNumber(csv, run.points[pp].v_pred_px[i], 10);
+        }
+        csv += '\n';
+        if (csv.size() >= kChunk) flush();
       }
-    if (!csv) throw std::runtime_error(dir.file("predictions.csv") + ": write failed");
+    flush();
+    if (!csv_file) throw std::runtime_error(csv_path + ": write failed");
   }
 
   nlohmann::json summary;
@@ -182,25 +254,43 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   }
 
   if (!plots) return;
-  // Plot data (the first point): measured points at their time, predictions at the time they are made for.
+  // Plot data (the first point): measured points at their time, predictions at the time they are
+  // made for; every plotStride()-th row only (all of them up to kMaxPlotRows rows).
+  const size_t stride = plotStride(track.size());
   {
-    std::ofstream dat(dir.file("predictions_plot.dat"));
-    dat << "# t_s u_px v_px t_target_s u_true_px v_true_px";
-    for (const auto& run : report.runs) dat << " " << run.spec.name << ".u_pred " << run.spec.name << ".v_pred";
-    dat << "\n" << std::setprecision(10);
-    for (size_t i = 0; i < track.size(); ++i) {
-      dat << datNumber(track.t_s[i]) << " " << datNumber(track.u_px[0][i]) << " " << datNumber(track.v_px[0][i]) << " "
-          << datNumber(track.t_s[i] + report.horizon_s) << " " << datNumber(track.hasTruth() ? track.u_true_px[0][i] : kNaN)
-          << " " << datNumber(track.hasTruth() ? track.v_true_px[0][i] : kNaN);
-      for (const auto& run : report.runs) dat << " " << datNumber(run.points[0].u_pred_px[i]) << " " << datNumber(run.points[0].v_pred_px[i]);
-      dat << "\n";
+    std::string dat = "# t_s u_px v_px t_target_s u_true_px v_true_px";
+    for (const auto& run : report.runs) dat += " " + run.spec.name + ".u_pred " + run.spec.name + ".v_pred";
+    if (stride > 1) dat += "\n# 1 row in " + std::to_string(stride) + " of " + std::to_string(track.size());
+    dat += '\n';
+    auto num = [&](double x) { appendNumber(dat, x, 8, "NaN"); };  // datNumber's format
+    for (size_t i = 0; i < track.size(); i += stride) {
+      num(track.t_s[i]);
+      dat += ' ';
+      num(track.u_px[0][i]);
+      dat += ' ';
+      num(track.v_px[0][i]);
+      dat += ' ';
+      num(track.t_s[i] + report.horizon_s);
+      dat += ' ';
+      num(track.hasTruth() ? track.u_true_px[0][i] : kNaN);
+      dat += ' ';
+      num(track.hasTruth() ? track.v_true_px[0][i] : kNaN);
+      for (const auto& run : report.runs) {
+        dat += ' ';
+        num(run.points[0].u_pred_px[i]);
+        dat += ' ';
+        num(run.points[0].v_pred_px[i]);
+      }
+      dat += '\n';
     }
+    writeWhole(dir.file("predictions_plot.dat"), dat);
   }
   std::ofstream gp(dir.file("predictions.gp"));
   std::ostringstream title;
   title << "Prediction " << std::setprecision(4) << report.horizon_s << " s ahead";
   if (delay_frames >= 0) title << " (" << delay_frames << " frames)";
   if (!single) title << ", point " << track.point_names[0] << " of " << n << " (all in predictions.csv)";
+  if (stride > 1) title << ", 1 row in " << stride << " of " << track.size() << " drawn";
   gp << "# Regenerate with: gnuplot predictions.gp\n"
      << "set terminal pngcairo size 1200,850 enhanced font 'Sans,10'\n"
      << "set output 'predictions.png'\n"
@@ -234,12 +324,15 @@ void printPredictionTable(const PredictionReport& report, const FeatureTrack& tr
   out << std::left << std::setw(static_cast<int>(w)) << "predictor" << std::right << std::setw(20)
       << "RMSE vs meas [px]";
   if (has_truth) out << std::setw(20) << "RMSE vs truth [px]";
-  out << std::setw(7) << "n" << "\n";
+  // The n column fits the largest count with two spaces before it (7 wide up to 5 digits).
+  size_t nw = 7;
+  for (const auto& run : report.runs) nw = std::max(nw, std::to_string(run.vs_measurement.n).size() + 2);
+  out << std::setw(static_cast<int>(nw)) << "n" << "\n";
   for (const auto& run : report.runs) {
     out << std::left << std::setw(static_cast<int>(w)) << run.spec.name << std::right << std::setw(20)
         << fixedNumber(run.vs_measurement.rmse_px, 3);
     if (has_truth) out << std::setw(20) << fixedNumber(run.vs_truth.rmse_px, 3);
-    out << std::setw(7) << run.vs_measurement.n << "\n";
+    out << std::setw(static_cast<int>(nw)) << run.vs_measurement.n << "\n";
   }
   if (track.points() < 2) return;
   // Per point: one column per point.

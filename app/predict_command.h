@@ -81,6 +81,14 @@ PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vec
                                   const std::vector<double>& v_pred, double horizon_s,
                                   const std::vector<double>& u_ref, const std::vector<double>& v_ref);
 
+/// The plot data (predictions_plot.dat, hence predictions.png) of a long track is thinned: at most
+/// kMaxPlotRows rows are drawn, every plotStride(rows)-th row from the first, stride =
+/// ceil(rows / kMaxPlotRows) (1 up to kMaxPlotRows rows: a normal track is drawn whole). A plot of
+/// millions of points is unreadable and takes gnuplot minutes; predictions.csv and every error figure
+/// keep every row.
+constexpr size_t kMaxPlotRows = 20000;
+size_t plotStride(size_t rows);
+
 /// Writes predictions.csv, summary.json and (if plots) predictions.png + its gnuplot script/data.
 ///  predictions.csv: one point: t,u,v,t_target,NAME.u_pred,NAME.v_pred[,...] (one column pair per
 ///                   predictor; empty cell = no measurement / no prediction yet), times in s,
@@ -92,7 +100,8 @@ PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vec
 ///                    {"rmse_px","rmse_u_px","rmse_v_px","n"}, "vs_truth": {...} or null (both
 ///                    overall), "per_point": [{"point", "vs_measurement", "vs_truth"}]}]}
 ///  predictions.png: u and v versus time of the first point (for N > 1 its title says so; every
-///                   point is in predictions.csv and its errors in summary.json).
+///                   point is in predictions.csv and its errors in summary.json); thinned beyond
+///                   kMaxPlotRows rows (its title then says so).
 void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
                             const std::string& command_line, bool plots, StagedOutputDir& dir);
 

@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
 #include <map>
+#include <string_view>
 #include <tuple>
+#include <unordered_map>
 
 namespace predvs {
 namespace {
@@ -22,6 +25,40 @@ std::string trim(const std::string& s) {
 }
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string_view trimView(std::string_view s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string_view::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
+
+/// splitCsvLine into views of `line` (trimmed), reusing `cells`' storage.
+void splitCsvView(std::string_view line, std::vector<std::string_view>& cells) {
+  cells.clear();
+  std::string_view::size_type start = 0;
+  while (true) {
+    const auto comma = line.find(',', start);
+    cells.push_back(trimView(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+}
+
+/// parseCell on a trimmed view. Fast path: std::from_chars (no allocation, locale-free); anything
+/// it does not take whole as a finite value (a leading '+', hex, inf/nan, out of range, junk) goes
+/// through parseCell, so accepted values and error messages are exactly parseCell's.
+double parseCellView(std::string_view cell, const std::string& file, int line, const std::string& column,
+                     bool allow_empty) {
+  if (!cell.empty()) {
+    double value = 0.0;
+    const auto r = std::from_chars(cell.data(), cell.data() + cell.size(), value);
+    if (r.ec == std::errc() && r.ptr == cell.data() + cell.size() && std::isfinite(value) &&
+        (value == 0.0 || std::fabs(value) >= std::numeric_limits<double>::min()))  // strtod: ERANGE on subnormals
+      return value;
+  }
+  return parseCell(std::string(cell), file, line, column, allow_empty);
+}
 
 }  // namespace
 
@@ -111,14 +148,35 @@ struct LongRow {
 FeatureTrack readFeatureTrack(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throwAt(path, 0, "cannot open the file for reading (expected a CSV with columns t,u,v or t,point,u,v)");
+  // The whole file in one read; lines are views into it (split on '\n' as std::getline does).
+  std::string text;
+  in.seekg(0, std::ios::end);
+  const auto file_size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  if (file_size > 0) {
+    text.resize(static_cast<size_t>(file_size));
+    in.read(&text[0], static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<size_t>(in.gcount()));
+  }
+  size_t pos = 0;
+  auto nextLine = [&](std::string_view& out) {
+    if (pos >= text.size()) return false;
+    const auto nl = text.find('\n', pos);
+    const size_t end = nl == std::string::npos ? text.size() : nl;
+    out = std::string_view(text.data() + pos, end - pos);
+    pos = nl == std::string::npos ? text.size() : nl + 1;
+    return true;
+  };
 
   FeatureTrack track;
   track.path = path;
   std::string line;
+  std::string_view line_view;
   int line_no = 0;
   std::vector<std::string> header;
   int header_line = 0;
-  while (std::getline(in, line)) {
+  while (nextLine(line_view)) {
+    line.assign(line_view.data(), line_view.size());
     ++line_no;
     if (line_no == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 byte-order mark
     if (trim(line).empty()) continue;
@@ -202,36 +260,58 @@ FeatureTrack readFeatureTrack(const std::string& path) {
   for (size_t i = 0; i < header.size(); ++i)
     if (!used[i]) track.ignored_columns.push_back(header[i]);
 
-  auto cellOf = [&](const std::vector<std::string>& cells, int col) -> const std::string& {
-    return cells[static_cast<size_t>(col)];
+  // Column indices and names resolved once (not per row).
+  const int col_t = column["t"];
+  const int col_point = long_format ? column["point"] : -1;
+  const int col_u = long_format ? column["u"] : -1, col_v = long_format ? column["v"] : -1;
+  const int col_ut = long_format && truth ? column["u_true"] : -1, col_vt = long_format && truth ? column["v_true"] : -1;
+  struct PointColumns {
+    int u, v, u_true, v_true;  ///< -1: no such column
+    std::string u_name, v_name, u_true_name, v_true_name;
   };
+  std::vector<PointColumns> point_columns;
+  if (!long_format) {
+    const int first = wide.count({'u', -1, false}) ? -1 : 0;
+    for (int p = 0; p < n_points; ++p) {
+      const int index = first < 0 ? -1 : p;
+      auto find = [&](char axis, bool is_truth) {
+        const auto it = wide.find({axis, index, is_truth});
+        return it == wide.end() ? -1 : it->second;
+      };
+      point_columns.push_back({find('u', false), find('v', false), find('u', true), find('v', true),
+                               wideName('u', index, false), wideName('v', index, false), wideName('u', index, true),
+                               wideName('v', index, true)});
+    }
+  }
+  std::vector<std::string_view> cells;
+  auto cellOf = [&](int col) { return cells[static_cast<size_t>(col)]; };
   std::vector<LongRow> long_rows;
-  while (std::getline(in, line)) {
+  while (nextLine(line_view)) {
     ++line_no;
-    if (trim(line).empty()) continue;
-    const auto cells = splitCsvLine(line);
+    if (trimView(line_view).empty()) continue;
+    splitCsvView(line_view, cells);
     if (cells.size() != header.size())
       throwAt(path, line_no,
               "expected " + std::to_string(header.size()) + " cells, got " + std::to_string(cells.size()));
-    const double t = parseCell(cellOf(cells, column["t"]), path, line_no, "t", false);
+    const double t = parseCellView(cellOf(col_t), path, line_no, "t", false);
     if (long_format) {
-      LongRow r{t, trim(cellOf(cells, column["point"])), kNaN, kNaN, kNaN, kNaN, line_no};
+      LongRow r{t, std::string(cellOf(col_point)), kNaN, kNaN, kNaN, kNaN, line_no};
       if (r.id.empty()) throwAt(path, line_no, "column 'point': expected a point id (integer or name), got an empty cell");
       if (!long_rows.empty() && t < long_rows.back().t)
         throwAt(path, line_no, "column 't': expected the rows of a frame together and frames in increasing time, got " +
-                                   trim(cellOf(cells, column["t"])) + " after a later frame");
-      r.u = parseCell(cellOf(cells, column["u"]), path, line_no, "u", true);
-      r.v = parseCell(cellOf(cells, column["v"]), path, line_no, "v", true);
+                                   std::string(cellOf(col_t)) + " after a later frame");
+      r.u = parseCellView(cellOf(col_u), path, line_no, "u", true);
+      r.v = parseCellView(cellOf(col_v), path, line_no, "v", true);
       if (truth) {
-        r.u_true = parseCell(cellOf(cells, column["u_true"]), path, line_no, "u_true", true);
-        r.v_true = parseCell(cellOf(cells, column["v_true"]), path, line_no, "v_true", true);
+        r.u_true = parseCellView(cellOf(col_ut), path, line_no, "u_true", true);
+        r.v_true = parseCellView(cellOf(col_vt), path, line_no, "v_true", true);
       }
       long_rows.push_back(std::move(r));
       continue;
     }
     if (!track.t_s.empty() && !(t > track.t_s.back()))
       throwAt(path, line_no, "column 't': expected a time after the previous row's (strictly increasing), got " +
-                                 trim(cellOf(cells, column["t"])));
+                                 std::string(cellOf(col_t)));
     if (track.t_s.empty()) {
       track.u_px.resize(static_cast<size_t>(n_points));
       track.v_px.resize(static_cast<size_t>(n_points));
@@ -241,22 +321,15 @@ FeatureTrack readFeatureTrack(const std::string& path) {
       }
     }
     track.t_s.push_back(t);
-    const int first = wide.count({'u', -1, false}) ? -1 : 0;
     for (int p = 0; p < n_points; ++p) {
-      const int index = first < 0 ? -1 : p;
       const size_t pp = static_cast<size_t>(p);
-      track.u_px[pp].push_back(parseCell(cellOf(cells, wide[{'u', index, false}]), path, line_no,
-                                         wideName('u', index, false), true));
-      track.v_px[pp].push_back(parseCell(cellOf(cells, wide[{'v', index, false}]), path, line_no,
-                                         wideName('v', index, false), true));
+      const PointColumns& c = point_columns[pp];
+      track.u_px[pp].push_back(parseCellView(cellOf(c.u), path, line_no, c.u_name, true));
+      track.v_px[pp].push_back(parseCellView(cellOf(c.v), path, line_no, c.v_name, true));
       if (!truth) continue;
-      const bool has = wide.count({'u', index, true}) != 0;
-      track.u_true_px[pp].push_back(has ? parseCell(cellOf(cells, wide[{'u', index, true}]), path, line_no,
-                                                    wideName('u', index, true), true)
-                                        : kNaN);
-      track.v_true_px[pp].push_back(has ? parseCell(cellOf(cells, wide[{'v', index, true}]), path, line_no,
-                                                    wideName('v', index, true), true)
-                                        : kNaN);
+      const bool has = c.u_true >= 0;
+      track.u_true_px[pp].push_back(has ? parseCellView(cellOf(c.u_true), path, line_no, c.u_true_name, true) : kNaN);
+      track.v_true_px[pp].push_back(has ? parseCellView(cellOf(c.v_true), path, line_no, c.v_true_name, true) : kNaN);
     }
   }
   if (!long_format) {
@@ -272,7 +345,7 @@ FeatureTrack readFeatureTrack(const std::string& path) {
     long v = 0;
     all_integers = all_integers && integerId(r.id, v);
   }
-  std::map<std::string, int> index_of;
+  std::unordered_map<std::string, int> index_of;
   if (all_integers) {
     std::map<long, std::string> sorted;
     for (auto& r : long_rows) {
