@@ -67,27 +67,34 @@ std::vector<double> referenceAt(const std::vector<double>& t_s, const std::vecto
   return r;
 }
 
+/// The RMSEs of n (u, v) errors from their sums of squares (NaN when n == 0).
+PredictionErrors fromSquareSums(double su, double sv, int n) {
+  PredictionErrors e;
+  e.n = n;
+  if (n == 0) {
+    e.rmse_px = e.rmse_u_px = e.rmse_v_px = kNaN;
+    return e;
+  }
+  e.rmse_u_px = std::sqrt(su / n);
+  e.rmse_v_px = std::sqrt(sv / n);
+  e.rmse_px = std::sqrt((su + sv) / n);
+  return e;
+}
+
 /// predictionErrors against references already interpolated at t + horizon (referenceAt).
 PredictionErrors errorsAgainst(const std::vector<double>& u_pred, const std::vector<double>& v_pred,
                                const std::vector<double>& u_ref_at, const std::vector<double>& v_ref_at) {
-  PredictionErrors e;
   double su = 0.0, sv = 0.0;
+  int n = 0;
   for (size_t i = 0; i < u_pred.size(); ++i) {
     if (!std::isfinite(u_pred[i]) || !std::isfinite(v_pred[i])) continue;
     const double ur = u_ref_at[i], vr = v_ref_at[i];
     if (!std::isfinite(ur) || !std::isfinite(vr)) continue;
     su += (u_pred[i] - ur) * (u_pred[i] - ur);
     sv += (v_pred[i] - vr) * (v_pred[i] - vr);
-    ++e.n;
+    ++n;
   }
-  if (e.n == 0) {
-    e.rmse_px = e.rmse_u_px = e.rmse_v_px = kNaN;
-    return e;
-  }
-  e.rmse_u_px = std::sqrt(su / e.n);
-  e.rmse_v_px = std::sqrt(sv / e.n);
-  e.rmse_px = std::sqrt((su + sv) / e.n);
-  return e;
+  return fromSquareSums(su, sv, n);
 }
 
 }  // namespace
@@ -99,22 +106,15 @@ PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vec
 }
 
 PredictionErrors pooledErrors(const std::vector<PredictionErrors>& parts) {
-  PredictionErrors e;
   double su = 0.0, sv = 0.0;
+  int n = 0;
   for (const auto& p : parts) {
     if (p.n == 0) continue;
     su += p.rmse_u_px * p.rmse_u_px * p.n;
     sv += p.rmse_v_px * p.rmse_v_px * p.n;
-    e.n += p.n;
+    n += p.n;
   }
-  if (e.n == 0) {
-    e.rmse_px = e.rmse_u_px = e.rmse_v_px = kNaN;
-    return e;
-  }
-  e.rmse_u_px = std::sqrt(su / e.n);
-  e.rmse_v_px = std::sqrt(sv / e.n);
-  e.rmse_px = std::sqrt((su + sv) / e.n);
-  return e;
+  return fromSquareSums(su, sv, n);
 }
 
 PredictionReport predictTrack(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
