@@ -29,7 +29,7 @@ set(PREDVS_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/predvs)
 install(EXPORT predvsTargets NAMESPACE predvs:: DESTINATION ${PREDVS_CMAKE_DIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/predvsConfig.cmake.in
                               ${PROJECT_BINARY_DIR}/predvsConfig.cmake
-                              INSTALL_DESTINATION ${PREDVS_CMAKE_DIR})
+                              INSTALL_DESTINATION ${PREDVS_CMAKE_DIR} PATH_VARS CMAKE_INSTALL_DATADIR)
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/predvsConfigVersion.cmake
                                  COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/predvsConfig.cmake ${PROJECT_BINARY_DIR}/predvsConfigVersion.cmake
