@@ -1,6 +1,7 @@
 #include "scenario_file.h"
 
 #include "app_error.h"
+#include "predvs/servo/data_dir.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -9,14 +10,11 @@
 #include <filesystem>
 #include <sstream>
 
-#ifndef PREDVS_DATA_DIR
-#define PREDVS_DATA_DIR "data"
-#endif
 
 namespace predvs {
 namespace fs = std::filesystem;
 
-std::string scenariosDir() { return std::string(PREDVS_DATA_DIR) + "/scenarios"; }
+std::string scenariosDir() { return dataDir() + "/scenarios"; }
 
 std::string scenarioName(const std::string& path) { return fs::path(path).stem().string(); }
 

@@ -16,7 +16,8 @@
 
 namespace predvs {
 
-/// The scenarios directory, `PREDVS_DATA_DIR/scenarios` (the source tree's data/ directory).
+/// The scenarios directory, `dataDir()/scenarios` (predvs/servo/data_dir.h: $PREDVS_DATA_DIR,
+/// then <exe>/../share/predvs, which in the build tree links to the source data/).
 std::string scenariosDir();
 
 /// Path of a scenario given by name (looked up in scenariosDir()) or by a path to a .yaml file.

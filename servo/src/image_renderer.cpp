@@ -1,5 +1,7 @@
 #include "predvs/servo/image_renderer.h"
 
+#include "predvs/servo/data_dir.h"
+
 #include <visp3/core/vpColVector.h>
 #include <visp3/io/vpImageIo.h>
 #include <visp3/robot/vpImageSimulator.h>
@@ -11,9 +13,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#ifndef PREDVS_DATA_DIR
-#define PREDVS_DATA_DIR "data"
-#endif
 
 namespace predvs {
 namespace {
@@ -66,7 +65,7 @@ vpImage<unsigned char> dotTexture(double dot_grey, double background_grey) {
 
 }  // namespace
 
-std::string defaultTagCellsPath() { return std::string(PREDVS_DATA_DIR) + "/textures/tag36h11_id0.pgm"; }
+std::string defaultTagCellsPath() { return dataDir() + "/textures/tag36h11_id0.pgm"; }
 
 vpImage<unsigned char> tagTexture(const vpImage<unsigned char>& cells, int k) {
   if (cells.getWidth() != 10 || cells.getHeight() != 10)

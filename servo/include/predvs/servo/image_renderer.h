@@ -66,7 +66,7 @@ struct ImageRendererOptions {
   std::string tag_cells_path;      ///< AprilTag: the 10 x 10 cell PGM (empty: defaultTagCellsPath())
 };
 
-/// PREDVS_DATA_DIR/textures/tag36h11_id0.pgm (the source tree's data/ directory).
+/// dataDir()/textures/tag36h11_id0.pgm (see predvs/servo/data_dir.h for the lookup).
 std::string defaultTagCellsPath();
 /// The AprilTag texture of a 10 x 10 cell image: (10 k + 1)^2 texels, k per cell, boundary texels
 /// the mean of the cells they touch. Throws std::invalid_argument unless cells is 10 x 10.

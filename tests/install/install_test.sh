@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# CTest install_prefix: `cmake --install` into a fresh prefix, then the installed predvs runs from
+# another folder with its data found beside itself (PREDVS_DATA_DIR unset), through
+# PREDVS_DATA_DIR pointing elsewhere, and fails naming PREDVS_DATA_DIR when that is not a folder.
+# Usage: install_test.sh CMAKE BUILD_DIR PREFIX SOURCE_DIR
+set -euo pipefail
+cmake_cmd=$1 build=$2 prefix=$3 src=$4
+fail() { echo "install_test: $*" >&2; exit 1; }
+rm -rf "$prefix"
+"$cmake_cmd" --install "$build" --prefix "$prefix" >/dev/null
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+unset PREDVS_DATA_DIR
+predvs="$prefix/bin/predvs"
+[ -x "$predvs" ] || fail "$predvs not installed"
+for f in include/predvs/predictors/predictor.h include/predvs/tasks/ibvs_task.h include/predvs/servo/data_dir.h \
+         lib/libpredvs_predictors.a lib/libpredvs_tasks.a lib/libpredvs_servo.a \
+         lib/cmake/predvs/predvsConfig.cmake share/predvs/scenarios/ibvs-moving-target.yaml \
+         share/predvs/textures/tag36h11_id0.pgm; do
+  [ -e "$prefix/$f" ] || fail "$prefix/$f not installed"
+done
+if grep -q "$src/data" "$predvs"; then fail "$predvs contains the source path $src/data"; fi
+
+"$predvs" list > list.txt || fail "installed predvs list failed"
+grep -q "in $prefix/share/predvs/scenarios:" list.txt || fail "predvs list does not read $prefix/share/predvs: $(grep Scenarios list.txt)"
+grep -q "ibvs-moving-target" list.txt || fail "predvs list shows no ibvs-moving-target"
+"$predvs" servo --no-plots --out "$work/o" > servo.txt 2>&1 || { cat servo.txt; fail "installed predvs servo failed"; }
+[ -s "$work/o/summary.json" ] || fail "predvs servo wrote no $work/o/summary.json"
+# The AprilTag texture (servo layer's dataDir()) through the installed layout, short run.
+"$predvs" servo --scenario ibvs-rendered-apriltag --set duration_s=0.5 --no-plots --out "$work/tag" >/dev/null 2>&1 \
+  || fail "installed predvs servo --scenario ibvs-rendered-apriltag failed"
+
+# PREDVS_DATA_DIR elsewhere: a data folder with a scenario that exists only there.
+mkdir -p alt/scenarios
+cp "$prefix/share/predvs/scenarios/ibvs-moving-target.yaml" alt/scenarios/only-in-alt.yaml
+PREDVS_DATA_DIR="$work/alt" "$predvs" list > alt.txt || fail "predvs list with PREDVS_DATA_DIR failed"
+grep -q "only-in-alt" alt.txt || fail "PREDVS_DATA_DIR=$work/alt not used by predvs list"
+if grep -q "e1-line" alt.txt; then fail "PREDVS_DATA_DIR did not override the installed data"; fi
+PREDVS_DATA_DIR="$work/alt" "$predvs" servo --scenario only-in-alt --no-plots --out "$work/o2" >/dev/null 2>&1 \
+  || fail "predvs servo --scenario only-in-alt with PREDVS_DATA_DIR failed"
+if PREDVS_DATA_DIR="$work/missing" "$predvs" list > bad.txt 2>&1; then fail "PREDVS_DATA_DIR=missing accepted"; fi
+grep -q "PREDVS_DATA_DIR=$work/missing" bad.txt || fail "error does not name PREDVS_DATA_DIR: $(cat bad.txt)"
+echo "install_test: OK ($prefix)"
