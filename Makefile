@@ -37,7 +37,7 @@ golden: build
 # Every figure of docs/REPRODUCTION.md: one leaderboard per paper (and the closed loop) under
 # out/reproduction/, the studies the page quotes beside them (a_max and floor sweeps, the fuzzy
 # layers of fakf, stkf's tuning in the closed loop, the monitor's band) and the E7
-# re-initialisation count printed by its unit test (about a minute on 2 cores).
+# re-initialisation count printed by its unit test (about 80 s on 2 cores).
 # fakf with each fuzzy layer switched off (R held at 1 px^2 by its clamp; P inflation never due).
 FUZZY_LAYERS := cs-akf-adaptive,fakf,fakf-fixed-r=fakf:r_min=0.9999:r_max=1.0001,fakf-no-inflation=fakf:inflation_period=1000,fakf-neither=fakf:r_min=0.9999:r_max=1.0001:inflation_period=1000,csa-r06=cs-akf-adaptive:r=0.6
 # stkf in the closed loop: the squared R, the self-tuning, R_0 and Q_0 changed one at a time.
