@@ -327,7 +327,7 @@ void runCampaign(const CompareOptions& o, std::ostream& out, std::ostream& err) 
     if (!sharded || static_cast<int>(j % static_cast<size_t>(o.shard_count)) == o.shard_index - 1) selected.push_back(j);
 
   std::vector<RunRecord> outcomes(jobs.size());
-  std::vector<size_t> todo;
+  std::vector<size_t> to_compute;
   const fs::path journal = fs::path(o.out_dir).string() + ".partial";
   const fs::path journal_runs = journal / "runs";
   size_t reused = 0, stale = 0;
@@ -353,7 +353,7 @@ void runCampaign(const CompareOptions& o, std::ostream& out, std::ostream& err) 
         }
       }
       for (size_t j : selected)
-        if (!have[j]) todo.push_back(j);
+        if (!have[j]) to_compute.push_back(j);
       fs::create_directories(journal_runs);
       if (reused > 0 && fs::absolute(recordsDir(o.resume_dir)).lexically_normal() !=
                             fs::absolute(journal_runs).lexically_normal())
@@ -361,7 +361,7 @@ void runCampaign(const CompareOptions& o, std::ostream& out, std::ostream& err) 
           if (have[j]) writeFileAtomic(journal_runs / keys[j].record_name, recordText(plan, jobs[j], keys[j], outcomes[j]));
     } catch (...) {
       before = std::current_exception();
-      todo.clear();
+      to_compute.clear();
     }
   }
 
@@ -375,9 +375,9 @@ void runCampaign(const CompareOptions& o, std::ostream& out, std::ostream& err) 
     if (sharded) err << ", shard " << o.shard_index << "/" << o.shard_count << ": " << selected.size() << " runs";
     if (!o.resume_dir.empty())
       err << "; " << reused << " from the records in " << o.resume_dir << (stale ? " (" + std::to_string(stale) + " stale, not reused)" : "");
-    err << "; computing " << todo.size() << " on ";
+    err << "; computing " << to_compute.size() << " on ";
     if (world.size > 1) err << world.size << " MPI ranks x " << threads << " threads\n";
-    else err << std::min<size_t>(static_cast<size_t>(threads), std::max<size_t>(1, todo.size())) << " threads\n";
+    else err << std::min<size_t>(static_cast<size_t>(threads), std::max<size_t>(1, to_compute.size())) << " threads\n";
   }
 
   std::mutex store_mutex;
@@ -408,20 +408,20 @@ void runCampaign(const CompareOptions& o, std::ostream& out, std::ostream& err) 
   };
   try {
     if (world.size > 1) {
-      mpiRunJobs(world, todo, threads, compute, done, err);
+      mpiRunJobs(world, to_compute, threads, compute, done, err);
       if (!root) return;
     } else if (!before) {
       ParallelOptions par;
       par.start = start;
-      par.workers = static_cast<int>(std::min<size_t>(static_cast<size_t>(threads), std::max<size_t>(1, todo.size())));
+      par.workers = static_cast<int>(std::min<size_t>(static_cast<size_t>(threads), std::max<size_t>(1, to_compute.size())));
       par.progress_bar = o.progress_bar;
       workers = par.workers;
       runParallel(
-          todo.size(),
+          to_compute.size(),
           [&](size_t i) {
-            const std::string text = compute(todo[i]);
+            const std::string text = compute(to_compute[i]);
             std::lock_guard<std::mutex> lock(store_mutex);
-            done(todo[i], text);
+            done(to_compute[i], text);
           },
           par, err);
     }

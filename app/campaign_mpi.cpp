@@ -156,7 +156,7 @@ bool mpiBuilt() { return true; }
 
 MpiWorld mpiWorld() { return session().world; }
 
-void mpiRunJobs(const MpiWorld& world, const std::vector<size_t>& todo, int threads,
+void mpiRunJobs(const MpiWorld& world, const std::vector<size_t>& to_compute, int threads,
                 const std::function<std::string(size_t)>& compute,
                 const std::function<void(size_t, const std::string&)>& done, std::ostream& err) {
   threads = std::max(1, threads);
@@ -169,8 +169,8 @@ void mpiRunJobs(const MpiWorld& world, const std::vector<size_t>& todo, int thre
   std::exception_ptr error;
   bool stopping = false;
   auto take = [&]() -> long long {  // with `mutex` held
-    if (stopping || next >= todo.size()) return -1;
-    return static_cast<long long>(todo[next++]);
+    if (stopping || next >= to_compute.size()) return -1;
+    return static_cast<long long>(to_compute[next++]);
   };
   auto fail = [&](std::exception_ptr e) {  // with `mutex` held
     if (!error) error = e;

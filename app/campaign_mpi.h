@@ -38,11 +38,11 @@ MpiWorld mpiWorld();
 /// Whether this build has MPI.
 bool mpiBuilt();
 
-/// Runs the jobs `todo` (rank 0's list; ignored elsewhere) over every rank, `threads` worker
+/// Runs the jobs `to_compute` (rank 0's list; ignored elsewhere) over every rank, `threads` worker
 /// threads per rank. compute(j) runs job j and returns its record text; done(j, text) stores it
 /// (rank 0 only). Returns on every rank when all ranks are finished; rethrows the first failure on
 /// rank 0.
-void mpiRunJobs(const MpiWorld& world, const std::vector<size_t>& todo, int threads,
+void mpiRunJobs(const MpiWorld& world, const std::vector<size_t>& to_compute, int threads,
                 const std::function<std::string(size_t)>& compute,
                 const std::function<void(size_t, const std::string&)>& done, std::ostream& err);
 
