@@ -28,9 +28,10 @@ namespace predvs {
 struct NoiseFitResult;
 struct FitTrack;
 
-/// Reads a parameter file (format above). Throws std::invalid_argument "FILE: ..." on any defect.
+/// Reads a parameter file (format above; calibration/param_file.h reads it). Throws
+/// std::invalid_argument "FILE: ..." on any defect.
 std::vector<PredictorSpec> readParamsFile(const std::string& path);
-/// The YAML text of a parameter file for `specs`, with `comment` lines first.
+/// The YAML text of a parameter file for `specs`, with `comment` lines first (calibration/param_file.h).
 std::string paramsFileText(const std::vector<PredictorSpec>& specs, const std::vector<std::string>& comment);
 /// Every point's u and v columns of the track as a fit input (channels u_0, v_0, u_1, ...), rows [0, rows).
 FitTrack fitTrackOf(const FeatureTrack& track, size_t rows);
