@@ -1,0 +1,68 @@
+"""predvs.fit_noise on numpy arrays against `predvs fit-noise` (fit.json, params.yaml) on one track."""
+import json
+import math
+import subprocess
+
+import numpy as np
+import pytest
+
+import predvs
+from conftest import read_track
+
+RELATIVE = 1e-12  # the issue's bound (same code on the same doubles: 0 expected)
+
+
+def close(a, b):
+    if a is None or b is None:
+        return a is None and b is None
+    return abs(a - b) <= RELATIVE * max(abs(a), abs(b), 1e-300)
+
+
+@pytest.mark.parametrize("name", ["kf-cv", "fakf"])
+def test_fit_noise_matches_the_command_line(name, cli, track_csv, tmp_path):
+    # GIVEN the command line's fit of `name` on the generated track
+    out = tmp_path / "fit"
+    subprocess.run([cli, "fit-noise", "--input", str(track_csv), "--predictor", name, "--out", str(out)], check=True,
+                   capture_output=True)
+    cpp = json.loads((out / "fit.json").read_text())
+    # WHEN the module fits the same predictor on the same numbers
+    t, z = read_track(track_csv)
+    fit = predvs.fit_noise(name, t, z)
+    # THEN every figure is the same
+    assert fit.predictor == name
+    assert fit.innovations == cpp["innovations"] and fit.iterations == cpp["iterations"]
+    assert fit.termination == cpp["termination"] and fit.covariance_ok == cpp["covariance_ok"]
+    assert close(fit.loglik_before, cpp["loglik_before"]) and close(fit.loglik_after, cpp["loglik_after"])
+    assert [v.key for v in fit.values] == [f["key"] for f in cpp["fitted"]]
+    for v, f in zip(fit.values, cpp["fitted"]):
+        assert close(v.initial, f["start"]) and close(v.value, f["value"]), (v, f)
+        std = None if math.isnan(v.std_log) else v.std_log
+        assert close(std, f["std_log"]), (v, f)
+        if f["ci95"] is not None:
+            assert close(v.lo95, f["ci95"][0]) and close(v.hi95, f["ci95"][1])
+        assert v.at_bound == f["at_bound"]
+    assert fit.params.keys() == cpp["params"].keys()
+    assert all(close(fit.params[k], cpp["params"][k]) for k in fit.params)
+    # and the parameter file it wrote reads back as the module's params (12 significant digits)
+    (entry,) = predvs.read_params(str(out / "params.yaml"))
+    assert entry["name"] == name
+    assert all(abs(entry["params"][k] - fit.params[k]) <= 1e-11 * abs(fit.params[k]) for k in fit.params)
+    # and the fit improved the likelihood it reports, as log_likelihood computes it
+    ll_after, n = predvs.log_likelihood(name, t, z, fit.params)
+    assert n == fit.innovations and close(ll_after, fit.loglik_after) and fit.loglik_after >= fit.loglik_before
+
+
+def test_fit_noise_errors(track_csv):
+    t, z = read_track(track_csv)
+    with pytest.raises(ValueError, match="'hold' has no parameters to fit"):
+        predvs.fit_noise("hold", t, z)
+    with pytest.raises(ValueError, match="unknown predictor 'nope'"):
+        predvs.fit_noise("nope", t, z)
+    with pytest.raises(ValueError, match="z: 3 rows, expected one per time"):
+        predvs.fit_noise("kf-cv", t, z[:3])
+    with pytest.raises(ValueError, match="t: row 1: times must be strictly increasing"):
+        predvs.fit_noise("kf-cv", np.zeros(len(t)), z)
+    with pytest.raises(ValueError, match="unknown parameter 'qq'"):
+        predvs.fit_noise("kf-cv", t, z, params={"qq": 1.0})
+    with pytest.raises(ValueError, match="measured rows"):
+        predvs.fit_noise("kf-cv", t[:20], z[:20])
