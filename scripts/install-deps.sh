@@ -18,6 +18,7 @@ PACKAGES=(
   libceres-dev         # offline noise fitting (predvs fit-noise)
   libopenmpi-dev openmpi-bin  # optional: `mpirun -np K predvs compare` (campaigns over MPI ranks)
   chromium             # headless browser: the report.html test (tests/app/campaign_report_test)
+  pybind11-dev python3-dev python3-numpy python3-pytest  # `import predvs` (python/, docs/PYTHON.md) and its tests
 )
 
 missing=()

@@ -49,6 +49,9 @@ def write_params(path, entries, comment=()):
     folder = _os.path.dirname(_os.path.abspath(path))
     fd, tmp = _tempfile.mkstemp(prefix=".params-", suffix=".yaml", dir=folder)
     try:
+        umask = _os.umask(0)
+        _os.umask(umask)
+        _os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it 0600; a parameter file is not a secret
         with _os.fdopen(fd, "w") as f:
             f.write(text)
         _os.replace(tmp, path)
