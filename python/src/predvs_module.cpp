@@ -27,6 +27,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -190,9 +191,8 @@ class PyPredictor {
     return py::make_tuple(x, P);
   }
 
-  py::tuple predict(double t_s, const py::object& channel) const {
-    if (!channel.is_none()) return predictChannel(t_s, channel.cast<int>());
-    return predictAll(t_s);
+  py::tuple predict(double t_s, std::optional<int> channel) const {
+    return channel ? predictChannel(t_s, *channel) : predictAll(t_s);
   }
 
   py::array_t<double> predictPositions(double t_s) const { return toArray(p_->predictPositions(t_s)); }
