@@ -7,7 +7,7 @@
 import numpy as np
 import predvs
 
-for name, summary in predvs.predictors()[:4]:
+for name, summary in predvs.predictors()[:2]:
     print(f"{name:16s} {summary}")
 print("...", len(predvs.predictors()), "predictors")
 
