@@ -7,11 +7,13 @@
 #    predvs-dev holds the headers, the static libraries and the CMake package;
 #  - the predvs .deb unpacked (dpkg-deb -x) into a temporary root runs the default scenario from
 #    another folder with its data found beside the binary (PREDVS_DATA_DIR unset), and converges:
-#    every predictor settles and kf-cv and cs-akf-adaptive bring the steady rmse 4x below hold.
+#    every predictor settles and kf-cv and cs-akf-adaptive bring the steady rmse 4x below hold;
+#  - with predvs-dev unpacked into the same root, examples/predictor_ahead_of_vpservo builds
+#    against <root>/usr (find_package(predvs)) and runs (tests/install/example_test.sh).
 # The install into a fresh Debian 12 (apt resolving these Depends) is scripts/check-deb-fresh.sh.
-# Usage: deb_test.sh CPACK BUILD_DIR WORK_DIR VERSION
+# Usage: deb_test.sh CPACK CMAKE BUILD_DIR SOURCE_DIR WORK_DIR VERSION [COMPILER_LAUNCHER]
 set -euo pipefail
-cpack_cmd=$1 build=$2 work=$3 version=$4
+cpack_cmd=$1 cmake_cmd=$2 build=$3 src=$4 work=$5 version=$6 launcher=${7:-}
 fail() { echo "deb_test: $*" >&2; exit 1; }
 rm -rf "$work"
 mkdir -p "$work"
@@ -78,4 +80,9 @@ awk '$3 == "null" || $3 == "" {print "deb_test: " $1 " never settled"; bad = 1}
      END {if (!(cv > 0 && cs > 0 && 4 * cv < hold && 4 * cs < hold)) {
             print "deb_test: rmse hold " hold ", kf-cv " cv ", cs-akf-adaptive " cs ": not 4x below hold"; bad = 1}
           exit bad}' figures.txt >&2 || fail "the default scenario did not converge (see above)"
+
+# predvs-dev over predvs: the CMake package, headers and libraries under <root>/usr.
+dpkg-deb -x "$dev" "$work/root"
+bash "$src/tests/install/example_test.sh" "$cmake_cmd" "$work/root/usr" "$src" "$work/example" "$launcher" \
+  > example.txt 2>&1 || { cat example.txt; fail "the example did not build or run against predvs-dev"; }
 echo "deb_test: OK ($deb, $(du -k "$deb" | cut -f1) KiB; $dev)"
