@@ -8,19 +8,23 @@
 #   3. runs `predvs list` and `predvs servo` (with its plots: gnuplot-nox is a Depends) from /root
 #      in the chroot and checks the run converged: every predictor settles and kf-cv and
 #      cs-akf-adaptive bring the steady rmse 4x below hold; the plots exist;
-#   4. prints the time of each step and the number of packages installed.
+#   4. with --dev, also installs predvs-dev (the .deb beside DEB) with cmake and g++, and builds
+#      and runs examples/predictor_ahead_of_vpservo against /usr (find_package(predvs), no
+#      CMAKE_PREFIX_PATH): kf-cv must lower the steady-state image error 4-fold;
+#   5. prints the time of each step and the number of packages installed.
 # /proc is mounted inside the chroot (predvs finds its data through /proc/self/exe) and unmounted
 # on exit, and the folder is removed (unless --keep). Runs as root; needs debootstrap and network.
-# Usage: scripts/check-deb-fresh.sh [DEB] [--keep]     (DEB: default build/predvs_*_<arch>.deb)
+# Usage: scripts/check-deb-fresh.sh [DEB] [--dev] [--keep]   (DEB: default build/predvs_*_<arch>.deb)
 #        PREDVS_DEBIAN_MIRROR=http://... to use another Debian mirror.
 set -euo pipefail
 fail() { echo "check-deb-fresh: $*" >&2; exit 1; }
 
-deb="" keep=0
+deb="" keep=0 with_dev=0
 for a in "$@"; do
   case "$a" in
     --keep) keep=1 ;;
-    -*) fail "unknown option $a (usage: check-deb-fresh.sh [DEB] [--keep])" ;;
+    --dev) with_dev=1 ;;
+    -*) fail "unknown option $a (usage: check-deb-fresh.sh [DEB] [--dev] [--keep])" ;;
     *) deb=$a ;;
   esac
 done
@@ -32,6 +36,9 @@ if [ -z "$deb" ]; then
 fi
 [ -f "$deb" ] || fail "$deb: no such file"
 [ "$(dpkg-deb -f "$deb" Package 2>/dev/null)" = predvs ] || fail "$deb: not the predvs package"
+dev_deb="$(dirname "$deb")/$(basename "$deb" | sed 's/^predvs_/predvs-dev_/')"
+if [ "$with_dev" = 1 ]; then [ -f "$dev_deb" ] || fail "--dev: no $dev_deb beside $deb"; fi
+src=$(cd "$(dirname "$0")/.." && pwd)
 [ "$(id -u)" -eq 0 ] || fail "must run as root (debootstrap, chroot, mount)"
 command -v debootstrap >/dev/null || fail "debootstrap not found (apt-get install debootstrap)"
 mirror=${PREDVS_DEBIAN_MIRROR:-http://deb.debian.org/debian}
@@ -90,8 +97,34 @@ awk '$3 == "null" || $3 == "" {print "check-deb-fresh: " $1 " never settled"; ba
             print "check-deb-fresh: rmse hold " hold ", kf-cv " cv ", cs-akf-adaptive " cs ": not 4x below hold"; bad = 1}
           exit bad}' "$work/figures.txt" >&2 || fail "the default scenario did not converge (see above)"
 
+if [ "$with_dev" = 1 ]; then
+  dev_name=$(basename "$dev_deb")
+  cp "$dev_deb" "$root/tmp/"
+  cp -r "$src/examples/predictor_ahead_of_vpservo" "$root/root/example"
+  echo "check-deb-fresh: apt-get install -y --no-install-recommends ./$dev_name cmake g++ (in the chroot)"
+  in_root sh -c "cd /tmp && apt-get install -y --no-install-recommends ./$dev_name cmake g++" > "$work/apt-dev.log" 2>&1 \
+    || { tail -30 "$work/apt-dev.log"; fail "apt-get install ./$dev_name failed (log above)"; }
+  t4=$(now)
+  dev_count=$(in_root dpkg-query -W -f='${Status}\n' | grep -c 'install ok installed')
+  dev_download=$(grep -E '^Need to get' "$work/apt-dev.log" | tail -1 || true)
+  echo "check-deb-fresh: the example against /usr (cmake, build, run)"
+  in_root sh -c 'cd /root/example && cmake -S . -B build -DCMAKE_BUILD_TYPE=Release && cmake --build build' \
+    > "$work/example.log" 2>&1 || { tail -30 "$work/example.log"; fail "the example did not build against predvs-dev"; }
+  ex=$(in_root /root/example/build/predictor_ahead_of_vpservo kf-cv) || fail "the example exited non-zero"
+  t5=$(now)
+  echo "$ex"
+  without=$(echo "$ex" | sed -n 's/.*without predictor: \([0-9.]*\) px/\1/p')
+  with=$(echo "$ex" | sed -n 's/.*with kf-cv: \([0-9.]*\) px/\1/p')
+  awk -v a="$with" -v b="$without" 'BEGIN { exit !(a > 0 && 4 * a < b) }' \
+    || fail "the example: kf-cv error '$with' px not 4x below '$without' px"
+fi
+
 echo "check-deb-fresh: OK: $name on a fresh Debian 12 ($(. "$root/etc/os-release"; echo "$PRETTY_NAME"), \
 debian_version $(cat "$root/etc/debian_version"))"
 echo "  debootstrap (minbase): $((t1 - t0)) s, $base_count packages"
 echo "  apt-get install ./$name: $((t2 - t1)) s, $((count - base_count)) packages added ($count in all); $download"
 echo "  predvs list + servo with plots: $((t3 - t2)) s"
+if [ "$with_dev" = 1 ]; then
+  echo "  apt-get install ./$dev_name cmake g++: $((t4 - t3)) s, $((dev_count - count)) packages added ($dev_count in all); $dev_download"
+  echo "  the example against /usr (configure, build, run): $((t5 - t4)) s"
+fi

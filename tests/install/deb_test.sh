@@ -8,12 +8,12 @@
 #  - the predvs .deb unpacked (dpkg-deb -x) into a temporary root runs the default scenario from
 #    another folder with its data found beside the binary (PREDVS_DATA_DIR unset), and converges:
 #    every predictor settles and kf-cv and cs-akf-adaptive bring the steady rmse 4x below hold;
-#  - with predvs-dev unpacked into the same root, examples/predictor_ahead_of_vpservo builds
-#    against <root>/usr (find_package(predvs)) and runs (tests/install/example_test.sh).
+#  - with predvs-dev unpacked into the same root, find_package(predvs COMPONENTS calibration)
+#    against <root>/usr gives the four targets, their libraries and <root>/usr/share/predvs.
 # The install into a fresh Debian 12 (apt resolving these Depends) is scripts/check-deb-fresh.sh.
-# Usage: deb_test.sh CPACK CMAKE BUILD_DIR SOURCE_DIR WORK_DIR VERSION [COMPILER_LAUNCHER]
+# Usage: deb_test.sh CPACK CMAKE BUILD_DIR WORK_DIR VERSION
 set -euo pipefail
-cpack_cmd=$1 cmake_cmd=$2 build=$3 src=$4 work=$5 version=$6 launcher=${7:-}
+cpack_cmd=$1 cmake_cmd=$2 build=$3 work=$4 version=$5
 fail() { echo "deb_test: $*" >&2; exit 1; }
 rm -rf "$work"
 mkdir -p "$work"
@@ -81,8 +81,28 @@ awk '$3 == "null" || $3 == "" {print "deb_test: " $1 " never settled"; bad = 1}
             print "deb_test: rmse hold " hold ", kf-cv " cv ", cs-akf-adaptive " cs ": not 4x below hold"; bad = 1}
           exit bad}' figures.txt >&2 || fail "the default scenario did not converge (see above)"
 
-# predvs-dev over predvs: the CMake package, headers and libraries under <root>/usr.
+# predvs-dev over predvs: the CMake package under <root>/usr resolves (configure only: the same
+# files, installed by the same rules, are compiled and linked against by example_against_install
+# and install_prefix; scripts/check-deb-fresh.sh --dev builds the example against /usr).
 dpkg-deb -x "$dev" "$work/root"
-bash "$src/tests/install/example_test.sh" "$cmake_cmd" "$work/root/usr" "$src" "$work/example" "$launcher" \
-  > example.txt 2>&1 || { cat example.txt; fail "the example did not build or run against predvs-dev"; }
+mkdir -p "$work/user"
+cat > "$work/user/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.16)
+project(predvs_dev_user LANGUAGES CXX)
+find_package(predvs REQUIRED COMPONENTS calibration)
+foreach(t predictors tasks servo calibration)
+  if(NOT TARGET predvs::${t})
+    message(FATAL_ERROR "predvs::${t} missing")
+  endif()
+  get_target_property(loc predvs::${t} IMPORTED_LOCATION_RELEASE)
+  if(NOT EXISTS "${loc}")
+    message(FATAL_ERROR "predvs::${t}: ${loc} missing")
+  endif()
+endforeach()
+message(STATUS "PREDVS_DATA_DIR=${PREDVS_DATA_DIR}")
+CMAKE
+"$cmake_cmd" -S "$work/user" -B "$work/user/build" -DCMAKE_PREFIX_PATH="$work/root/usr" > dev.txt 2>&1 \
+  || { cat dev.txt; fail "find_package(predvs COMPONENTS calibration) failed on the unpacked predvs-dev"; }
+grep -q "PREDVS_DATA_DIR=$work/root/usr/share/predvs$" dev.txt \
+  || fail "predvs-dev's PREDVS_DATA_DIR is not $work/root/usr/share/predvs: $(grep PREDVS_DATA_DIR dev.txt)"
 echo "deb_test: OK ($deb, $(du -k "$deb" | cut -f1) KiB; $dev)"
