@@ -2,9 +2,10 @@
 # predvs::tasks, predvs::servo; find_package(predvs COMPONENTS calibration) adds
 # predvs::calibration, which also finds OpenCV and Ceres). Two install components, which the
 # Debian packages of cmake/PredvsPackage.cmake follow: `runtime` (bin/predvs, share/predvs/) and
-# `dev` (headers, static libraries, the CMake package). Data is found at run time (servo/include/predvs/servo/data_dir.h):
-# installed binaries look in <prefix>/bin/../share/predvs; the build tree mimics that layout with a
-# link <build>/share/predvs -> <source>/data, so nothing of the source tree is compiled in.
+# `dev` (headers, static libraries, the CMake package). Data is found at run time
+# (servo/include/predvs/servo/data_dir.h): installed binaries look in <prefix>/bin/../share/predvs;
+# the build tree mimics that layout with a link <build>/share/predvs -> <source>/data, so nothing
+# of the source tree is compiled in.
 include(CMakePackageConfigHelpers)
 
 file(MAKE_DIRECTORY ${PROJECT_BINARY_DIR}/share)

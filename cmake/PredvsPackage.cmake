@@ -3,10 +3,12 @@
 #                                           (scenarios/, textures/, params/)
 #   build/predvs-dev_<version>_<arch>.deb   component `dev`: /usr/include/predvs/, the static
 #                                           libraries and the CMake package (/usr/lib/, /usr/lib/cmake/predvs/)
-# Why two packages: the CLI needs only the shared libraries of ViSP, OpenCV, yaml-cpp, Ceres and
-# (if found at build time) Open MPI, while find_package(predvs) needs ViSP's and Eigen's -dev
-# packages, several hundred MB more. A user of the CLI installs predvs alone; predvs-dev depends
-# on the predvs of the same version (the CMake package's PREDVS_DATA_DIR is /usr/share/predvs).
+# Why two packages: the CLI needs only shared libraries (ViSP, OpenCV, yaml-cpp, those of the
+# static Ceres: glog, SuiteSparse, LAPACK/BLAS, and Open MPI if found at build time), while
+# find_package(predvs) needs ViSP's and Eigen's -dev packages and a compiler, much more to
+# download (docs/PERFORMANCE.md, "The Debian package on a fresh Debian 12"). A user of the CLI
+# installs predvs alone; predvs-dev depends on the predvs of the same version (the CMake package's
+# PREDVS_DATA_DIR is /usr/share/predvs).
 # Dependencies:
 #   predvs      the shared libraries the binary links, computed by dpkg-shlibdeps at packaging time
 #               (CPACK_DEBIAN_PACKAGE_SHLIBDEPS; needs dpkg-dev, which build-essential brings, and
