@@ -1,8 +1,9 @@
 # Debian packages of predvs (CPack DEB): `make deb`, or `cd build && cpack -G DEB`, writes
-#   build/predvs_<version>_<arch>.deb       component `runtime`: /usr/bin/predvs and /usr/share/predvs/
-#                                           (scenarios/, textures/, params/)
-#   build/predvs-dev_<version>_<arch>.deb   component `dev`: /usr/include/predvs/, the static
-#                                           libraries and the CMake package (/usr/lib/, /usr/lib/cmake/predvs/)
+#   build/predvs_<version>_<arch>.deb      component `runtime`: /usr/bin/predvs and
+#                                          /usr/share/predvs/ (scenarios/, textures/, params/)
+#   build/predvs-dev_<version>_<arch>.deb  component `dev`: /usr/include/predvs/, the static
+#                                          libraries (/usr/lib/) and the CMake package
+#                                          (/usr/lib/cmake/predvs/)
 # Why two packages: the CLI needs only shared libraries (ViSP, OpenCV, yaml-cpp, those of the
 # static Ceres: glog, SuiteSparse, LAPACK/BLAS, and Open MPI if found at build time), while
 # find_package(predvs) needs ViSP's and Eigen's -dev packages and a compiler, much more to

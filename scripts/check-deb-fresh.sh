@@ -8,9 +8,9 @@
 #   3. runs `predvs list` and `predvs servo` (with its plots: gnuplot-nox is a Depends) from /root
 #      in the chroot and checks the run converged: every predictor settles and kf-cv and
 #      cs-akf-adaptive bring the steady rmse 4x below hold; the plots exist;
-#   4. with --dev, also installs predvs-dev (the .deb beside DEB) with cmake and g++, and builds
-#      and runs examples/predictor_ahead_of_vpservo against /usr (find_package(predvs), no
-#      CMAKE_PREFIX_PATH): kf-cv must lower the steady-state image error 4-fold;
+#   4. with --dev, also installs predvs-dev (the .deb beside DEB) with cmake, make and g++, and
+#      builds and runs examples/predictor_ahead_of_vpservo against /usr (find_package(predvs),
+#      no CMAKE_PREFIX_PATH): kf-cv must lower the steady-state image error 4-fold;
 #   5. prints the time of each step and the number of packages installed.
 # /proc is mounted inside the chroot (predvs finds its data through /proc/self/exe) and unmounted
 # on exit, and the folder is removed (unless --keep). Runs as root; needs debootstrap and network.
@@ -101,8 +101,8 @@ if [ "$with_dev" = 1 ]; then
   dev_name=$(basename "$dev_deb")
   cp "$dev_deb" "$root/tmp/"
   cp -r "$src/examples/predictor_ahead_of_vpservo" "$root/root/example"
-  echo "check-deb-fresh: apt-get install -y --no-install-recommends ./$dev_name cmake g++ (in the chroot)"
-  in_root sh -c "cd /tmp && apt-get install -y --no-install-recommends ./$dev_name cmake g++" > "$work/apt-dev.log" 2>&1 \
+  echo "check-deb-fresh: apt-get install -y --no-install-recommends ./$dev_name cmake make g++ (in the chroot)"
+  in_root sh -c "cd /tmp && apt-get install -y --no-install-recommends ./$dev_name cmake make g++" > "$work/apt-dev.log" 2>&1 \
     || { tail -30 "$work/apt-dev.log"; fail "apt-get install ./$dev_name failed (log above)"; }
   t4=$(now)
   dev_count=$(in_root dpkg-query -W -f='${Status}\n' | grep -c 'install ok installed')
@@ -125,6 +125,6 @@ echo "  debootstrap (minbase): $((t1 - t0)) s, $base_count packages"
 echo "  apt-get install ./$name: $((t2 - t1)) s, $((count - base_count)) packages added ($count in all); $download"
 echo "  predvs list + servo with plots: $((t3 - t2)) s"
 if [ "$with_dev" = 1 ]; then
-  echo "  apt-get install ./$dev_name cmake g++: $((t4 - t3)) s, $((dev_count - count)) packages added ($dev_count in all); $dev_download"
+  echo "  apt-get install ./$dev_name cmake make g++: $((t4 - t3)) s, $((dev_count - count)) packages added ($dev_count in all); $dev_download"
   echo "  the example against /usr (configure, build, run): $((t5 - t4)) s"
 fi
