@@ -74,7 +74,7 @@ reproduce: build
 # Debian packages of the build (cmake/PredvsPackage.cmake): $(BUILD_DIR)/predvs_<version>_<arch>.deb
 # (the CLI and its data) and predvs-dev_<version>_<arch>.deb (headers, static libraries, CMake
 # package). deb-check installs the first into a fresh debootstrapped Debian 12 and runs it there
-# (root, network; several minutes: docs/PERFORMANCE.md "The Debian package on a fresh Debian 12").
+# (root, network; about 6 minutes: docs/PERFORMANCE.md "The Debian package on a fresh Debian 12").
 deb: build
 	cd $(BUILD_DIR) && cpack -G DEB
 
