@@ -4,7 +4,7 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc)
 PREDVS := $(BUILD_DIR)/app/predvs
 
-.PHONY: deps configure build run test bench golden reproduce clean
+.PHONY: deps configure build run test bench golden reproduce deb deb-check clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -70,6 +70,16 @@ reproduce: build
 	$(PREDVS) compare --scenarios e12-discontinuity-2ms,e12-smooth --predictors st-akf-pm --sweep predictors.st-akf-pm.params.pm_band=3,4,5,6 --out out/reproduction/paper004-band
 	@mkdir -p out/reproduction
 	$(BUILD_DIR)/tests/predictors_tests --gtest_filter='Stkf.OcclusionPredictsOnlyThenReinitialisesWhenPExceedsThreshold' | tee out/reproduction/paper001-e7-reinit.txt
+
+# Debian packages of the build (cmake/PredvsPackage.cmake): $(BUILD_DIR)/predvs_<version>_<arch>.deb
+# (the CLI and its data) and predvs-dev_<version>_<arch>.deb (headers, static libraries, CMake
+# package). deb-check installs the first into a fresh debootstrapped Debian 12 and runs it there
+# (root, network; about 6 minutes: docs/PERFORMANCE.md "The Debian package on a fresh Debian 12").
+deb: build
+	cd $(BUILD_DIR) && cpack -G DEB
+
+deb-check: deb
+	bash scripts/check-deb-fresh.sh $(BUILD_DIR)/predvs_*_$$(dpkg --print-architecture).deb
 
 clean:
 	rm -rf $(BUILD_DIR) out

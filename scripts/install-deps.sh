@@ -4,7 +4,8 @@
 set -euo pipefail
 
 PACKAGES=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config   # build-essential brings dpkg-dev (dpkg-shlibdeps: make deb)
+  file                 # make deb: CPack finds the ELF files to give dpkg-shlibdeps
   libeigen3-dev
   libvisp-dev          # ViSP 3.5: vpServo, vpSimulatorCamera, vpLinearKalmanFilterInstantiation
   libopencv-dev        # cv::KalmanFilter (benchmark baseline); also pulled in by ViSP

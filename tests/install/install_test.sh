@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # CTest install_prefix: `cmake --install` into a fresh prefix, then the installed predvs runs from
 # another folder with its data found beside itself (PREDVS_DATA_DIR unset), through
-# PREDVS_DATA_DIR pointing elsewhere, and fails naming PREDVS_DATA_DIR when that is not a folder.
+# PREDVS_DATA_DIR pointing elsewhere, and fails naming PREDVS_DATA_DIR when that is not a folder;
+# a small project links predvs::calibration (find_package(predvs COMPONENTS calibration)).
 # Usage: install_test.sh CMAKE BUILD_DIR PREFIX SOURCE_DIR
 set -euo pipefail
 cmake_cmd=$1 build=$2 prefix=$3 src=$4
@@ -41,4 +42,30 @@ PREDVS_DATA_DIR="$work/alt" "$predvs" servo --scenario only-in-alt --no-plots --
   || fail "predvs servo --scenario only-in-alt with PREDVS_DATA_DIR failed"
 if PREDVS_DATA_DIR="$work/missing" "$predvs" list > bad.txt 2>&1; then fail "PREDVS_DATA_DIR=missing accepted"; fi
 grep -q "PREDVS_DATA_DIR=$work/missing" bad.txt || fail "error does not name PREDVS_DATA_DIR: $(cat bad.txt)"
+
+# predvs::calibration from the installed package (OpenCV and Ceres found by predvsConfig.cmake).
+mkdir calib
+cat > calib/CMakeLists.txt <<'CMAKE'
+cmake_minimum_required(VERSION 3.16)
+project(calib_user LANGUAGES CXX)
+set(CMAKE_CXX_STANDARD 17)
+find_package(predvs REQUIRED COMPONENTS calibration)
+add_executable(calib_user main.cpp)
+target_link_libraries(calib_user PRIVATE predvs::calibration)
+CMAKE
+cat > calib/main.cpp <<'CPP'
+#include <predvs/calibration/calibrated_camera.h>
+#include <iostream>
+int main() {
+  predvs::CalibratedCamera c;
+  c.width_px = 640; c.height_px = 480; c.fx_px = c.fy_px = 800; c.cx_px = 320; c.cy_px = 240;
+  c.distortion[0] = -0.2;
+  std::cout << predvs::inverseRadialTerm(c) << "\n";
+}
+CPP
+{ "$cmake_cmd" -S calib -B calib/build -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release \
+  && "$cmake_cmd" --build calib/build; } > calib.log 2>&1 || { cat calib.log; fail "a project using predvs::calibration did not build"; }
+kdu=$(calib/build/calib_user) || fail "the predvs::calibration user exited non-zero"
+# kdu inverts kud = k1 = -0.2 to first order: about +0.2.
+awk -v k="$kdu" 'BEGIN { exit !(k > 0.1 && k < 0.4) }' || fail "inverseRadialTerm(k1 = -0.2) = $kdu, expected about +0.2"
 echo "install_test: OK ($prefix)"
