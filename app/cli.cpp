@@ -616,15 +616,15 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->type_name("FILE");
 
   FitNoiseArgs fna;
-  CLI::App* fit_noise = app.add_subcommand("fit-noise", "Fit a predictor's noise parameters on a track (Ceres, innovation likelihood)");
+  CLI::App* fit_noise = app.add_subcommand("fit-noise", "Fit a predictor's noise parameters on a track (Ceres: innovation likelihood or h-step prediction error)");
   fit_noise->footer("--objective likelihood (default): maximises the innovation log-likelihood -1/2 sum(log(2 pi S) + eps^2/S) of the predictor over the "
                     "track (rows after --burn-in) over its noise parameters on a log scale within bounds (L-BFGS, "
                     "numeric derivatives); the uncertainty is the inverse Fisher information (ceres::Covariance). "
                     "--objective prediction: minimises the mean squared error of the prediction --horizon-frames ahead of every row "
                     "against the track's measurement interpolated at that time (bounded Levenberg-Marquardt); the uncertainty is "
-                    "the Gauss-Newton covariance of that least-squares problem scaled by the residual variance. "
-                    "Fitted keys: kf-cv, kf-ca, st-akf, fakf-classic: q, r; cs-akf: alpha, a_max, a_neg_max, r; "
-                    "cs-akf-adaptive: alpha, sigma_min_sq, sigma_max_sq, r; fakf: alpha, sigma_min_sq, r; stkf: r, "
+                    "the Gauss-Newton covariance of that least-squares problem scaled by the residual variance; r is held at its start value (h-step errors depend on q/r only). "
+                    "Fitted keys: kf-cv, kf-ca, st-akf, st-akf-pm, fakf-classic: q, r; cs-akf: alpha, a_max, a_neg_max, r; "
+                    "cs-akf-adaptive, fakf: alpha, sigma_min_sq, sigma_max_sq, r; stkf: r, "
                     "q_pos, q_vel; imm: q_cv, q_ca, r. Writes DIR/params.yaml (use with predict/servo/compare "
                     "--params) and DIR/fit.json.\n"
                     "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
