@@ -291,6 +291,29 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
             << "\n";
         out.unsetf(std::ios::fixed);
       }
+      // The same count per kind, for the adaptive predictors and the fixed KFs themselves: which
+      // model family wins where.
+      if (kinds.size() > 1) {
+        out << "within 10 % of that best, per kind:\n" << std::left << std::setw(static_cast<int>(w)) << "predictor"
+            << std::right;
+        for (ManeuverKind kind : kinds) out << std::setw(9) << maneuverKindName(kind);
+        out << "\n";
+        std::vector<std::string> listed = adaptive;
+        listed.insert(listed.end(), present_fixed.begin(), present_fixed.end());
+        for (const auto& name : listed) {
+          out << std::left << std::setw(static_cast<int>(w)) << name << std::right;
+          for (ManeuverKind kind : kinds) {
+            int within = 0, total = 0;
+            for (const auto& r : rows) {
+              if (r.predictor != name || r.kind != maneuverKindName(kind)) continue;
+              ++total;
+              within += r.score.rmse_truth_px / best[trackKey(r)] <= 1.1 ? 1 : 0;
+            }
+            out << std::setw(9) << (std::to_string(within) + "/" + std::to_string(total));
+          }
+          out << "\n";
+        }
+      }
     }
   }
   if (a.fit)
