@@ -130,6 +130,7 @@ struct PredictArgs {
   std::string params_file;  ///< --params FILE (fit_command.h)
   bool fit = false;         ///< --fit
   std::string fit_split;    ///< --fit-split F
+  std::string fit_objective;  ///< --fit-objective likelihood|prediction (default prediction at the horizon)
 };
 
 /// Sets the params of a parameter file on the specs of the same name (--params FILE).
@@ -227,6 +228,16 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
     if (!(fit_split > 0.0 && fit_split < 1.0))
       throw std::invalid_argument("--fit-split: expected a fraction in (0, 1), got '" + a.fit_split + "'");
   }
+  NoiseFitOptions fit_options;
+  fit_options.objective = FitObjective::Prediction;
+  if (!a.fit_objective.empty()) {
+    if (!a.fit) throw std::invalid_argument("--fit-objective: needs --fit");
+    try {
+      fit_options.objective = parseFitObjective(a.fit_objective);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--fit-objective: ") + e.what());
+    }
+  }
   if (!a.no_plots) requireGnuplot();
 
   const FeatureTrack track = readFeatureTrack(a.input);
@@ -243,7 +254,8 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
     for (auto& s : specs) {
       if (s.name == "hold") continue;
       try {
-        const NoiseFitResult fit = fitNoise(s.name, s.params, fitTrackOf(track, fit_rows));
+        fit_options.horizon_s = horizon_s;  // the score is what is fitted
+        const NoiseFitResult fit = fitNoise(s.name, s.params, fitTrackOf(track, fit_rows), fit_options);
         s.params = fit.params;
         printFit(fit, fit_log);
       } catch (const std::invalid_argument& e) {
@@ -414,6 +426,11 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   predict->add_option("--fit-split", pa.fit_split,
                       "with --fit: fit on the first fraction F of the rows, score only the rest")
       ->type_name("F");
+  predict->add_option("--fit-objective", pa.fit_objective,
+                      "with --fit: 'prediction' (default: minimise the squared error of the prediction at the "
+                      "command's horizon against the later measurements, the score itself) or 'likelihood' "
+                      "(maximise the innovation log-likelihood, as fit-noise by default)")
+      ->type_name("OBJ");
 
   TrackArgs ta;
   CLI::App* track = app.add_subcommand("track", "Track points through an image sequence or video and score the predictors on them");
@@ -599,12 +616,15 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->type_name("FILE");
 
   FitNoiseArgs fna;
-  CLI::App* fit_noise = app.add_subcommand("fit-noise", "Fit a predictor's noise parameters on a track (Ceres, innovation likelihood)");
-  fit_noise->footer("Maximises the innovation log-likelihood -1/2 sum(log(2 pi S) + eps^2/S) of the predictor over the "
+  CLI::App* fit_noise = app.add_subcommand("fit-noise", "Fit a predictor's noise parameters on a track (Ceres: innovation likelihood or h-step prediction error)");
+  fit_noise->footer("--objective likelihood (default): maximises the innovation log-likelihood -1/2 sum(log(2 pi S) + eps^2/S) of the predictor over the "
                     "track (rows after --burn-in) over its noise parameters on a log scale within bounds (L-BFGS, "
                     "numeric derivatives); the uncertainty is the inverse Fisher information (ceres::Covariance). "
-                    "Fitted keys: kf-cv, kf-ca, st-akf, fakf-classic: q, r; cs-akf: alpha, a_max, a_neg_max, r; "
-                    "cs-akf-adaptive: alpha, sigma_min_sq, sigma_max_sq, r; fakf: alpha, sigma_min_sq, r; stkf: r, "
+                    "--objective prediction: minimises the mean squared error of the prediction --horizon-frames ahead of every row "
+                    "against the track's measurement interpolated at that time (bounded Levenberg-Marquardt); the uncertainty is "
+                    "the Gauss-Newton covariance of that least-squares problem scaled by the residual variance; r is held at its start value (h-step errors depend on q/r only). "
+                    "Fitted keys: kf-cv, kf-ca, st-akf, st-akf-pm, fakf-classic: q, r; cs-akf: alpha, a_max, a_neg_max, r; "
+                    "cs-akf-adaptive, fakf: alpha, sigma_min_sq, sigma_max_sq, r; stkf: r, "
                     "q_pos, q_vel; imm: q_cv, q_ca, r. Writes DIR/params.yaml (use with predict/servo/compare "
                     "--params) and DIR/fit.json.\n"
                     "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
@@ -612,7 +632,20 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   fit_noise->add_option("--predictor", fna.predictor, "predictor to fit")->required()->type_name("NAME");
   fit_noise->add_option("--param", fna.params, "fixed value, or start value of a fitted key (repeatable)")->type_name("KEY=VALUE");
   fit_noise->add_option("--params", fna.params_file, "parameter file whose entry for NAME gives fixed / start values")->type_name("FILE");
-  fit_noise->add_option("--burn-in", fna.burn_in, "rows left out of the likelihood at the start")->capture_default_str()->type_name("N");
+  fit_noise->add_option("--burn-in", fna.burn_in, "rows left out of the objective at the start")->capture_default_str()->type_name("N");
+  fit_noise->add_option("--objective", fna.objective,
+                        "likelihood (innovation log-likelihood) or prediction (squared h-step prediction error "
+                        "against the track's later measurements)")
+      ->capture_default_str()
+      ->type_name("OBJ");
+  fit_noise->add_option("--horizon-frames", fna.horizon_frames,
+                        "h of the prediction objective (and of the RMSE printed) in frames: N x the median frame period")
+      ->capture_default_str()
+      ->type_name("N");
+  fit_noise->add_option("--starts", fna.starts,
+                        "starting points: the start values, then the process-noise keys moved by 10^+-2, 10^+-1, ...; the best fit is kept")
+      ->capture_default_str()
+      ->type_name("N");
   fit_noise->add_option("--out", fna.out, "output directory (replaced only when the fit succeeds)")->required()->type_name("DIR");
 
   // Generated maneuvering tracks (app/track_commands.h).
@@ -633,7 +666,10 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   CLI::App* track_study = app.add_subcommand("track-study", "Every predictor against hold on a grid of generated maneuvering tracks");
   track_study->footer("For each kind x rate x noise x seed, generates a track (make-track), predicts --delay-frames ahead "
                       "as `predvs predict` does and scores against the truth. Prints per predictor how many tracks it "
-                      "beats hold on, and the mean / worst RMSE ratio to hold. --out DIR writes DIR/study.csv.");
+                      "beats hold on, and the mean / worst RMSE ratio to hold; and, when kf-cv, kf-ca or cs-akf run, "
+                      "per adaptive predictor on how many tracks it is within 10 % of the best of them (with --fit: "
+                      "all fitted, by default on the h-step prediction error at --delay-frames, the score itself). "
+                      "--out DIR writes DIR/study.csv.");
   track_study->add_option("--kinds", ts_kinds, "comma list of kinds or 'all'")->capture_default_str()->type_name("A,B|all");
   track_study->add_option("--rates", ts_rates, "comma list of frame rates, Hz")->capture_default_str()->type_name("HZ,...");
   track_study->add_option("--noise", ts_noise, "comma list of noise std, px")->capture_default_str()->type_name("PX,...");
@@ -646,6 +682,17 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   track_study->add_option("--param", tsa.params, "parameter of one predictor (repeatable)")->type_name("PREDICTOR.KEY=VALUE");
   track_study->add_flag("--fit", tsa.fit, "fit each predictor's noise on the first part of each track (fit-noise), score on the rest");
   track_study->add_option("--fit-split", tsa.fit_split, "fraction of each track used for fitting with --fit")->capture_default_str()->type_name("F");
+  track_study->add_option("--fit-objective", tsa.fit_objective,
+                          "with --fit: prediction (squared error of the --delay-frames prediction against the later "
+                          "measurements of the fit part: the score is what is fitted) or likelihood (innovation log-likelihood)")
+      ->capture_default_str()
+      ->type_name("OBJ");
+  track_study->add_option("--fit-starts", tsa.fit_starts, "with --fit: starting points per fit (fit-noise --starts)")
+      ->capture_default_str()
+      ->type_name("N");
+  track_study->add_option("--jobs", tsa.jobs, "tracks computed in parallel (threads); results do not depend on it")
+      ->capture_default_str()
+      ->type_name("N");
   track_study->add_option("--out", tsa.out, "optional output directory for study.csv")->type_name("DIR");
 
   CLI::App* calibrate = app.add_subcommand("calibrate", "Calibrate a camera from pattern images, or the vision delay from a servo log");

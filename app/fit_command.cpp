@@ -1,6 +1,7 @@
 #include "fit_command.h"
 
 #include "output_dir.h"
+#include "track_csv.h"
 
 #include "predvs/calibration/noise_fit.h"
 #include "predvs/calibration/param_file.h"
@@ -48,7 +49,9 @@ void printFit(const NoiseFitResult& fit, std::ostream& out) {
       << "fitted" << std::setw(30) << "95% interval" << "\n";
   for (const auto& v : fit.values) {
     std::ostringstream iv;
-    if (std::isfinite(v.std_log))
+    if (v.held)
+      iv << "(held: start value)";
+    else if (std::isfinite(v.std_log))
       iv << "[" << std::setprecision(4) << v.lo95 << ", " << v.hi95 << "]";
     else
       iv << "(no covariance)";
@@ -58,7 +61,13 @@ void printFit(const NoiseFitResult& fit, std::ostream& out) {
   }
   out << "  log-likelihood " << std::fixed << std::setprecision(2) << fit.loglik_before << " -> " << fit.loglik_after
       << " (per innovation " << std::setprecision(4) << fit.loglik_before / std::max(1, fit.innovations) << " -> "
-      << fit.loglik_after / std::max(1, fit.innovations) << ")\n";
+      << fit.loglik_after / std::max(1, fit.innovations) << ")"
+      << (fit.objective == FitObjective::Likelihood ? "  [maximised]" : "") << "\n";
+  out << "  h-step RMSE vs later measurements (h = " << std::setprecision(4) << fit.horizon_s << " s) "
+      << fit.rmse_before_px << " -> " << fit.rmse_after_px << " px"
+      << (fit.objective == FitObjective::Prediction ? "  [minimised]" : "");
+  if (fit.starts > 1) out << "; " << fit.starts << " starts, kept #" << fit.best_start;
+  out << "\n";
   out.unsetf(std::ios::fixed);
 }
 
@@ -89,9 +98,19 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
     throw std::invalid_argument(std::string("--param: ") + e.what());
   }
   if (a.burn_in < 0) throw std::invalid_argument("--burn-in: expected an integer >= 0");
-  const FeatureTrack track = readFeatureTrack(a.input);
   NoiseFitOptions opt;
+  try {
+    opt.objective = parseFitObjective(a.objective);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--objective: ") + e.what());
+  }
+  if (a.horizon_frames < 0) throw std::invalid_argument("--horizon-frames: expected an integer >= 0");
+  if (a.starts < 1 || a.starts > 50) throw std::invalid_argument("--starts: expected an integer in [1, 50]");
+  const FeatureTrack track = readFeatureTrack(a.input);
+  if (track.size() < 2) throw std::invalid_argument(a.input + ": need at least two data rows to measure the frame period");
   opt.burn_in_frames = a.burn_in;
+  opt.horizon_s = a.horizon_frames * medianPeriod(track.t_s);
+  opt.starts = a.starts;
   NoiseFitResult fit;
   try {
     fit = fitNoise(a.predictor, base, fitTrackOf(track, track.size()), opt);
@@ -102,10 +121,14 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
   StagedOutputDir dir(a.out);
   std::ostringstream ll;
   ll << std::fixed << std::setprecision(2) << fit.loglik_before << " -> " << fit.loglik_after;
+  std::ostringstream rm;
+  rm << std::fixed << std::setprecision(4) << fit.rmse_before_px << " -> " << fit.rmse_after_px;
   const std::string yaml = paramsFileText(
       {{a.predictor, fit.params}},
       {"predvs fit-noise: " + a.predictor + " fitted on " + a.input + " (" + std::to_string(track.size()) + " rows)",
-       "innovation log-likelihood " + ll.str() + " over " + std::to_string(fit.innovations) + " innovations",
+       "objective: " + fitObjectiveName(fit.objective) + "; innovation log-likelihood " + ll.str() + " over " +
+           std::to_string(fit.innovations) + " innovations; " + std::to_string(a.horizon_frames) +
+           "-frame RMSE " + rm.str() + " px",
        "command: " + a.command_line});
   {
     std::ofstream f(dir.file("params.yaml"));
@@ -116,7 +139,17 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
   j["command"] = a.command_line;
   j["input"] = a.input;
   j["predictor"] = a.predictor;
-  j["objective"] = "innovation log-likelihood -1/2 sum(log(2 pi S) + eps^2/S), rows >= burn_in";
+  j["objective"] = fit.objective == FitObjective::Prediction
+                       ? "h-step prediction error 1/2 sum (p(t_k + h) - z(t_k + h))^2, z interpolated, rows >= burn_in"
+                       : "innovation log-likelihood -1/2 sum(log(2 pi S) + eps^2/S), rows >= burn_in";
+  j["objective_name"] = fitObjectiveName(fit.objective);
+  j["horizon_frames"] = a.horizon_frames;
+  j["horizon_s"] = fit.horizon_s;
+  j["residuals"] = fit.residuals;
+  j["rmse_before_px"] = fit.rmse_before_px;
+  j["rmse_after_px"] = fit.rmse_after_px;
+  j["starts"] = fit.starts;
+  j["best_start"] = fit.best_start;
   j["burn_in_frames"] = a.burn_in;
   j["innovations"] = fit.innovations;
   j["loglik_before"] = fit.loglik_before;
@@ -131,7 +164,8 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
                            {"value", v.value},
                            {"std_log", std::isfinite(v.std_log) ? nlohmann::json(v.std_log) : nlohmann::json(nullptr)},
                            {"ci95", std::isfinite(v.std_log) ? nlohmann::json({v.lo95, v.hi95}) : nlohmann::json(nullptr)},
-                           {"at_bound", v.at_bound}});
+                           {"at_bound", v.at_bound},
+                           {"held", v.held}});
   j["params"] = nlohmann::json::object();
   for (const auto& kv : fit.params.values()) j["params"][kv.first] = kv.second;
   {

@@ -11,10 +11,13 @@
 // `--set predictors.NAME.params.KEY=VALUE` (so a predictor the scenario lacks is added).
 //
 // fit-noise: reads a track (predict's CSV), fits the predictor's noise parameters with
-// calibration/noise_fit.h (innovation log-likelihood, log-scale bounded parameters, L-BFGS with
-// numeric derivatives, uncertainty from ceres::Covariance), writes DIR/params.yaml and
-// DIR/fit.json, and prints each fitted value with its 95 % interval and the log-likelihood before
-// and after.
+// calibration/noise_fit.h (--objective likelihood, the default: innovation log-likelihood, L-BFGS;
+// --objective prediction: mean squared h-step prediction error against the track's own
+// measurements interpolated at t + h, h = --horizon-frames x the median frame period, bounded
+// Levenberg-Marquardt; log-scale bounded parameters, numeric derivatives, uncertainty from
+// ceres::Covariance), writes DIR/params.yaml and DIR/fit.json, and prints each fitted value with
+// its 95 % interval, the log-likelihood and the h-step RMSE before and after. --starts N runs the
+// fit from N starting points and keeps the best.
 #pragma once
 
 #include "predict_command.h"
@@ -44,6 +47,9 @@ struct FitNoiseArgs {
   std::vector<std::string> params;  ///< KEY=VALUE fixed or start values
   std::string params_file;
   int burn_in = 10;
+  std::string objective = "likelihood";  ///< --objective likelihood | prediction
+  int horizon_frames = 2;                ///< --horizon-frames N: h = N x median frame period
+  int starts = 1;                        ///< --starts N
   std::string out;
   std::string command_line;
 };

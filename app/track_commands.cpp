@@ -1,5 +1,6 @@
 #include "track_commands.h"
 
+#include "parallel_runs.h"
 #include "report.h"
 
 #include "output_dir.h"
@@ -71,7 +72,7 @@ int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
   return 0;
 }
 
-int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& /*err*/) {
+int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err) {
   std::vector<ManeuverKind> kinds;
   if (a.kinds.empty() || (a.kinds.size() == 1 && a.kinds[0] == "all"))
     kinds = maneuverKinds();
@@ -114,6 +115,16 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& /*er
   if (a.fit && !(a.fit_split > 0.0 && a.fit_split < 1.0))
     throw std::invalid_argument("--fit-split: expected a fraction in (0, 1)");
 
+  NoiseFitOptions fit_options;
+  try {
+    fit_options.objective = parseFitObjective(a.fit_objective);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--fit-objective: ") + e.what());
+  }
+  if (a.fit_starts < 1 || a.fit_starts > 50) throw std::invalid_argument("--fit-starts: expected an integer in [1, 50]");
+  if (a.jobs < 1 || a.jobs > 256) throw std::invalid_argument("--jobs: expected an integer in [1, 256]");
+  fit_options.starts = a.fit_starts;
+
   struct Row {
     std::string kind;
     double rate_hz, noise_px;
@@ -122,7 +133,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& /*er
     TrackScore score;
     double ratio;
   };
-  std::vector<Row> rows;
+  std::vector<ManeuverTrackConfig> configs;
   for (ManeuverKind kind : kinds)
     for (double rate : a.rates_hz)
       for (double noise : a.noises_px)
@@ -134,23 +145,43 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& /*er
           c.duration_s = a.duration_s;
           c.drop_prob = a.drop_prob;
           c.seed = static_cast<std::uint64_t>(a.seed + s);
-          const ManeuverTrack track = generateManeuverTrack(c);
-          const double horizon = a.delay_frames / rate;
-          double hold_rmse = std::numeric_limits<double>::quiet_NaN();
-          const size_t split = a.fit ? static_cast<size_t>(a.fit_split * static_cast<double>(track.size())) : 0;
-          FitTrack head;
-          head.t_s.assign(track.t_s.begin(), track.t_s.begin() + static_cast<long>(split));
-          head.channels = {std::vector<double>(track.u_px.begin(), track.u_px.begin() + static_cast<long>(split)),
-                           std::vector<double>(track.v_px.begin(), track.v_px.begin() + static_cast<long>(split))};
-          for (const auto& name : names) {
-            Params params = fixed.count(name) ? fixed.at(name) : Params{};
-            if (a.fit && name != "hold") params = fitNoise(name, params, head).params;
-            auto p = makePredictor(name, 2, params);
-            const TrackScore sc = scoreOnTrack(track, *p, horizon, split);
-            if (name == "hold") hold_rmse = sc.rmse_truth_px;
-            rows.push_back({maneuverKindName(kind), rate, noise, a.seed + s, name, sc, sc.rmse_truth_px / hold_rmse});
-          }
+          configs.push_back(c);
         }
+  // One track per work item; the rows of track i go to per_track[i], so the order (and every
+  // figure) does not depend on --jobs.
+  std::vector<std::vector<Row>> per_track(configs.size());
+  const auto runTrack = [&](size_t i) {
+    const ManeuverTrackConfig& c = configs[i];
+    const ManeuverTrack track = generateManeuverTrack(c);
+    const double horizon = a.delay_frames / c.rate_hz;
+    double hold_rmse = std::numeric_limits<double>::quiet_NaN();
+    const size_t split = a.fit ? static_cast<size_t>(a.fit_split * static_cast<double>(track.size())) : 0;
+    FitTrack head;
+    head.t_s.assign(track.t_s.begin(), track.t_s.begin() + static_cast<long>(split));
+    head.channels = {std::vector<double>(track.u_px.begin(), track.u_px.begin() + static_cast<long>(split)),
+                     std::vector<double>(track.v_px.begin(), track.v_px.begin() + static_cast<long>(split))};
+    NoiseFitOptions fo = fit_options;
+    fo.horizon_s = horizon;  // the command's own horizon: the score is what is fitted
+    for (const auto& name : names) {
+      Params params = fixed.count(name) ? fixed.at(name) : Params{};
+      if (a.fit && name != "hold") params = fitNoise(name, params, head, fo).params;
+      auto p = makePredictor(name, 2, params);
+      const TrackScore sc = scoreOnTrack(track, *p, horizon, split);
+      if (name == "hold") hold_rmse = sc.rmse_truth_px;
+      per_track[i].push_back({maneuverKindName(c.kind), c.rate_hz, c.noise_px, static_cast<long>(c.seed), name, sc,
+                              sc.rmse_truth_px / hold_rmse});
+    }
+  };
+  if (a.jobs == 1) {
+    for (size_t i = 0; i < configs.size(); ++i) runTrack(i);
+  } else {
+    ParallelOptions po;
+    po.workers = a.jobs;
+    po.label = "track-study";
+    runParallel(configs.size(), runTrack, po, err);
+  }
+  std::vector<Row> rows;
+  for (auto& v : per_track) rows.insert(rows.end(), v.begin(), v.end());
 
   // Summary per predictor.
   size_t w = 9;
@@ -209,6 +240,88 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& /*er
         << std::setprecision(3) << std::exp(sum / std::max<size_t>(1, imm.size())) << ", worst " << worst << " ("
         << worst_key << ")\n";
   }
+
+  // Adaptive predictors against the best fixed KF (kf-cv, kf-ca, cs-akf) run on the same track
+  // (issue 11 item 3, second criterion: within 10 % on every track).
+  {
+    const std::vector<std::string> fixed_kfs = {"kf-cv", "kf-ca", "cs-akf"};
+    std::vector<std::string> present_fixed, adaptive;
+    for (const auto& n : names) {
+      if (n == "hold") continue;
+      if (std::find(fixed_kfs.begin(), fixed_kfs.end(), n) != fixed_kfs.end())
+        present_fixed.push_back(n);
+      else
+        adaptive.push_back(n);
+    }
+    if (!present_fixed.empty() && !adaptive.empty()) {
+      const auto trackKey = [](const Row& r) {
+        std::ostringstream k;
+        k << r.kind << " " << r.rate_hz << " Hz " << r.noise_px << " px #" << r.seed;
+        return k.str();
+      };
+      std::map<std::string, double> best;
+      for (const auto& r : rows)
+        if (std::find(present_fixed.begin(), present_fixed.end(), r.predictor) != present_fixed.end()) {
+          const std::string k = trackKey(r);
+          best[k] = best.count(k) ? std::min(best[k], r.score.rmse_truth_px) : r.score.rmse_truth_px;
+        }
+      std::string fixed_list;
+      for (const auto& f : present_fixed) fixed_list += (fixed_list.empty() ? "" : ", ") + f;
+      out << "\n" << std::left << std::setw(static_cast<int>(w)) << "adaptive" << std::right << std::setw(12)
+          << "within 10%" << std::setw(12) << "mean ratio" << std::setw(12) << "worst ratio"
+          << "  worst track   (ratio = RMSE vs truth / best of " << fixed_list << (a.fit ? ", all fitted" : "") << ")\n";
+      for (const auto& name : adaptive) {
+        int within = 0, total = 0;
+        double sum = 0.0, worst = -1.0;
+        std::string worst_key;
+        for (const auto& r : rows) {
+          if (r.predictor != name) continue;
+          const double ratio = r.score.rmse_truth_px / best[trackKey(r)];
+          ++total;
+          within += ratio <= 1.1 ? 1 : 0;
+          sum += std::log(ratio);
+          if (ratio > worst) {
+            worst = ratio;
+            worst_key = trackKey(r);
+          }
+        }
+        out << std::left << std::setw(static_cast<int>(w)) << name << std::right << std::setw(12)
+            << (std::to_string(within) + "/" + std::to_string(total)) << std::setw(12) << std::fixed
+            << std::setprecision(3) << std::exp(sum / std::max(1, total)) << std::setw(12) << worst << "  " << worst_key
+            << "\n";
+        out.unsetf(std::ios::fixed);
+      }
+      // The same count per kind, for the adaptive predictors and the fixed KFs themselves: which
+      // model family wins where.
+      if (kinds.size() > 1) {
+        out << "within 10 % of that best, per kind:\n" << std::left << std::setw(static_cast<int>(w)) << "predictor"
+            << std::right;
+        for (ManeuverKind kind : kinds) out << std::setw(9) << maneuverKindName(kind);
+        out << "\n";
+        std::vector<std::string> listed = adaptive;
+        listed.insert(listed.end(), present_fixed.begin(), present_fixed.end());
+        for (const auto& name : listed) {
+          out << std::left << std::setw(static_cast<int>(w)) << name << std::right;
+          for (ManeuverKind kind : kinds) {
+            int within = 0, total = 0;
+            for (const auto& r : rows) {
+              if (r.predictor != name || r.kind != maneuverKindName(kind)) continue;
+              ++total;
+              within += r.score.rmse_truth_px / best[trackKey(r)] <= 1.1 ? 1 : 0;
+            }
+            out << std::setw(9) << (std::to_string(within) + "/" + std::to_string(total));
+          }
+          out << "\n";
+        }
+      }
+    }
+  }
+  if (a.fit)
+    out << "fitted on the first " << a.fit_split << " of each track by " << fitObjectiveName(fit_options.objective)
+        << (fit_options.objective == FitObjective::Prediction
+                ? " (squared error of the " + std::to_string(a.delay_frames) + "-frame prediction vs the later measurements)"
+                : " (innovation log-likelihood)")
+        << ", " << a.fit_starts << " start" << (a.fit_starts > 1 ? "s" : "") << "; scored on the rest\n";
 
   if (!a.out.empty()) {
     StagedOutputDir dir(a.out);

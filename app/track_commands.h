@@ -11,7 +11,13 @@
 // on how many tracks it beat hold (RMSE vs truth strictly smaller), the worst and the mean of the
 // ratio RMSE / RMSE(hold), and the worst kind/rate/noise. With --fit every predictor except hold
 // is first fitted (calibration/noise_fit.h) on the first --fit-split of the track and scored on
-// the rest. --out DIR writes DIR/study.csv (one row per track and predictor).
+// the rest; by default (--fit-objective prediction) on the squared error of the prediction
+// delay_frames ahead against the fit part's own later measurements (the score is what is
+// fitted; the truth is never used), or on the innovation likelihood. A second table gives, per
+// adaptive predictor (every one but hold, kf-cv, kf-ca, cs-akf), on how many tracks its RMSE vs
+// truth is within 10 % of the best of the fixed KFs kf-cv, kf-ca, cs-akf run on the same track,
+// the geometric-mean and worst ratio, and the worst track. --jobs N computes N tracks at once (the
+// results do not depend on N). --out DIR writes DIR/study.csv (one row per track and predictor).
 #pragma once
 
 #include <ostream>
@@ -46,6 +52,9 @@ struct TrackStudyArgs {
   std::vector<std::string> params;      ///< PREDICTOR.KEY=VALUE (--param)
   bool fit = false;
   double fit_split = 0.5;
+  std::string fit_objective = "prediction";  ///< --fit-objective likelihood | prediction
+  int fit_starts = 1;                        ///< --fit-starts N
+  int jobs = 1;                              ///< --jobs N: tracks in parallel
   std::string out;                      ///< optional
   std::string command_line;
 };

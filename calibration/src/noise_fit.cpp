@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -19,8 +20,55 @@ namespace {
 
 constexpr double kLog2Pi = 1.8378770664093453;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-/// Central-difference step in theta = log(value).
+/// Central-difference step in theta = log(value), likelihood objective.
 constexpr double kLogStep = 1e-4;
+/// Central-difference step in theta, prediction objective (clamps and windows: a wider step).
+constexpr double kPredictionLogStep = 1e-3;
+/// Decades by which start j >= 1 moves the process-noise keys (file comment of noise_fit.h).
+constexpr double kStartDecades[] = {2.0, -2.0, 1.0, -1.0, 3.0, -3.0};
+
+/// One h-step target of the prediction objective: after the update of `frame`, channel `channel`
+/// predicted at t_target is compared with z (the channel's measurement interpolated at t_target).
+struct PredictionTarget {
+  size_t frame;
+  int channel;
+  double t_target;
+  double z;
+};
+
+/// The targets of every frame >= burn_in (sorted by frame): the measurement of each channel
+/// interpolated linearly at t_k + h between its nearest measured rows, inside its measured span.
+std::vector<PredictionTarget> predictionTargets(const FitTrack& track, double horizon_s, int burn_in) {
+  std::vector<PredictionTarget> out;
+  const int n = static_cast<int>(track.channels.size());
+  std::vector<std::vector<size_t>> measured(static_cast<size_t>(n));
+  std::vector<std::vector<double>> times(static_cast<size_t>(n));
+  for (int c = 0; c < n; ++c)
+    for (size_t i = 0; i < track.t_s.size(); ++i)
+      if (std::isfinite(track.channels[static_cast<size_t>(c)][i])) {
+        measured[static_cast<size_t>(c)].push_back(i);
+        times[static_cast<size_t>(c)].push_back(track.t_s[i]);
+      }
+  for (size_t k = static_cast<size_t>(std::max(burn_in, 0)); k < track.t_s.size(); ++k) {
+    const double tt = track.t_s[k] + horizon_s;
+    for (int c = 0; c < n; ++c) {
+      const auto& ts = times[static_cast<size_t>(c)];
+      const auto& idx = measured[static_cast<size_t>(c)];
+      const auto& z = track.channels[static_cast<size_t>(c)];
+      if (ts.empty() || tt < ts.front() || tt > ts.back()) continue;
+      const size_t j = static_cast<size_t>(std::lower_bound(ts.begin(), ts.end(), tt) - ts.begin());
+      double value;
+      if (ts[j] == tt) {
+        value = z[idx[j]];
+      } else {
+        const double w = (tt - ts[j - 1]) / (ts[j] - ts[j - 1]);
+        value = (1.0 - w) * z[idx[j - 1]] + w * z[idx[j]];
+      }
+      out.push_back({k, c, tt, value});
+    }
+  }
+  return out;
+}
 
 /// Runs the predictor over the track and calls f(eps, S) for every innovation after the burn-in.
 /// Returns false when an innovation is not finite or S <= 0.
@@ -69,6 +117,78 @@ struct Model {
       return kNaN;
     return s;
   }
+
+  /// Prediction objective: out[i] = p(t_target; theta) - z of targets[i]. False when the
+  /// predictor cannot be built or a prediction is not finite.
+  std::vector<PredictionTarget> targets;
+  bool predictionResiduals(const double* theta, double* out) const {
+    std::unique_ptr<Predictor> pred;
+    try {
+      pred = makePredictor(predictor, static_cast<int>(track->channels.size()), paramsAt(theta));
+    } catch (const std::invalid_argument&) {
+      return false;
+    }
+    const int n = static_cast<int>(track->channels.size());
+    Eigen::VectorXd z(n);
+    size_t next = 0;
+    for (size_t i = 0; i < track->t_s.size() && next < targets.size(); ++i) {
+      for (int c = 0; c < n; ++c) z(c) = track->channels[static_cast<size_t>(c)][i];
+      pred->update(track->t_s[i], z);
+      for (; next < targets.size() && targets[next].frame == i; ++next) {
+        const double p = pred->predict(targets[next].channel, targets[next].t_target).position();
+        if (!std::isfinite(p)) return false;
+        out[next] = p - targets[next].z;
+      }
+    }
+    return next == targets.size();
+  }
+  /// 1/2 sum of squared h-step errors; NaN when the predictor fails.
+  double halfSquaredError(const double* theta) const {
+    std::vector<double> r(targets.size());
+    if (!predictionResiduals(theta, r.data())) return kNaN;
+    double s = 0.0;
+    for (double x : r) s += x * x;
+    return 0.5 * s;
+  }
+};
+
+/// The prediction objective's residuals as a Ceres cost, Jacobian by central differences in theta
+/// (one-sided where one side fails).
+class PredictionResiduals : public ceres::CostFunction {
+ public:
+  explicit PredictionResiduals(const Model& m) : m_(m) {
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(m.keys.size()));
+    set_num_residuals(static_cast<int>(m.targets.size()));
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const double* theta = parameters[0];
+    if (!m_.predictionResiduals(theta, residuals)) return false;
+    if (jacobians && jacobians[0]) {
+      const size_t k = m_.keys.size();
+      const auto n = static_cast<size_t>(num_residuals());
+      std::vector<double> rp(n), rm(n);
+      for (size_t j = 0; j < k; ++j) {
+        std::vector<double> tp(theta, theta + k), tm(theta, theta + k);
+        tp[j] += kPredictionLogStep;
+        tm[j] -= kPredictionLogStep;
+        const bool okp = m_.predictionResiduals(tp.data(), rp.data());
+        const bool okm = m_.predictionResiduals(tm.data(), rm.data());
+        if (okp && okm) {
+          for (size_t r = 0; r < n; ++r) jacobians[0][r * k + j] = (rp[r] - rm[r]) / (2.0 * kPredictionLogStep);
+        } else if (okp) {
+          for (size_t r = 0; r < n; ++r) jacobians[0][r * k + j] = (rp[r] - residuals[r]) / kPredictionLogStep;
+        } else if (okm) {
+          for (size_t r = 0; r < n; ++r) jacobians[0][r * k + j] = (residuals[r] - rm[r]) / kPredictionLogStep;
+        } else {
+          return false;
+        }
+      }
+    }
+    return true;
+  }
+
+ private:
+  const Model& m_;
 };
 
 /// theta = lo + (hi - lo) sigmoid(phi), in log values.
@@ -192,11 +312,35 @@ double innovationLogLikelihood(const std::string& predictor, const Params& param
   return ok ? s : kNaN;
 }
 
+std::string fitObjectiveName(FitObjective o) { return o == FitObjective::Prediction ? "prediction" : "likelihood"; }
+
+FitObjective parseFitObjective(const std::string& text) {
+  if (text == "likelihood") return FitObjective::Likelihood;
+  if (text == "prediction") return FitObjective::Prediction;
+  throw std::invalid_argument("unknown fit objective '" + text + "' (expected likelihood or prediction)");
+}
+
+double predictionRmse(const std::string& predictor, const Params& params, const FitTrack& track, double horizon_s,
+                      int burn_in_frames, int* n) {
+  makePredictor(predictor, static_cast<int>(track.channels.size()), params);  // throws on bad params
+  Model m;
+  m.predictor = predictor;
+  m.base = params;
+  m.track = &track;
+  m.burn_in = burn_in_frames;
+  m.targets = predictionTargets(track, horizon_s, burn_in_frames);
+  if (n) *n = static_cast<int>(m.targets.size());
+  if (m.targets.empty()) return kNaN;
+  const double h = m.halfSquaredError(nullptr);
+  return std::sqrt(2.0 * h / static_cast<double>(m.targets.size()));
+}
+
 NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,
                         const NoiseFitOptions& options) {
   if (track.channels.empty()) throw std::invalid_argument("noise fit: the track has no channel");
   for (const auto& ch : track.channels)
     if (ch.size() != track.t_s.size()) throw std::invalid_argument("noise fit: the channels and t have different lengths");
+  if (!(options.horizon_s >= 0.0)) throw std::invalid_argument("noise fit: expected a horizon >= 0 s");
   Model m;
   m.predictor = predictor;
   m.keys = fitParameters(predictor);
@@ -219,62 +363,161 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
     for (size_t i = 0; i < track.t_s.size(); ++i) estimators[c].push(track.t_s[i], track.channels[c][i]);
   double mean_variance = 0.0;
   for (const auto& e : estimators) mean_variance += e.variance() / static_cast<double>(estimators.size());
+  // Start values; under the prediction objective r is held at its start value (see the header).
+  const bool hold_r = options.objective == FitObjective::Prediction && !options.prediction_fits_r;
+  std::vector<FittedValue> held;
+  {
+    std::vector<NoiseParameter> fitted;
+    for (NoiseParameter fp : m.keys) {
+      double v = fp.value;
+      if (base.values().count(fp.key))
+        v = base.values().at(fp.key);
+      else if (fp.key == "r")
+        v = mean_variance;
+      fp.value = std::clamp(v, fp.lo * 1.01, fp.hi / 1.01);
+      if (hold_r && fp.key == "r") {
+        m.base.set("r", fp.value);
+        FittedValue h;
+        h.key = "r";
+        h.initial = h.value = h.lo95 = h.hi95 = fp.value;
+        h.std_log = kNaN;
+        h.held = true;
+        held.push_back(h);
+      } else {
+        fitted.push_back(fp);
+      }
+    }
+    m.keys = fitted;
+  }
+  if (m.keys.empty()) throw std::invalid_argument("noise fit: no parameter left to fit (r is held)");
   const size_t k = m.keys.size();
   BoundMap b;
   std::vector<double> theta0(k);
   for (size_t i = 0; i < k; ++i) {
-    const NoiseParameter& fp = m.keys[i];
-    double v = fp.value;
-    if (base.values().count(fp.key))
-      v = base.values().at(fp.key);
-    else if (fp.key == "r")
-      v = mean_variance;
-    v = std::clamp(v, fp.lo * 1.01, fp.hi / 1.01);
-    theta0[i] = std::log(v);
-    b.lo.push_back(std::log(fp.lo));
-    b.hi.push_back(std::log(fp.hi));
+    theta0[i] = std::log(m.keys[i].value);
+    b.lo.push_back(std::log(m.keys[i].lo));
+    b.hi.push_back(std::log(m.keys[i].hi));
   }
 
   NoiseFitResult res;
   res.predictor = predictor;
-  int n0 = 0;
-  const double f0 = m.negLogLik(theta0.data());
-  if (!std::isfinite(f0)) throw std::invalid_argument("noise fit: the likelihood is not finite at the starting values");
-  innovationLogLikelihood(predictor, m.paramsAt(theta0.data()), track, m.burn_in, &n0);
-  res.loglik_before = -f0;
-  res.innovations = n0;
-
-  std::vector<double> phi(k);
-  for (size_t i = 0; i < k; ++i) phi[i] = b.phi(i, theta0[i]);
-  ceres::GradientProblem problem(new NegLogLikFunction(m, b));
-  ceres::GradientProblemSolver::Options opt;
-  opt.line_search_direction_type = ceres::LBFGS;
-  opt.max_num_iterations = options.max_iterations;
-  opt.logging_type = ceres::SILENT;
-  opt.function_tolerance = 1e-9;
-  opt.gradient_tolerance = 1e-8;
-  ceres::GradientProblemSolver::Summary summary;
-  ceres::Solve(opt, problem, phi.data(), &summary);
-  res.iterations = static_cast<int>(summary.iterations.size());
-  res.termination = summary.message;
-
-  std::vector<double> theta(k);
-  for (size_t i = 0; i < k; ++i) theta[i] = b.theta(i, phi[i]);
-  double f1 = m.negLogLik(theta.data());
-  if (!(f1 <= f0)) {  // never return something worse than the start
-    theta = theta0;
-    f1 = f0;
+  res.objective = options.objective;
+  res.horizon_s = options.horizon_s;
+  const bool by_prediction = options.objective == FitObjective::Prediction;
+  if (by_prediction) {
+    m.targets = predictionTargets(track, options.horizon_s, m.burn_in);
+    if (m.targets.size() < 2 * k + 2)
+      throw std::invalid_argument("noise fit: " + std::to_string(m.targets.size()) +
+                                  " h-step targets inside the track, too few for the prediction objective");
   }
-  res.loglik_after = -f1;
-  res.params = m.paramsAt(theta.data());
+  // The objective to minimise at theta: -log L, or 1/2 sum of squared h-step errors.
+  const auto objective = [&](const double* th) { return by_prediction ? m.halfSquaredError(th) : m.negLogLik(th); };
+  int n0 = 0;
+  const double f0 = objective(theta0.data());
+  if (!std::isfinite(f0))
+    throw std::invalid_argument(std::string("noise fit: the ") + (by_prediction ? "h-step prediction error" : "likelihood") +
+                                " is not finite at the starting values");
+  res.loglik_before = innovationLogLikelihood(predictor, m.paramsAt(theta0.data()), track, m.burn_in, &n0);
+  res.innovations = n0;
+  res.residuals = static_cast<int>(m.targets.size());
 
-  // Uncertainty: inverse Fisher information by ceres::Covariance.
+  // One local fit from theta_start: returns the end point and its objective.
+  const auto solveFrom = [&](const std::vector<double>& theta_start, double* f_end, int* iterations,
+                             std::string* message) {
+    std::vector<double> th = theta_start;
+    if (by_prediction) {
+      ceres::Problem::Options popt;
+      ceres::Problem problem(popt);
+      problem.AddResidualBlock(new PredictionResiduals(m), nullptr, th.data());
+      for (size_t i = 0; i < k; ++i) {
+        problem.SetParameterLowerBound(th.data(), static_cast<int>(i), b.lo[i]);
+        problem.SetParameterUpperBound(th.data(), static_cast<int>(i), b.hi[i]);
+      }
+      ceres::Solver::Options opt;
+      opt.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+      opt.linear_solver_type = ceres::DENSE_QR;
+      opt.max_num_iterations = options.max_iterations;
+      opt.logging_type = ceres::SILENT;
+      opt.function_tolerance = 1e-8;
+      opt.parameter_tolerance = 1e-6;
+      opt.num_threads = 1;
+      ceres::Solver::Summary summary;
+      ceres::Solve(opt, &problem, &summary);
+      *iterations = static_cast<int>(summary.iterations.size());
+      *message = summary.message;
+    } else {
+      std::vector<double> phi(k);
+      for (size_t i = 0; i < k; ++i) phi[i] = b.phi(i, th[i]);
+      ceres::GradientProblem problem(new NegLogLikFunction(m, b));
+      ceres::GradientProblemSolver::Options opt;
+      opt.line_search_direction_type = ceres::LBFGS;
+      opt.max_num_iterations = options.max_iterations;
+      opt.logging_type = ceres::SILENT;
+      opt.function_tolerance = 1e-9;
+      opt.gradient_tolerance = 1e-8;
+      ceres::GradientProblemSolver::Summary summary;
+      ceres::Solve(opt, problem, phi.data(), &summary);
+      for (size_t i = 0; i < k; ++i) th[i] = b.theta(i, phi[i]);
+      *iterations = static_cast<int>(summary.iterations.size());
+      *message = summary.message;
+    }
+    *f_end = objective(th.data());
+    return th;
+  };
+
+  if (options.starts < 1) throw std::invalid_argument("noise fit: expected at least one starting point");
+  std::vector<double> theta = theta0;
+  double f1 = f0;
+  res.starts = 0;
+  for (int j = 0; j < options.starts; ++j) {
+    std::vector<double> start = theta0;
+    if (j > 0) {
+      const double decades = kStartDecades[static_cast<size_t>(j - 1) % std::size(kStartDecades)] *
+                             (1.0 + static_cast<double>((j - 1) / static_cast<int>(std::size(kStartDecades))));
+      bool moved = false;
+      for (size_t i = 0; i < k; ++i) {
+        if (m.keys[i].key == "r") continue;
+        const double margin = std::log(1.01);
+        start[i] = std::clamp(theta0[i] + decades * std::log(10.0), b.lo[i] + margin, b.hi[i] - margin);
+        moved = moved || start[i] != theta0[i];
+      }
+      if (!moved || !std::isfinite(objective(start.data()))) continue;
+    }
+    double fj = kNaN;
+    int iterations = 0;
+    std::string message;
+    const std::vector<double> th = solveFrom(start, &fj, &iterations, &message);
+    ++res.starts;
+    res.iterations += iterations;
+    if (j == 0) res.termination = message;
+    if (std::isfinite(fj) && fj < f1) {  // never return something worse than the start values
+      theta = th;
+      f1 = fj;
+      res.best_start = j;
+      res.termination = message;
+    }
+  }
+  res.params = m.paramsAt(theta.data());
+  res.loglik_after = innovationLogLikelihood(predictor, res.params, track, m.burn_in);
+  if (by_prediction) {
+    res.rmse_before_px = std::sqrt(2.0 * f0 / static_cast<double>(m.targets.size()));
+    res.rmse_after_px = std::sqrt(2.0 * f1 / static_cast<double>(m.targets.size()));
+  } else {
+    res.rmse_before_px = predictionRmse(predictor, m.paramsAt(theta0.data()), track, options.horizon_s, m.burn_in);
+    res.rmse_after_px = predictionRmse(predictor, res.params, track, options.horizon_s, m.burn_in);
+  }
+
+  // Uncertainty: inverse Fisher information (likelihood) or the Gauss-Newton covariance of the
+  // h-step least squares (prediction), by ceres::Covariance.
   std::vector<double> std_log(k, kNaN);
   {
     ceres::Problem::Options popt;
     ceres::Problem lsq(popt);
     std::vector<double> block = theta;
-    lsq.AddResidualBlock(new FisherResiduals(m, n0), nullptr, block.data());
+    if (by_prediction)
+      lsq.AddResidualBlock(new PredictionResiduals(m), nullptr, block.data());
+    else
+      lsq.AddResidualBlock(new FisherResiduals(m, n0), nullptr, block.data());
     ceres::Covariance::Options copt;
     copt.algorithm_type = ceres::DENSE_SVD;
     copt.null_space_rank = -1;
@@ -287,11 +530,13 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
     ceres::CRSMatrix jac;
     bool finite = lsq.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, &jac) && std::isfinite(cost);
     for (double x : jac.values) finite = finite && std::isfinite(x);
+    // Prediction: the residuals are not normalised, scale (J'J)^-1 by s^2 = 2 J / (n - p).
+    const double scale = by_prediction ? 2.0 * cost / std::max(1.0, static_cast<double>(m.targets.size() - k)) : 1.0;
     if (finite && cov.Compute(blocks, &lsq)) {
       std::vector<double> C(k * k);
       if (cov.GetCovarianceBlock(block.data(), block.data(), C.data())) {
         res.covariance_ok = true;
-        for (size_t i = 0; i < k; ++i) std_log[i] = std::sqrt(std::max(0.0, C[i * k + i]));
+        for (size_t i = 0; i < k; ++i) std_log[i] = std::sqrt(std::max(0.0, scale * C[i * k + i]));
       }
     }
   }
@@ -306,6 +551,7 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
     v.at_bound = (theta[i] - b.lo[i]) < 0.01 * (b.hi[i] - b.lo[i]) || (b.hi[i] - theta[i]) < 0.01 * (b.hi[i] - b.lo[i]);
     res.values.push_back(v);
   }
+  res.values.insert(res.values.end(), held.begin(), held.end());
   return res;
 }
 

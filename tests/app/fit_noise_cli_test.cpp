@@ -102,12 +102,56 @@ TEST_F(FitNoiseCli, BadInputsAreOneLineErrors) {
               "unknown parameter 'qq'", path("o"));
 }
 
+TEST_F(FitNoiseCli, FitNoiseAcceptsThePredictionObjective) {
+  const std::string f = track();
+  // GIVEN the prediction objective 2 frames ahead
+  const CliRun fit = run({"fit-noise", "--input", f, "--predictor", "kf-ca", "--objective", "prediction",
+                          "--horizon-frames", "2", "--out", path("fit")});
+  ASSERT_EQ(fit.code, 0) << fit.err;
+  // THEN the h-step RMSE is what was minimised, it did not go up, r is held, fit.json says so
+  EXPECT_NE(fit.out.find("px  [minimised]"), std::string::npos) << fit.out;
+  EXPECT_NE(fit.out.find("(held: start value)"), std::string::npos) << fit.out;
+  const nlohmann::json j = apptest::readJson(path("fit") + "/fit.json");
+  EXPECT_EQ(j["objective_name"], "prediction");
+  EXPECT_EQ(j["horizon_frames"], 2);
+  EXPECT_NEAR(j["horizon_s"].get<double>(), 2.0 / 30.0, 1e-6);  // 2 x the median period of t rounded in the CSV
+  EXPECT_LE(j["rmse_after_px"].get<double>(), j["rmse_before_px"].get<double>());
+  EXPECT_TRUE(j.contains("loglik_after"));  // the likelihood fields stay
+  expectError(run({"fit-noise", "--input", f, "--predictor", "kf-ca", "--objective", "mse", "--out", path("o")}),
+              "--objective: unknown fit objective 'mse'", path("o"));
+  expectError(run({"fit-noise", "--input", f, "--predictor", "kf-ca", "--horizon-frames", "-1", "--out", path("o")}),
+              "--horizon-frames", path("o"));
+  expectError(run({"predict", "--input", f, "--predictor", "kf-cv", "--delay-frames", "2", "--fit-objective",
+                   "likelihood", "--no-plots", "--out", path("o")}),
+              "--fit-objective: needs --fit", path("o"));
+}
+
+TEST_F(FitNoiseCli, TrackStudyFitDoesNotDependOnJobs) {
+  // GIVEN a small fitted study (prediction objective by default) WHEN run on 1 and 2 threads
+  // THEN study.csv is identical, and the fit line names the objective.
+  std::string csv[2];
+  for (int jobs = 1; jobs <= 2; ++jobs) {
+    const std::string dir = path("study" + std::to_string(jobs));
+    const CliRun r = run({"track-study", "--kinds", "stops", "--rates", "15", "--noise", "1", "--seeds", "2",
+                          "--duration-s", "10", "--predictors", "kf-cv,stkf", "--fit", "--jobs", std::to_string(jobs),
+                          "--out", dir});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("by prediction (squared error of the 2-frame prediction"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("stkf"), std::string::npos);
+    csv[jobs - 1] = slurp(dir + "/study.csv");
+  }
+  EXPECT_EQ(csv[0], csv[1]);
+  expectError(run({"track-study", "--fit", "--fit-objective", "mse"}), "--fit-objective");
+  expectError(run({"track-study", "--jobs", "0"}), "--jobs");
+}
+
 TEST_F(FitNoiseCli, TrackStudyPrintsWinsAgainstHold) {
   const CliRun r = run({"track-study", "--kinds", "turns", "--rates", "30", "--noise", "1", "--seeds", "1",
                         "--predictors", "kf-cv,kf-ca,imm", "--out", path("study")});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("beats hold"), std::string::npos);
   EXPECT_NE(r.out.find("imm / best of kf-cv, kf-ca"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("within 10%"), std::string::npos) << r.out;  // imm against the best fixed KF
   EXPECT_EQ(apptest::csvRows(slurp(path("study") + "/study.csv")).size(), 4u);  // hold + 3
   expectError(run({"track-study", "--kinds", "spiral"}), "unknown track kind");
 }

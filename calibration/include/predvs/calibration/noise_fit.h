@@ -1,6 +1,8 @@
 // predvs — offline noise fitting of a predictor on a recorded track, with Ceres (issue 11 item 1).
 //
-// Objective (choice: the innovation log-likelihood, not the h-step prediction error). The predictor
+// Two objectives (NoiseFitOptions::objective):
+//
+// 1. `likelihood` (fit-noise's default): maximise the innovation log-likelihood. The predictor
 // runs over the track; every measured update of every channel after a burn-in gives an innovation
 // eps_k = z_k - H x(k|k-1) and its predicted variance S_k, read through Predictor::innovation(c),
 // which every predictor already implements (no change to the interface was needed: it is the
@@ -10,21 +12,50 @@
 // quasi-likelihood for the adaptive ones, and for imm the moment-matched Gaussian of its mixture.
 // The first `burn_in_frames` rows are left out (initial transient with P0).
 //
-// Parameters. Each predictor names the keys to fit (Predictor::noiseParameters()), all positive
-// and fitted on a log scale: theta_i = log(value_i), bounded in [log lo_i, log hi_i] by the smooth
-// map theta = lo + (hi - lo) / (1 + exp(-phi)) with phi free, so the solver sees no bound at all.
-// Minimised: -log L(theta(phi)) with ceres::GradientProblemSolver (L-BFGS, Armijo/Wolfe line search).
-// Derivatives are numeric (central differences of step 1e-4 in theta = log value, i.e. a relative
-// step of 0.01 %): the adaptive filters are not differentiable in closed form (windows, clamps,
-// fuzzy rules), and a fit costs a few hundred passes over the track, well under a second for
-// 2,000 frames.
+// 2. `prediction` (the default of `predict --fit` and `track-study --fit`: what they score): minimise
+// the mean squared h-step-ahead prediction error against the track's own later measurements (a
+// user has no truth). For every frame k >= burn_in and every channel c, after the update of frame
+// k the const prediction p_c(t_k + h) is compared with the measurement of channel c interpolated
+// linearly at t_k + h between its nearest measured rows (exactly the measurement of frame k + d
+// when h = d frame periods and that frame was measured); targets outside the measured span of the
+// channel are left out. The set of residuals depends on the track only, not on theta:
+//   J(theta) = 1/2 sum_(k,c) (p_c(t_k + h; theta) - z_c(t_k + h))^2,   MSE = 2 J / n.
+// r is held at its start value by default (NoiseFitOptions::prediction_fits_r = false): the
+// predicted mean of a linear Kalman filter depends on the ratios q/r only, so the h-step errors
+// cannot tell r from q (a flat valley: fitted freely, r runs to a bound with the same predictions),
+// and for the adaptive filters nearly so; the start value (base, else the track's start-up noise
+// estimate) measures r directly. The result lists r as held (FittedValue::held).
+// Note that the target carries the measurement noise, so the minimum MSE is about the truth MSE
+// plus r (and the covariance of its estimate); the arg-min is the same in expectation.
+// Solved as a bounded least-squares problem (ceres::Problem, Levenberg-Marquardt, bounds
+// [log lo_i, log hi_i] on theta = log value set on the parameter block), the Jacobian by central
+// differences of step 1e-3 in theta (0.1 % relative: the adaptive filters' clamps and windows make
+// a smaller step noisy).
 //
-// Uncertainty. At the optimum, ceres::Covariance is evaluated on the least-squares problem whose
-// residuals are, per innovation, r_a = eps_k / sqrt(S_k) and r_b = log(S_k) / 2. Their J'J has as
-// expectation the Fisher information of the innovation likelihood,
+// Parameters. Each predictor names the keys to fit (Predictor::noiseParameters()), all positive
+// and fitted on a log scale: theta_i = log(value_i), bounded in [log lo_i, log hi_i]. For the
+// likelihood the bounds are the smooth map theta = lo + (hi - lo) / (1 + exp(-phi)) with phi free,
+// so the solver sees no bound at all; minimised: -log L(theta(phi)) with ceres::GradientProblemSolver
+// (L-BFGS, Armijo/Wolfe line search). Derivatives are numeric (central differences of step 1e-4 in
+// theta = log value, i.e. a relative step of 0.01 %): the adaptive filters are not differentiable in
+// closed form (windows, clamps, fuzzy rules), and a fit costs a few hundred passes over the track,
+// well under a second for 2,000 frames.
+//
+// Several starting points (NoiseFitOptions::starts = m > 1): the fit is run from the start values
+// and from m - 1 more points, start j moving every process-noise key (all but r) by
+// 10^(+2, -2, +1, -1, +3, -3, ...)[j-1] within its bounds (r keeps its start: the data pin it);
+// the best objective wins. The adaptive filters' objectives are not convex (clamps, windows).
+//
+// Uncertainty. Likelihood: at the optimum, ceres::Covariance is evaluated on the least-squares
+// problem whose residuals are, per innovation, r_a = eps_k / sqrt(S_k) and r_b = log(S_k) / 2.
+// Their J'J has as expectation the Fisher information of the innovation likelihood,
 //   I(theta) = sum_k [ (d eps_k)^2 / S_k + 1/2 (d log S_k)^2 ],
-// so its inverse is the Cramer-Rao covariance of theta = log(value). Reported: std_log (the standard
-// deviation of log(value), i.e. roughly the relative standard error) and the 95 % interval
+// so its inverse is the Cramer-Rao covariance of theta = log(value). Prediction: ceres::Covariance
+// of the prediction least-squares problem itself, (J'J)^-1 scaled by the residual variance
+// s^2 = 2 J / (n - p) (the Gauss-Newton covariance of a nonlinear least-squares estimate). The
+// h-step errors of neighbouring frames are correlated (overlapping horizons, shared filter state),
+// which this formula ignores: read it as a lower bound. Reported: std_log (the standard deviation of
+// log(value), i.e. roughly the relative standard error) and the 95 % interval
 // value * exp(-+1.96 std_log). A parameter that ends within 1 % (in log) of a bound is flagged.
 #pragma once
 
@@ -50,9 +81,20 @@ struct FitTrack {
   std::vector<std::vector<double>> channels;
 };
 
+/// What fitNoise optimises (see the file comment).
+enum class FitObjective { Likelihood, Prediction };
+/// "likelihood" / "prediction".
+std::string fitObjectiveName(FitObjective o);
+/// Parses "likelihood" / "prediction"; throws std::invalid_argument naming the expected words.
+FitObjective parseFitObjective(const std::string& text);
+
 struct NoiseFitOptions {
   int burn_in_frames = 10;
   int max_iterations = 200;
+  FitObjective objective = FitObjective::Likelihood;
+  double horizon_s = 0.0;  ///< prediction objective: h, seconds ahead of each frame (>= 0)
+  int starts = 1;          ///< starting points (>= 1), see the file comment
+  bool prediction_fits_r = false;  ///< prediction objective: fit r too (default: held at its start value)
 };
 
 struct FittedValue {
@@ -62,6 +104,7 @@ struct FittedValue {
   double std_log = 0.0;  ///< standard deviation of log(value) (NaN if the covariance failed)
   double lo95 = 0.0, hi95 = 0.0;
   bool at_bound = false;
+  bool held = false;  ///< not fitted: kept at `initial` (r under the prediction objective)
 };
 
 struct NoiseFitResult {
@@ -74,6 +117,13 @@ struct NoiseFitResult {
   int iterations = 0;
   std::string termination;     ///< Ceres' termination message
   bool covariance_ok = false;
+  FitObjective objective = FitObjective::Likelihood;
+  double horizon_s = 0.0;          ///< prediction objective: h
+  int residuals = 0;               ///< prediction objective: number of h-step errors
+  double rmse_before_px = 0.0;     ///< h-step RMSE vs the later measurements at the start (both objectives)
+  double rmse_after_px = 0.0;      ///< ... at the fitted values
+  int starts = 1;                  ///< starting points tried
+  int best_start = 0;              ///< the one kept (0 = the start values)
 };
 
 /// Innovation log-likelihood of `predictor` with `params` over the track (rows >= burn_in_frames);
@@ -81,10 +131,17 @@ struct NoiseFitResult {
 double innovationLogLikelihood(const std::string& predictor, const Params& params, const FitTrack& track,
                                int burn_in_frames, int* n = nullptr);
 
+/// Root-mean-square h-step prediction error of `predictor` with `params` against the track's
+/// interpolated later measurements (the prediction objective, rows >= burn_in_frames); n receives
+/// the number of errors. NaN when the predictor fails. Throws std::invalid_argument for bad params.
+double predictionRmse(const std::string& predictor, const Params& params, const FitTrack& track, double horizon_s,
+                      int burn_in_frames, int* n = nullptr);
+
 /// Fits the keys of `predictor` (fitParameters) on the track. Starting values: the value in `base`
 /// if given, else for r the start-up noise estimate of the track (noise_estimate.h), else the
 /// predictor's default; each clamped into its bounds. Other keys of `base` are kept fixed. Throws std::invalid_argument
-/// (bad predictor, fewer than 4 * burn_in measured rows, no finite likelihood at the start).
+/// (bad predictor, fewer than 4 * burn_in measured rows, no finite objective at the start, no h-step
+/// target for the prediction objective, horizon < 0, starts < 1).
 NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,
                         const NoiseFitOptions& options = {});
 

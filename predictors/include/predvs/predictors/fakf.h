@@ -136,10 +136,9 @@ class FakfPredictor : public CsAkfAdaptivePredictor {
  public:
   FakfPredictor(int channels, const Params& params);
   std::string name() const override { return "fakf"; }
-  /// alpha, sigma_min_sq and r (the initial R); the ceiling sigma_max_sq is left out.
-  std::vector<NoiseParameter> noiseParameters() const override {
-    return {alphaParameter(), sigmaMinSqParameter(), measurementNoiseParameter()};
-  }
+  /// alpha, the CS variance bounds sigma_min_sq and sigma_max_sq, and r (the initial R): the
+  /// keys of cs-akf-adaptive (issue 11 item 1: the variance bounds of the CS models).
+  std::vector<NoiseParameter> noiseParameters() const override { return CsAkfAdaptivePredictor::noiseParameters(); }
 
   /// Current (adapted) measurement variance of channel c, px^2.
   double adaptedR(int c) const { return measurementNoise(c); }
