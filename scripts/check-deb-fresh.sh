@@ -11,20 +11,23 @@
 #   4. with --dev, also installs predvs-dev (the .deb beside DEB) with cmake, make and g++, and
 #      builds and runs examples/predictor_ahead_of_vpservo against /usr (find_package(predvs),
 #      no CMAKE_PREFIX_PATH): kf-cv must lower the steady-state image error 4-fold;
-#   5. prints the time of each step and the number of packages installed.
+#   5. with --python, also installs python3-predvs (beside DEB) and, in the chroot's python3,
+#      imports predvs, runs kf-cv on a few frames and reads a parameter file of /usr/share/predvs;
+#   6. prints the time of each step and the number of packages installed.
 # /proc is mounted inside the chroot (predvs finds its data through /proc/self/exe) and unmounted
 # on exit, and the folder is removed (unless --keep). Runs as root; needs debootstrap and network.
-# Usage: scripts/check-deb-fresh.sh [DEB] [--dev] [--keep]   (DEB: default build/predvs_*_<arch>.deb)
+# Usage: scripts/check-deb-fresh.sh [DEB] [--dev] [--python] [--keep]   (DEB: default build/predvs_*_<arch>.deb)
 #        PREDVS_DEBIAN_MIRROR=http://... to use another Debian mirror.
 set -euo pipefail
 fail() { echo "check-deb-fresh: $*" >&2; exit 1; }
 
-deb="" keep=0 with_dev=0
+deb="" keep=0 with_dev=0 with_python=0
 for a in "$@"; do
   case "$a" in
     --keep) keep=1 ;;
     --dev) with_dev=1 ;;
-    -*) fail "unknown option $a (usage: check-deb-fresh.sh [DEB] [--dev] [--keep])" ;;
+    --python) with_python=1 ;;
+    -*) fail "unknown option $a (usage: check-deb-fresh.sh [DEB] [--dev] [--python] [--keep])" ;;
     *) deb=$a ;;
   esac
 done
@@ -38,6 +41,8 @@ fi
 [ "$(dpkg-deb -f "$deb" Package 2>/dev/null)" = predvs ] || fail "$deb: not the predvs package"
 dev_deb="$(dirname "$deb")/$(basename "$deb" | sed 's/^predvs_/predvs-dev_/')"
 if [ "$with_dev" = 1 ]; then [ -f "$dev_deb" ] || fail "--dev: no $dev_deb beside $deb"; fi
+py_deb="$(dirname "$deb")/$(basename "$deb" | sed 's/^predvs_/python3-predvs_/')"
+if [ "$with_python" = 1 ]; then [ -f "$py_deb" ] || fail "--python: no $py_deb beside $deb"; fi
 src=$(cd "$(dirname "$0")/.." && pwd)
 [ "$(id -u)" -eq 0 ] || fail "must run as root (debootstrap, chroot, mount)"
 command -v debootstrap >/dev/null || fail "debootstrap not found (apt-get install debootstrap)"
@@ -119,6 +124,28 @@ if [ "$with_dev" = 1 ]; then
     || fail "the example: kf-cv error '$with' px not 4x below '$without' px"
 fi
 
+if [ "$with_python" = 1 ]; then
+  py_name=$(basename "$py_deb")
+  cp "$py_deb" "$root/tmp/"
+  t6=$(now)
+  echo "check-deb-fresh: apt-get install -y --no-install-recommends ./$py_name (in the chroot)"
+  in_root sh -c "cd /tmp && apt-get install -y --no-install-recommends ./$py_name" > "$work/apt-py.log" 2>&1 \
+    || { tail -30 "$work/apt-py.log"; fail "apt-get install ./$py_name failed (log above)"; }
+  py_count=$(in_root dpkg-query -W -f='${Status}\n' | grep -c 'install ok installed')
+  py_out=$(in_root python3 -c "
+import predvs
+p = predvs.make('kf-cv', 2)
+for k in range(5):
+    p.update(0.1 * k, [10.0 * k, 5.0])
+x, P = p.predict(0.6)
+specs = predvs.read_params('/usr/share/predvs/params/pre-issue-11.yaml')
+assert abs(x[0][0] - 60.0) < 5.0 and any(s['name'] == 'kf-ca' for s in specs), (x, specs)
+print('import predvs from', predvs.__file__, '- kf-cv at 0.6 s:', round(float(x[0][0]), 3))
+") || fail "import predvs in the chroot failed"
+  t7=$(now)
+  echo "$py_out"
+fi
+
 echo "check-deb-fresh: OK: $name on a fresh Debian 12 ($(. "$root/etc/os-release"; echo "$PRETTY_NAME"), \
 debian_version $(cat "$root/etc/debian_version"))"
 echo "  debootstrap (minbase): $((t1 - t0)) s, $base_count packages"
@@ -127,4 +154,7 @@ echo "  predvs list + servo with plots: $((t3 - t2)) s"
 if [ "$with_dev" = 1 ]; then
   echo "  apt-get install ./$dev_name cmake make g++: $((t4 - t3)) s, $((dev_count - count)) packages added ($dev_count in all); $dev_download"
   echo "  the example against /usr (configure, build, run): $((t5 - t4)) s"
+fi
+if [ "$with_python" = 1 ]; then
+  echo "  apt-get install ./$py_name + import predvs: $((t7 - t6)) s, $((py_count - ${dev_count:-$count})) packages added"
 fi
