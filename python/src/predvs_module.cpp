@@ -332,6 +332,7 @@ PYBIND11_MODULE(_predvs, m) {
       .def_readonly("lo95", &FittedValue::lo95)
       .def_readonly("hi95", &FittedValue::hi95)
       .def_readonly("at_bound", &FittedValue::at_bound)
+      .def_readonly("held", &FittedValue::held, "not fitted: kept at `initial` (r under the prediction objective)")
       .def("__repr__", [](const FittedValue& v) {
         return "FittedValue(key='" + v.key + "', initial=" + std::string(py::str(py::float_(v.initial))) +
                ", value=" + std::string(py::str(py::float_(v.value))) + ", std_log=" +
@@ -349,6 +350,13 @@ PYBIND11_MODULE(_predvs, m) {
       .def_readonly("iterations", &NoiseFitResult::iterations)
       .def_readonly("termination", &NoiseFitResult::termination)
       .def_readonly("covariance_ok", &NoiseFitResult::covariance_ok)
+      .def_property_readonly("objective", [](const NoiseFitResult& r) { return fitObjectiveName(r.objective); })
+      .def_readonly("horizon_s", &NoiseFitResult::horizon_s)
+      .def_readonly("residuals", &NoiseFitResult::residuals)
+      .def_readonly("rmse_before_px", &NoiseFitResult::rmse_before_px)
+      .def_readonly("rmse_after_px", &NoiseFitResult::rmse_after_px)
+      .def_readonly("starts", &NoiseFitResult::starts)
+      .def_readonly("best_start", &NoiseFitResult::best_start)
       .def("__repr__", [](const NoiseFitResult& r) {
         return "<predvs.NoiseFitResult " + r.predictor + ": " + std::to_string(r.values.size()) + " values, " +
                std::to_string(r.innovations) + " innovations, " + std::to_string(r.iterations) + " iterations>";
@@ -359,9 +367,11 @@ PYBIND11_MODULE(_predvs, m) {
   m.def(
       "fit_noise",
       [](const std::string& name, const py::object& t, const py::object& z, const py::object& params,
-         int burn_in_frames, int max_iterations) {
+         int burn_in_frames, int max_iterations, const std::string& objective, double horizon_s, int starts) {
         if (burn_in_frames < 0) throw std::invalid_argument("burn_in_frames: expected an integer >= 0");
         if (max_iterations < 1) throw std::invalid_argument("max_iterations: expected an integer >= 1");
+        if (!(horizon_s >= 0.0)) throw std::invalid_argument("horizon_s: expected a number >= 0");
+        if (starts < 1) throw std::invalid_argument("starts: expected an integer >= 1");
         const Params base = checkedParams(name, params);
         fitParameters(name);        // unknown predictor, or nothing to fit (hold): its message
         makePredictor(name, 2, base);  // an unknown or out-of-range key: its message, as fit-noise --param
@@ -369,13 +379,18 @@ PYBIND11_MODULE(_predvs, m) {
         NoiseFitOptions opt;
         opt.burn_in_frames = burn_in_frames;
         opt.max_iterations = max_iterations;
+        opt.objective = parseFitObjective(objective);
+        opt.horizon_s = horizon_s;
+        opt.starts = starts;
         py::gil_scoped_release release;
         return fitNoise(name, base, track, opt);
       },
       py::arg("name"), py::arg("t"), py::arg("z"), py::arg("params") = py::none(), py::arg("burn_in_frames") = 10,
-      py::arg("max_iterations") = 200,
-      "Fits the noise keys of `name` on the track t (frames,), z (frames, channels) by maximum innovation "
-      "likelihood (as `predvs fit-noise`). params: starting / fixed values.");
+      py::arg("max_iterations") = 200, py::arg("objective") = "likelihood", py::arg("horizon_s") = 0.0,
+      py::arg("starts") = 1,
+      "Fits the noise keys of `name` on the track t (frames,), z (frames, channels), as `predvs fit-noise`: "
+      "objective 'likelihood' (maximum innovation likelihood) or 'prediction' (least h-step prediction "
+      "error against the track's later measurements, h = horizon_s; r held). params: starting / fixed values.");
   m.def(
       "log_likelihood",
       [](const std::string& name, const py::object& t, const py::object& z, const py::object& params,

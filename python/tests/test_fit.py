@@ -18,18 +18,22 @@ def close(a, b):
     return abs(a - b) <= RELATIVE * max(abs(a), abs(b), 1e-300)
 
 
-@pytest.mark.parametrize("name", ["kf-cv", "fakf"])
-def test_fit_noise_matches_the_command_line(name, cli, track_csv, tmp_path):
+@pytest.mark.parametrize("name,objective", [("kf-cv", "likelihood"), ("fakf", "likelihood"),
+                                            ("kf-cv", "prediction")])
+def test_fit_noise_matches_the_command_line(name, objective, cli, track_csv, tmp_path):
     # GIVEN the command line's fit of `name` on the generated track
     out = tmp_path / "fit"
-    subprocess.run([cli, "fit-noise", "--input", str(track_csv), "--predictor", name, "--out", str(out)], check=True,
-                   capture_output=True)
+    subprocess.run([cli, "fit-noise", "--input", str(track_csv), "--predictor", name, "--objective", objective,
+                    "--out", str(out)], check=True, capture_output=True)
     cpp = json.loads((out / "fit.json").read_text())
-    # WHEN the module fits the same predictor on the same numbers
+    # WHEN the module fits the same predictor on the same numbers (the command's horizon, 2 frames)
     t, z = read_track(track_csv)
-    fit = predvs.fit_noise(name, t, z)
+    fit = predvs.fit_noise(name, t, z, objective=objective, horizon_s=cpp.get("horizon_s", 0.0))
     # THEN every figure is the same
-    assert fit.predictor == name
+    assert fit.predictor == name and fit.objective == objective
+    assert close(fit.rmse_before_px, cpp["rmse_before_px"]) and close(fit.rmse_after_px, cpp["rmse_after_px"])
+    if objective == "prediction":
+        assert fit.residuals == cpp["residuals"] and fit.rmse_after_px <= fit.rmse_before_px
     assert fit.innovations == cpp["innovations"] and fit.iterations == cpp["iterations"]
     assert fit.termination == cpp["termination"] and fit.covariance_ok == cpp["covariance_ok"]
     assert close(fit.loglik_before, cpp["loglik_before"]) and close(fit.loglik_after, cpp["loglik_after"])
@@ -40,16 +44,18 @@ def test_fit_noise_matches_the_command_line(name, cli, track_csv, tmp_path):
         assert close(std, f["std_log"]), (v, f)
         if f["ci95"] is not None:
             assert close(v.lo95, f["ci95"][0]) and close(v.hi95, f["ci95"][1])
-        assert v.at_bound == f["at_bound"]
+        assert v.at_bound == f["at_bound"] and v.held == f.get("held", False)
     assert fit.params.keys() == cpp["params"].keys()
     assert all(close(fit.params[k], cpp["params"][k]) for k in fit.params)
     # and the parameter file it wrote reads back as the module's params (12 significant digits)
     (entry,) = predvs.read_params(str(out / "params.yaml"))
     assert entry["name"] == name
     assert all(abs(entry["params"][k] - fit.params[k]) <= 1e-11 * abs(fit.params[k]) for k in fit.params)
-    # and the fit improved the likelihood it reports, as log_likelihood computes it
+    # and the likelihood it reports is log_likelihood's, improved by a likelihood fit
     ll_after, n = predvs.log_likelihood(name, t, z, fit.params)
-    assert n == fit.innovations and close(ll_after, fit.loglik_after) and fit.loglik_after >= fit.loglik_before
+    assert n == fit.innovations and close(ll_after, fit.loglik_after)
+    if objective == "likelihood":  # (the prediction objective may lower the likelihood)
+        assert fit.loglik_after >= fit.loglik_before
 
 
 def test_fit_noise_errors(track_csv):
@@ -64,5 +70,7 @@ def test_fit_noise_errors(track_csv):
         predvs.fit_noise("kf-cv", np.zeros(len(t)), z)
     with pytest.raises(ValueError, match="unknown parameter 'qq'"):
         predvs.fit_noise("kf-cv", t, z, params={"qq": 1.0})
+    with pytest.raises(ValueError, match="unknown fit objective 'mse'"):
+        predvs.fit_noise("kf-cv", t, z, objective="mse")
     with pytest.raises(ValueError, match="measured rows"):
         predvs.fit_noise("kf-cv", t[:20], z[:20])
