@@ -54,8 +54,8 @@
 // time, tau_cv 10 / 100 s, tau_ca 1 / 10 s, tau_cp 2 / 10 s, q_cp 1 / 5 px^2/s: 210-214 of 216
 // tracks within 10 %, E1-E7 at most 1.13 times the better single model).
 // Mode probabilities: modeProbability(c, mode), and diagnostics() "mu_cp_<c>", "mu_cv_<c>",
-// "mu_ca_<c>" (the servo / compare traces do not write predictor diagnostics yet: their log keeps
-// one column layout for all predictors of a run).
+// "mu_ca_<c>": the open-loop log.csv of `predvs servo` writes them as trailing columns (empty on
+// the other predictors' rows); the closed-loop log does not write predictor diagnostics yet.
 #pragma once
 
 #include "predvs/predictors/kalman_math.h"
