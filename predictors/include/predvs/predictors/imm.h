@@ -28,7 +28,7 @@
 //                 velocity / acceleration while another one dominates; a state mode j lacks is
 //                 dropped. (The zero-fill alternative, a = 0 with variance p0_acc: on the generated
 //                 tracks 212 instead of 214 of 216 within 10 % of the better single model, on
-//                 E2 / E7 1.11 / 1.08 instead of 1.05 / 0.99 times it; docs/PERFORMANCE.md "IMM".)
+//                 E2 / E7 1.11 / 1.08 instead of 1.05 / 0.99 times it, tuning set-up below.)
 //   mode-matched  x_j- = F_j x0_j,  P_j- = F_j P0_j F_j' + Q_j;  if z is measured:
 //                 eps_j = z - x_j-(0),  S_j = P_j-(0,0) + R,  Joseph update of (x_j, P_j)
 //   probabilities mu_j = c_j L_j / sum_i c_i L_i,  L_j = N(eps_j; 0, S_j) (in logs), floored at 1e-6
@@ -39,10 +39,10 @@
 //   xbar = sum_j c_j x_j-(0),  eps = z - xbar,  S = sum_j c_j (S_j + (x_j-(0) - xbar)^2).
 // Prediction query (const) to t = t_last + h (choice): each mode's posterior is extrapolated over
 // h with its own model and the results are combined with the CURRENT mu, i.e. no mode switch is
-// assumed within the horizon (exact to first order in h / tau). Weighting with mu propagated by
+// assumed within the horizon (an error of order h / tau). Weighting with mu propagated by
 // the chain over h instead mixes in the full-horizon extrapolation of a mode the target would only
 // switch to part-way, e.g. CP's standstill on a moving target: E2 1.20 instead of 1.05 times the
-// better single model.
+// better single model (tuning set-up below).
 //
 // Parameters (px and s): q_cp (px^2/s, default 2), q_cv (px^2/s^3, default kDefaultQCv), q_ca
 // (px^2/s^5, default kDefaultQCa), alpha (1/s, default 0: CA; > 0: Singer), r (px^2; default `auto`,
@@ -52,7 +52,10 @@
 // on the generated tracks (servo/maneuver_tracks.h) and the paper scenarios E1-E4, E7 together
 // (docs/PERFORMANCE.md "IMM against its single models"); they are not sharp optima (one at a
 // time, tau_cv 10 / 100 s, tau_ca 1 / 10 s, tau_cp 2 / 10 s, q_cp 1 / 5 px^2/s: 210-214 of 216
-// tracks within 10 %, E1-E7 at most 1.13 times the better single model).
+// tracks within 10 %, E1-E7 at most 1.13 times the better single model). Tuning set-up of the
+// figures in this comment: the 216 tracks with defaults; E1-E4 and E7, 10 runs, imm with
+// q_cv = 100, q_ca = 1000, r = 1 on all of them (E7's file now pins q_cv = 200, r = 5 as its kf-cv)
+// against kf-ca with q = 1000, r = 1.
 // Mode probabilities: modeProbability(c, mode), and diagnostics() "mu_cp_<c>", "mu_cv_<c>",
 // "mu_ca_<c>": the open-loop log.csv of `predvs servo` writes them as trailing columns (empty on
 // the other predictors' rows); the closed-loop log does not write predictor diagnostics yet.
