@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace predvs {
@@ -106,6 +107,26 @@ std::vector<std::string> tableMetrics(const std::vector<std::string>& names, con
   return shown;
 }
 
+std::string immAgainstSingleModels(const MetricTable& t) {
+  const auto rmse = std::find(t.metrics.begin(), t.metrics.end(), "rmse");
+  if (rmse == t.metrics.end()) return "";
+  const size_t m = static_cast<size_t>(rmse - t.metrics.begin());
+  const auto mean = [&](const char* name) {
+    const auto r = std::find(t.rows.begin(), t.rows.end(), name);
+    return r == t.rows.end() ? std::numeric_limits<double>::quiet_NaN()
+                             : t.cells[static_cast<size_t>(r - t.rows.begin())][m].mean;
+  };
+  const double imm = mean("imm"), cv = mean("kf-cv"), ca = mean("kf-ca"), hold = mean("hold");
+  if (!std::isfinite(imm) || !std::isfinite(cv) || !std::isfinite(ca)) return "";
+  const double best = std::min(cv, ca);
+  std::ostringstream s;
+  s << "imm / best of kf-cv, kf-ca (rmse): " << fixedNumber(imm / best, 3)
+    << (imm <= 1.1 * best ? " (within 10 %)" : " (NOT within 10 %)");
+  if (std::isfinite(hold))
+    s << "; imm / hold: " << fixedNumber(imm / hold, 3) << (imm <= hold ? "" : " (below hold)");
+  return s.str();
+}
+
 void printMetricTable(const MetricTable& t, std::ostream& out) {
   size_t w = 9;
   for (const auto& r : t.rows) w = std::max(w, r.size());
@@ -134,6 +155,8 @@ void printMetricTable(const MetricTable& t, std::ostream& out) {
     out << "\n";
   }
   if (vs_hold) out << "(vs hold: rmse of hold / rmse of the predictor; rmse over the steady window)\n";
+  const std::string imm = immAgainstSingleModels(t);
+  if (!imm.empty()) out << imm << "\n";
 }
 
 std::string markdownMetricTable(const MetricTable& t) {
@@ -153,6 +176,8 @@ std::string markdownMetricTable(const MetricTable& t) {
     }
     md << "\n";
   }
+  const std::string imm = immAgainstSingleModels(t);
+  if (!imm.empty()) md << "\n" << imm << "\n";
   return md.str();
 }
 

@@ -66,7 +66,11 @@ struct MetricTable {
 
 /// The figures of `names` that go into the tables of `scenario` (header rule), in their order.
 std::vector<std::string> tableMetrics(const std::vector<std::string>& names, const Scenario& scenario);
-/// Means in fixed-width columns, plus "vs hold" when a row is `hold` (then a footnote line).
+/// When the rows hold imm, kf-cv and kf-ca: one line "imm / best of kf-cv, kf-ca (rmse): R (within
+/// 10 %)" plus imm / hold when `hold` is a row (issue 11's target for imm); empty otherwise.
+std::string immAgainstSingleModels(const MetricTable& table);
+/// Means in fixed-width columns, plus "vs hold" when a row is `hold` (then a footnote line), plus
+/// immAgainstSingleModels' line when it applies.
 void printMetricTable(const MetricTable& table, std::ostream& out);
 /// A markdown table: "| # | predictor | m1 | ..." with mean ± std (std only with n > 1).
 std::string markdownMetricTable(const MetricTable& table);

@@ -66,7 +66,10 @@ RunRecord runOpenLoop(const Scenario& sc, const ScenarioPredictor& p, std::uint6
         for (Eigen::Index c = 0; c < v->size(); ++c) row.push_back((*v)(c));
       row.push_back(s.error);
       rec.rows.push_back(std::move(row));
+      if (!r.diagnostic_names.empty())
+        rec.diagnostic_rows.emplace_back(s.diagnostics.data(), s.diagnostics.data() + s.diagnostics.size());
     }
+  if (keep_trace) rec.diagnostic_names = r.diagnostic_names;
   return rec;
 }
 

@@ -51,6 +51,10 @@ struct RunRecord {
   bool prediction_used = true;     ///< closed loop: whether the compensation + prediction path ran
   RunLayout layout;
   std::vector<std::vector<double>> rows;  ///< trace rows (only when asked for)
+  /// The predictor's own diagnostics per trace row (Predictor::diagnostics(), e.g. imm's mode
+  /// probabilities; open loop, only with the trace): names, and one row of values per trace row.
+  std::vector<std::string> diagnostic_names;
+  std::vector<std::vector<double>> diagnostic_rows;
 };
 
 /// Runs predictor `p` on `scenario` with `seed` (which replaces the scenario's). Every call builds

@@ -33,16 +33,33 @@ std::string cols(size_t a, size_t b) { return std::to_string(a) + ":" + std::to_
 double runningWindowS(const Scenario& sc) { return std::max(1.0, 0.05 * sc.durationS()); }
 
 std::string logCsv(const ServoReport& r) {
+  // Predictor diagnostics (e.g. imm's mu_cv_0): the union of the runs' names as trailing columns,
+  // empty for a predictor without that name.
+  std::vector<std::string> diag;
+  for (const auto& run : r.runs)
+    for (const auto& n : run.diagnostic_names)
+      if (std::find(diag.begin(), diag.end(), n) == diag.end()) diag.push_back(n);
   std::ostringstream csv;
   csv << "predictor";
   for (const auto& c : r.runs.front().layout.columns) csv << "," << c;
+  for (const auto& n : diag) csv << "," << n;
   csv << "\n";
-  for (const auto& run : r.runs)
-    for (const auto& row : run.rows) {
+  for (const auto& run : r.runs) {
+    std::vector<long> at(diag.size(), -1);  // index of each union column in this run's diagnostics
+    for (size_t k = 0; k < diag.size(); ++k)
+      for (size_t m = 0; m < run.diagnostic_names.size(); ++m)
+        if (run.diagnostic_names[m] == diag[k]) at[k] = static_cast<long>(m);
+    for (size_t i = 0; i < run.rows.size(); ++i) {
       csv << run.predictor;
-      for (double x : row) csv << "," << csvNumber(x, 10);
+      for (double x : run.rows[i]) csv << "," << csvNumber(x, 10);
+      for (size_t k = 0; k < diag.size(); ++k) {
+        csv << ",";
+        if (at[k] >= 0 && i < run.diagnostic_rows.size())
+          csv << csvNumber(run.diagnostic_rows[i][static_cast<size_t>(at[k])], 10);
+      }
       csv << "\n";
     }
+  }
   return csv.str();
 }
 

@@ -1,6 +1,7 @@
 #include "predvs/predictors/imm.h"
 
 #include "predvs/predictors/cs_akf.h"
+#include "predvs/predictors/kalman_baselines.h"
 
 #include <cmath>
 #include <limits>
@@ -11,42 +12,54 @@ namespace predvs {
 namespace {
 
 constexpr double kLog2Pi = 1.8378770664093453;
-
-/// Mixture moments: x = sum w_j x_j, P = sum w_j (P_j + (x_j - x)(x_j - x)').
-Gaussian<3> combine(const std::array<Gaussian<3>, 2>& g, const std::array<double, 2>& w) {
-  Gaussian<3> out;
-  out.x = w[0] * g[0].x + w[1] * g[1].x;
-  out.P.setZero();
-  for (int j = 0; j < 2; ++j) {
-    const Vec<3> d = g[static_cast<size_t>(j)].x - out.x;
-    out.P += w[static_cast<size_t>(j)] * (g[static_cast<size_t>(j)].P + d * d.transpose());
-  }
-  symmetrize(out.P);
-  return out;
-}
+/// Floor of a mode probability after an update: keeps every mode recoverable after a long stretch
+/// dominated by the others (renormalised afterwards).
+constexpr double kMuFloor = 1e-6;
 
 }  // namespace
 
+const char* immModeName(ImmMode m) {
+  switch (m) {
+    case ImmMode::Cp: return "cp";
+    case ImmMode::Cv: return "cv";
+    case ImmMode::Ca: return "ca";
+  }
+  return "?";
+}
+
 ImmPredictor::ImmPredictor(int channels, const Params& params)
     : Predictor(channels),
-      q_cv_(params.get("q_cv", 100.0, 0.0, 1e12)),
-      q_ca_(params.get("q_ca", 1e6, 0.0, 1e15)),
-      alpha_(params.get("alpha", 5.0, 1e-6, 1e3)),
+      q_cp_(params.get("q_cp", 2.0, 0.0, 1e12)),
+      q_cv_(params.get("q_cv", kDefaultQCv, 0.0, 1e12)),
+      q_ca_(params.get("q_ca", kDefaultQCa, 0.0, 1e15)),
+      alpha_(params.get("alpha", 0.0, 0.0, 1e3)),
       r_(1.0),
-      tau_cv_s_(params.get("tau_cv_s", 10.0, 1e-6, 1e6)),
-      tau_ca_s_(params.get("tau_ca_s", 0.5, 1e-6, 1e6)),
-      mu0_ca_(params.get("mu0_ca", 0.5, 0.0, 1.0)),
       p0_vel_(params.get("p0_vel", 1e4, 0.0, 1e12)),
       p0_acc_(params.get("p0_acc", 1e4, 0.0, 1e12)),
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
+  const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
+  const double tau_cp = params.get("tau_cp_s", 5.0, 1e-6, 1e6);
+  const double tau_cv = params.get("tau_cv_s", 30.0, 1e-6, 1e6);
+  const double tau_ca = params.get("tau_ca_s", 3.0, 1e-6, 1e6);
+  if (with_cp) modes_.push_back({ImmMode::Cp, 1, tau_cp});
+  modes_.push_back({ImmMode::Cv, 2, tau_cv});
+  modes_.push_back({ImmMode::Ca, 3, tau_ca});
+  // Rate matrix: leave mode i at rate 1 / tau_i, to each other mode with equal share.
+  const int m = modeCount();
+  rates_.setZero(m, m);
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j)
+      rates_(i, j) = i == j ? -1.0 / modes_[static_cast<size_t>(i)].tau_s
+                            : 1.0 / (modes_[static_cast<size_t>(i)].tau_s * (m - 1));
   reset();
 }
 
 void ImmPredictor::reset() {
   resetClock();
   Channel init;
-  init.mu = {1.0 - mu0_ca_, mu0_ca_};
+  init.mu.fill(0.0);
+  for (int j = 0; j < modeCount(); ++j) init.mu[static_cast<size_t>(j)] = 1.0 / modeCount();
   chan_.assign(static_cast<size_t>(channels()), init);
 }
 
@@ -54,27 +67,80 @@ double ImmPredictor::measurementNoise(int c) const {
   return r_auto_ ? chan_.at(static_cast<size_t>(c)).r_est.variance() : r_;
 }
 
-Mat<3> ImmPredictor::transition(int mode, double dt) const {
-  if (mode == 1) return singerTransition(alpha_, dt);
+double ImmPredictor::modeProbability(int c, ImmMode mode) const {
+  const Channel& ch = chan_.at(static_cast<size_t>(c));
+  for (int j = 0; j < modeCount(); ++j)
+    if (modes_[static_cast<size_t>(j)].kind == mode) return ch.mu[static_cast<size_t>(j)];
+  return 0.0;
+}
+
+Mat<3> ImmPredictor::transition(int j, double dt) const {
   Mat<3> F = Mat<3>::Zero();
-  F(0, 0) = 1.0;
-  F(0, 1) = dt;
-  F(1, 1) = 1.0;
+  switch (modes_[static_cast<size_t>(j)].kind) {
+    case ImmMode::Cp:
+      F(0, 0) = 1.0;
+      break;
+    case ImmMode::Cv:
+      F(0, 0) = F(1, 1) = 1.0;
+      F(0, 1) = dt;
+      break;
+    case ImmMode::Ca:
+      F = alpha_ > 0.0 ? singerTransition(alpha_, dt) : caTransition(dt);
+      break;
+  }
   return F;
 }
 
-Mat<3> ImmPredictor::processNoise(int mode, double dt) const {
-  if (mode == 1) return singerProcessNoise(alpha_, q_ca_ / (2.0 * alpha_), dt);
+Mat<3> ImmPredictor::processNoise(int j, double dt) const {
   Mat<3> Q = Mat<3>::Zero();
-  Q.topLeftCorner<2, 2>() = cvProcessNoise(q_cv_, dt);
+  switch (modes_[static_cast<size_t>(j)].kind) {
+    case ImmMode::Cp:
+      Q(0, 0) = q_cp_ * dt;
+      break;
+    case ImmMode::Cv:
+      Q.topLeftCorner<2, 2>() = cvProcessNoise(q_cv_, dt);
+      break;
+    case ImmMode::Ca:
+      Q = alpha_ > 0.0 ? singerProcessNoise(alpha_, q_ca_ / (2.0 * alpha_), dt) : caProcessNoise(q_ca_, dt);
+      break;
+  }
   return Q;
 }
 
-Mat<2> ImmPredictor::chain(double dt) const {
-  const double p00 = std::exp(-dt / tau_cv_s_), p11 = std::exp(-dt / tau_ca_s_);
-  Mat<2> P;
-  P << p00, 1.0 - p00, 1.0 - p11, p11;
-  return P;
+ImmPredictor::ModeMatrix ImmPredictor::chain(double dt) const {
+  // exp(Lambda dt) by scaling and squaring: halve until the norm is below 1/2, Taylor to order 12
+  // (truncation < 0.5^13 / 13! relative), square back. Rows of the result sum to one.
+  const int m = modeCount();
+  ModeMatrix A = rates_ * dt;
+  int squarings = 0;
+  double norm = A.cwiseAbs().rowwise().sum().maxCoeff();
+  while (norm > 0.5) {
+    A *= 0.5;
+    norm *= 0.5;
+    ++squarings;
+  }
+  ModeMatrix E = ModeMatrix::Identity(m, m), term = ModeMatrix::Identity(m, m);
+  for (int k = 1; k <= 12; ++k) {
+    term = (term * A / k).eval();
+    E += term;
+  }
+  for (int s = 0; s < squarings; ++s) E = (E * E).eval();
+  for (int i = 0; i < m; ++i) E.row(i) /= E.row(i).sum();
+  return E;
+}
+
+Gaussian<3> ImmPredictor::embed(const Gaussian<3>& from, int dim_from, const Gaussian<3>& into, int dim_into) {
+  if (dim_from >= dim_into) return from;
+  Gaussian<3> g = from;
+  for (int k = dim_from; k < 3; ++k) {
+    g.P.row(k).setZero();
+    g.P.col(k).setZero();
+  }
+  for (int k = dim_from; k < dim_into; ++k) {
+    g.x(k) = into.x(k);
+    for (int l = dim_from; l < dim_into; ++l) g.P(k, l) = into.P(k, l);
+  }
+  return g;
 }
 
 void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) {
@@ -82,7 +148,8 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     throw std::invalid_argument(name() + ": measurement has " + std::to_string(z.size()) + " entries, expected " +
                                 std::to_string(channels()));
   const double dt = advanceClock(t_s);
-  const Mat<2> Pi = chain(dt);
+  const int m = modeCount();
+  const ModeMatrix Pi = chain(dt);
   for (int c = 0; c < channels(); ++c) {
     Channel& ch = chan_[static_cast<size_t>(c)];
     ch.innovation = Innovation{};
@@ -90,56 +157,74 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     const double R = measurementNoise(c);
     if (!ch.initialized) {
       if (!isMeasured(z(c))) continue;
-      for (auto& g : ch.g) {
+      for (int j = 0; j < m; ++j) {
+        Gaussian<3>& g = ch.g[static_cast<size_t>(j)];
+        const int d = modes_[static_cast<size_t>(j)].dim;
         g.x << z(c), 0.0, 0.0;
         g.P.setZero();
         g.P(0, 0) = R;
-        g.P(1, 1) = p0_vel_;
-        g.P(2, 2) = p0_acc_;
+        if (d > 1) g.P(1, 1) = p0_vel_;
+        if (d > 2) g.P(2, 2) = p0_acc_;
       }
       ch.initialized = true;
       continue;
     }
-    // Mixing.
-    std::array<double, 2> cbar{};
-    for (int j = 0; j < 2; ++j) cbar[static_cast<size_t>(j)] = Pi(0, j) * ch.mu[0] + Pi(1, j) * ch.mu[1];
-    std::array<Gaussian<3>, 2> mixed;
-    for (int j = 0; j < 2; ++j) {
-      std::array<double, 2> w{};
-      for (int i = 0; i < 2; ++i)
-        w[static_cast<size_t>(i)] = cbar[static_cast<size_t>(j)] > 0.0
-                                        ? Pi(i, j) * ch.mu[static_cast<size_t>(i)] / cbar[static_cast<size_t>(j)]
-                                        : (i == j ? 1.0 : 0.0);
-      mixed[static_cast<size_t>(j)] = combine(ch.g, w);
+    // Mixing: c_j = sum_i p_ij mu_i, mu_i|j = p_ij mu_i / c_j, moments of the mixture.
+    std::array<double, kMaxModes> cbar{};
+    std::array<Gaussian<3>, kMaxModes> mixed;
+    for (int j = 0; j < m; ++j) {
+      const auto jj = static_cast<size_t>(j);
+      for (int i = 0; i < m; ++i) cbar[jj] += Pi(i, j) * ch.mu[static_cast<size_t>(i)];
+      std::array<Gaussian<3>, kMaxModes> src;
+      std::array<double, kMaxModes> w{};
+      Vec<3> mean = Vec<3>::Zero();
+      for (int i = 0; i < m; ++i) {
+        const auto ii = static_cast<size_t>(i);
+        w[ii] = cbar[jj] > 0.0 ? Pi(i, j) * ch.mu[ii] / cbar[jj] : (i == j ? 1.0 : 0.0);
+        src[ii] = embed(ch.g[ii], modes_[ii].dim, ch.g[jj], modes_[jj].dim);
+        mean += w[ii] * src[ii].x;
+      }
+      Mat<3> P = Mat<3>::Zero();
+      for (int i = 0; i < m; ++i) {
+        const auto ii = static_cast<size_t>(i);
+        const Vec<3> d = src[ii].x - mean;
+        P += w[ii] * (src[ii].P + d * d.transpose());
+      }
+      symmetrize(P);
+      mixed[jj].x = mean;
+      mixed[jj].P = P;
     }
-    // Mode-matched filters.
-    for (int j = 0; j < 2; ++j) timeUpdate(mixed[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));
+    // Mode-matched filters (each zeroes the states its model does not have).
+    for (int j = 0; j < m; ++j) timeUpdate(mixed[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));
     if (isMeasured(z(c))) {
-      const double xbar = cbar[0] * mixed[0].x(0) + cbar[1] * mixed[1].x(0);
-      double S = 0.0;
-      std::array<double, 2> loglik{};
-      for (int j = 0; j < 2; ++j) {
+      double xbar = 0.0;
+      for (int j = 0; j < m; ++j) xbar += cbar[static_cast<size_t>(j)] * mixed[static_cast<size_t>(j)].x(0);
+      double S = 0.0, maxll = -std::numeric_limits<double>::infinity();
+      std::array<double, kMaxModes> loglik{};
+      for (int j = 0; j < m; ++j) {
         const auto jj = static_cast<size_t>(j);
         const double d = mixed[jj].x(0) - xbar;
         S += cbar[jj] * (mixed[jj].P(0, 0) + R + d * d);
         const Innovation in = measurementUpdate(mixed[jj], z(c), R);
         loglik[jj] = -0.5 * (kLog2Pi + std::log(in.S) + in.eps * in.eps / in.S);
+        maxll = std::max(maxll, loglik[jj]);
       }
       ch.innovation = Innovation{z(c) - xbar, S, true};
-      const double m = std::max(loglik[0], loglik[1]);
-      std::array<double, 2> w{};
+      std::array<double, kMaxModes> w{};
       double sum = 0.0;
-      for (int j = 0; j < 2; ++j) {
+      for (int j = 0; j < m; ++j) {
         const auto jj = static_cast<size_t>(j);
-        w[jj] = cbar[jj] * std::exp(loglik[jj] - m);
+        w[jj] = cbar[jj] * std::exp(loglik[jj] - maxll);
         sum += w[jj];
       }
       if (sum > 0.0 && std::isfinite(sum)) {
-        // A floor keeps either mode recoverable after a long stretch dominated by the other.
-        for (int j = 0; j < 2; ++j) ch.mu[static_cast<size_t>(j)] = std::max(1e-6, w[static_cast<size_t>(j)] / sum);
-        const double s2 = ch.mu[0] + ch.mu[1];
-        ch.mu[0] /= s2;
-        ch.mu[1] /= s2;
+        double s2 = 0.0;
+        for (int j = 0; j < m; ++j) {
+          const auto jj = static_cast<size_t>(j);
+          ch.mu[jj] = std::max(kMuFloor, w[jj] / sum);
+          s2 += ch.mu[jj];
+        }
+        for (int j = 0; j < m; ++j) ch.mu[static_cast<size_t>(j)] /= s2;
       } else {
         ch.mu = cbar;
       }
@@ -148,6 +233,20 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     }
     ch.g = mixed;
   }
+}
+
+Gaussian<3> ImmPredictor::combine(const std::array<Gaussian<3>, kMaxModes>& g, const std::array<double, kMaxModes>& w) const {
+  Gaussian<3> out;
+  out.x.setZero();
+  out.P.setZero();
+  for (int j = 0; j < modeCount(); ++j) out.x += w[static_cast<size_t>(j)] * g[static_cast<size_t>(j)].x;
+  for (int j = 0; j < modeCount(); ++j) {
+    const auto jj = static_cast<size_t>(j);
+    const Vec<3> d = g[jj].x - out.x;
+    out.P += w[jj] * (g[jj].P + d * d.transpose());
+  }
+  symmetrize(out.P);
+  return out;
 }
 
 ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
@@ -160,19 +259,19 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
   }
   const double dt = t_s - time();
   if (!(dt > 0.0)) return toEstimate(combine(ch.g, ch.mu));
-  const Mat<2> Pi = chain(dt);
-  std::array<Gaussian<3>, 2> g = ch.g;
-  std::array<double, 2> w{};
-  for (int j = 0; j < 2; ++j) {
-    timeUpdate(g[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));
-    w[static_cast<size_t>(j)] = Pi(0, j) * ch.mu[0] + Pi(1, j) * ch.mu[1];
-  }
-  return toEstimate(combine(g, w));
+  std::array<Gaussian<3>, kMaxModes> g = ch.g;
+  for (int j = 0; j < modeCount(); ++j) timeUpdate(g[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));
+  return toEstimate(combine(g, ch.mu));
 }
 
 NamedValues ImmPredictor::diagnostics() const {
   NamedValues out;
-  for (int c = 0; c < channels(); ++c) out.emplace_back("mu_ca_" + std::to_string(c), modeProbability(c, 1));
+  for (int c = 0; c < channels(); ++c)
+    for (int j = 0; j < modeCount(); ++j) {
+      const Mode& md = modes_[static_cast<size_t>(j)];
+      out.emplace_back(std::string("mu_") + immModeName(md.kind) + "_" + std::to_string(c),
+                       chan_[static_cast<size_t>(c)].mu[static_cast<size_t>(j)]);
+    }
   return out;
 }
 

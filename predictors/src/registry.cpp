@@ -38,7 +38,7 @@ const std::vector<Entry>& entries() {
       {{"st-akf-pm", "st-akf re-initialised by the predictive discontinuity monitor"}, factory<StAkfPmPredictor>()},
       {{"fakf-classic", "fuzzy adaptive KF (Escamilla-Ambrosio & Mort): CV model, R += fuzzy(C - S)"}, factory<FakfClassicPredictor>()},
       {{"fakf", "improved fuzzy adaptive KF (paper 000): adaptive CS model, R *= fuzzy(E', C - S), fuzzy P inflation"}, factory<FakfPredictor>()},
-      {{"imm", "interacting multiple model: CV + CA Kalman filters mixed by mode probabilities"}, factory<ImmPredictor>()},
+      {{"imm", "interacting multiple model: CP + CV + CA Kalman filters mixed by mode probabilities"}, factory<ImmPredictor>()},
   };
   return table;
 }

@@ -103,6 +103,11 @@ ChannelExperimentResult runChannelExperiment(const PredictionExperimentConfig& c
     s.predicted.resize(n);
     s.predicted_velocity.resize(n);
     s.lost_expired = lost.anyExpired();
+    const NamedValues diag = predictor.diagnostics();
+    if (result.diagnostic_names.empty())
+      for (const auto& kv : diag) result.diagnostic_names.push_back(kv.first);
+    s.diagnostics.resize(static_cast<Eigen::Index>(diag.size()));
+    for (size_t k = 0; k < diag.size(); ++k) s.diagnostics(static_cast<Eigen::Index>(k)) = diag[k].second;
     for (int c = 0; c < n; ++c) {
       if (lost.expired(c)) {  // held: the last measured value, standing still
         s.predicted(c) = lost.lastValue(c);

@@ -1,4 +1,5 @@
-// imm (predictors/imm.h): mode probabilities, and the two limits of the mixture.
+// imm (predictors/imm.h): the mode probabilities on the motion each mode describes, the mode chain
+// stated per second, the const prediction; the start-up noise estimate (noise_estimate.h).
 #include "predvs/predictors/imm.h"
 #include "predvs/predictors/noise_estimate.h"
 
@@ -12,43 +13,129 @@
 namespace predvs {
 namespace {
 
-TEST(Imm, ModeProbabilitiesFollowTheMotion) {
-  // GIVEN a target moving at constant velocity for 4 s, then accelerating at 400 px/s^2 for 1 s,
-  // 30 Hz, 0.5 px noise; THEN the CA probability is low on the straight part and rises during the
-  // acceleration, and the probabilities of each channel sum to one.
-  ImmPredictor imm(1, Params{{"r", 0.25}});
-  std::mt19937_64 rng(3);
-  std::normal_distribution<double> n(0.0, 0.5);
-  double mu_ca_straight = 0.0, mu_ca_accel = 0.0;
-  int n_straight = 0, n_accel = 0;
-  for (int k = 0; k <= 150; ++k) {
-    const double t = k / 30.0;
-    const double p = t <= 4.0 ? 50.0 * t : 200.0 + 50.0 * (t - 4.0) + 200.0 * (t - 4.0) * (t - 4.0);
+/// Mean probability of each mode over t in (t_from, t_to] on one channel fed with position(t)
+/// plus Gaussian noise (sigma_px) at rate_hz; checks on every frame that the probabilities sum to one.
+struct ModeShares {
+  double cp = 0.0, cv = 0.0, ca = 0.0;
+};
+template <class Position>
+ModeShares meanModeShares(ImmPredictor& imm, Position position, double rate_hz, double sigma_px, double t_end,
+                          double t_from, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n(0.0, sigma_px);
+  ModeShares s;
+  int count = 0;
+  for (int k = 0; k <= static_cast<int>(t_end * rate_hz); ++k) {
+    const double t = k / rate_hz;
     Eigen::VectorXd z(1);
-    z << p + n(rng);
+    z << position(t) + n(rng);
     imm.update(t, z);
-    EXPECT_NEAR(imm.modeProbability(0, 0) + imm.modeProbability(0, 1), 1.0, 1e-12);
-    if (t > 2.0 && t <= 4.0) {
-      mu_ca_straight += imm.modeProbability(0, 1);
-      ++n_straight;
-    }
-    if (t > 4.3) {
-      mu_ca_accel += imm.modeProbability(0, 1);
-      ++n_accel;
+    const double cp = imm.modeProbability(0, ImmMode::Cp), cv = imm.modeProbability(0, ImmMode::Cv),
+                 ca = imm.modeProbability(0, ImmMode::Ca);
+    EXPECT_NEAR(cp + cv + ca, 1.0, 1e-12) << "t = " << t;
+    EXPECT_GE(std::min({cp, cv, ca}), 0.0);
+    if (t > t_from) {
+      s.cp += cp;
+      s.cv += cv;
+      s.ca += ca;
+      ++count;
     }
   }
-  mu_ca_straight /= n_straight;
-  mu_ca_accel /= n_accel;
-  EXPECT_LT(mu_ca_straight, 0.35);
-  EXPECT_GT(mu_ca_accel, 0.6);
-  EXPECT_GT(mu_ca_accel, 2.0 * mu_ca_straight);
+  s.cp /= count;
+  s.cv /= count;
+  s.ca /= count;
+  return s;
+}
+
+TEST(Imm, ConstantPositionModeWinsOnAStaticTarget) {
+  // GIVEN a target at rest, 30 Hz, 1 px noise, r known; THEN after 2 s the CP mode holds most of
+  // the probability (measured 0.98; the CV and CA modes fit too, with larger predicted variances).
+  ImmPredictor imm(1, Params{{"r", 1.0}});
+  const ModeShares s = meanModeShares(imm, [](double) { return 100.0; }, 30.0, 1.0, 10.0, 2.0, 5);
+  EXPECT_GT(s.cp, 0.8);
+  EXPECT_GT(s.cp, s.cv);
+  EXPECT_GT(s.cp, s.ca);
+}
+
+/// A textbook mode set for the two tests below: a quiet CV mode (q_cv = 100 px^2/s^3) and a CA
+/// mode noisier than it at 30 Hz (q_ca = 1e6 px^2/s^5). With the defaults (kf-cv's 1e4 and kf-ca's
+/// 3e5) the white-jerk CA mode is the quieter of the two at 30 Hz (tracking indices 0.17 against
+/// 1.2 at 0.5 px), so it also wins on a uniform motion, which it contains (a = 0).
+Params textbookModes() { return Params{{"r", 0.25}, {"q_cv", 100.0}, {"q_ca", 1e6}}; }
+
+TEST(Imm, ConstantVelocityModeWinsOnAUniformMotion) {
+  // GIVEN 150 px/s at 30 Hz, 0.5 px noise; THEN the CV mode holds most of the probability and CP
+  // almost none (150 px/s is 5 px per frame, ten times the noise).
+  ImmPredictor imm(1, textbookModes());
+  const ModeShares s = meanModeShares(imm, [](double t) { return 150.0 * t; }, 30.0, 0.5, 10.0, 2.0, 6);
+  EXPECT_GT(s.cv, 0.8);
+  EXPECT_GT(s.cv, s.ca);
+  EXPECT_LT(s.cp, 0.01);
+}
+
+TEST(Imm, ConstantAccelerationModeWinsOnAnAcceleratingTarget) {
+  // GIVEN 50 px/s for 4 s, then a constant 400 px/s^2 for 1 s, 30 Hz, 0.5 px noise; THEN the CA
+  // probability is low on the straight part and holds most of the probability from 0.3 s into the
+  // acceleration. With the default modes too, CA holds most of it during the acceleration.
+  const auto p = [](double t) { return t <= 4.0 ? 50.0 * t : 200.0 + 50.0 * (t - 4.0) + 200.0 * (t - 4.0) * (t - 4.0); };
+  ImmPredictor straight(1, textbookModes()), imm(1, textbookModes()), defaults(1, Params{{"r", 0.25}});
+  const ModeShares before = meanModeShares(straight, p, 30.0, 0.5, 4.0, 2.0, 3);
+  const ModeShares during = meanModeShares(imm, p, 30.0, 0.5, 5.0, 4.3, 3);
+  EXPECT_LT(before.ca, 0.1);
+  EXPECT_GT(during.ca, 0.8);
+  EXPECT_GT(during.ca, during.cv);
+  EXPECT_GT(during.ca, during.cp);
+  const ModeShares with_defaults = meanModeShares(defaults, p, 30.0, 0.5, 5.0, 4.3, 3);
+  EXPECT_GT(with_defaults.ca, 0.8);
+}
+
+TEST(Imm, DiagnosticsAreTheModeProbabilities) {
+  ImmPredictor imm(2, Params{});
+  EXPECT_EQ(imm.modeCount(), 3);
+  Eigen::Vector2d z(1.0, 2.0);
+  imm.update(0.0, z);
+  imm.update(0.1, z);
   const NamedValues d = imm.diagnostics();
-  ASSERT_EQ(d.size(), 1u);
-  EXPECT_EQ(d[0].first, "mu_ca_0");
-  EXPECT_EQ(d[0].second, imm.modeProbability(0, 1));
+  ASSERT_EQ(d.size(), 6u);
+  EXPECT_EQ(d[0].first, "mu_cp_0");
+  EXPECT_EQ(d[1].first, "mu_cv_0");
+  EXPECT_EQ(d[2].first, "mu_ca_0");
+  EXPECT_EQ(d[5].first, "mu_ca_1");
+  EXPECT_EQ(d[2].second, imm.modeProbability(0, ImmMode::Ca));
+  // Without the CP mode: two modes, CP's probability reads 0.
+  ImmPredictor two(1, Params{{"cp", 0.0}});
+  EXPECT_EQ(two.modeCount(), 2);
+  EXPECT_EQ(two.modeProbability(0, ImmMode::Cp), 0.0);
+  EXPECT_NEAR(two.modeProbability(0, ImmMode::Cv) + two.modeProbability(0, ImmMode::Ca), 1.0, 1e-12);
+}
+
+TEST(Imm, ModeChainIsStatedPerSecond) {
+  // The transition matrix over dt is exp(Lambda dt) of a rate matrix: rows sum to one, it composes
+  // (Pi(a + b) = Pi(a) Pi(b), so the chain is the same at any frame rate), its diagonal is
+  // exp(-dt / tau) to first order, and its stationary shares are proportional to the sojourn times.
+  ImmPredictor imm(1, Params{{"tau_cp_s", 4.0}, {"tau_cv_s", 20.0}, {"tau_ca_s", 2.0}});
+  constexpr double kTol = 1e-12;  // double rounding of a 3x3 series and a few squarings
+  for (double dt : {1e-3, 1.0 / 60.0, 0.1, 0.5, 3.0}) {
+    const ImmPredictor::ModeMatrix P = imm.chain(dt);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(P.row(i).sum(), 1.0, kTol) << "dt " << dt;
+    EXPECT_GE(P.minCoeff(), 0.0);
+    const ImmPredictor::ModeMatrix PP = imm.chain(dt / 3.0) * imm.chain(2.0 * dt / 3.0);
+    EXPECT_LT((P - PP).cwiseAbs().maxCoeff(), 1e-10) << "dt " << dt;
+  }
+  const ImmPredictor::ModeMatrix P = imm.chain(1e-3);
+  EXPECT_NEAR(P(0, 0), std::exp(-1e-3 / 4.0), 1e-7);
+  EXPECT_NEAR(P(1, 1), std::exp(-1e-3 / 20.0), 1e-7);
+  EXPECT_NEAR(P(2, 2), std::exp(-1e-3 / 2.0), 1e-7);
+  const ImmPredictor::ModeMatrix L = imm.chain(1000.0);  // long run: the stationary distribution
+  EXPECT_NEAR(L(0, 0), 4.0 / 26.0, 1e-6);
+  EXPECT_NEAR(L(0, 1), 20.0 / 26.0, 1e-6);
+  EXPECT_NEAR(L(2, 2), 2.0 / 26.0, 1e-6);
 }
 
 TEST(Imm, PredictionIsConstAndBetweenItsModes) {
+  // GIVEN a channel accelerating at 20 px/s^2 (and one moving uniformly); THEN a prediction does
+  // not change the filter and, with all modes extrapolated from their posteriors, it lies between
+  // the CP forecast (the last estimate) and beyond it in the direction of motion.
   ImmPredictor imm(2, Params{});
   Eigen::Vector2d z;
   for (int k = 0; k < 40; ++k) {
@@ -60,6 +147,11 @@ TEST(Imm, PredictionIsConstAndBetweenItsModes) {
   EXPECT_EQ(a.x(0), b.x(0));
   EXPECT_EQ(a.x.size(), 3);
   EXPECT_GT(a.P(0, 0), 0.0);
+  const ChannelEstimate now = imm.predict(0, imm.time());
+  EXPECT_GT(a.x(0), now.x(0));  // moving up at ~216 px/s, 80 px/s^2
+  EXPECT_NEAR(a.x(0), 39 * 3.0 + 0.1 * 39 * 39 + 0.1 * (3.0 + 0.2 * 39) / 0.05, 1.0);
+  const ChannelEstimate v = imm.predict(1, imm.time() + 0.1);
+  EXPECT_NEAR(v.x(0), -2.0 * 39 - 4.0, 0.5);  // -40 px/s for 0.1 s
   EXPECT_TRUE(imm.innovation(0).valid);
   EXPECT_GT(imm.innovation(0).S, 0.0);
 }

@@ -38,12 +38,14 @@ struct ChannelSample {
   Eigen::VectorXd true_velocity;  ///< true velocity at t_pred
   double error = 0.0;           ///< ||predicted - truth|| over the channels
   bool lost_expired = false;    ///< some channel was held by the lost-feature policy (lost.timeout_s)
+  Eigen::VectorXd diagnostics;  ///< the predictor's diagnostics() values after its last update (e.g. imm's mode probabilities)
 };
 
 struct ChannelExperimentResult {
   std::string predictor;
   std::string trajectory;
   std::vector<std::string> channel_names;
+  std::vector<std::string> diagnostic_names;  ///< names of ChannelSample::diagnostics (Predictor::diagnostics())
   std::vector<ChannelSample> trace;
   Metrics metrics;                ///< of `error` over the trace (metrics.h)
   /// Per channel: mean over the trace rows with a finite prediction of (predicted - truth)^2 and

@@ -1,0 +1,90 @@
+// imm's mode probabilities in the open-loop trace: `predvs servo` writes each predictor's
+// diagnostics() as trailing log.csv columns (app/servo_report.cpp), and `compare` prints the
+// imm / best of kf-cv, kf-ca line under a table that has all three (app/report.h).
+#include "app/cli_test_utils.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace predvs {
+namespace {
+
+using apptest::CliRun;
+using apptest::run;
+using apptest::slurp;
+
+class ImmTrace : public apptest::ScratchDirTest {
+ protected:
+  ImmTrace() : ScratchDirTest("predvs_imm_trace_test") {}
+};
+
+TEST_F(ImmTrace, ServoLogHasTheModeProbabilitiesAndTheyFollowTheAccelerationJump) {
+  // GIVEN E2 (the acceleration jumps from 1 to 30 px/s^2 at 14 s) with hold and imm;
+  // THEN log.csv has mu_cp_0 .. mu_ca_1, empty on hold's rows, summing to one per channel on imm's,
+  // and the CA mode holds most of the probability at the end (t > 18 s) but not before the jump.
+  const CliRun r = run({"servo", "--scenario", "e2-accel-jump", "--predictors", "hold,imm", "--no-plots", "--out",
+                        path("run")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  // Every line of log.csv split at every comma (an empty last cell kept), the header first.
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(slurp(path("run") + "/log.csv"));
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells(1);
+    for (char c : line)
+      if (c == ',')
+        cells.emplace_back();
+      else
+        cells.back().push_back(c);
+    rows.push_back(std::move(cells));
+  }
+  ASSERT_GT(rows.size(), 10u);
+  const auto& head = rows.front();
+  const auto col = [&](const std::string& name) {
+    const auto it = std::find(head.begin(), head.end(), name);
+    EXPECT_NE(it, head.end()) << name;
+    return static_cast<size_t>(it - head.begin());
+  };
+  const size_t t = col("t_s"), cp = col("mu_cp_0"), cv = col("mu_cv_0"), ca = col("mu_ca_0"), ca1 = col("mu_ca_1");
+  int hold_rows = 0, late = 0, early = 0;
+  double ca_late = 0.0, ca_early = 0.0;
+  for (size_t i = 1; i < rows.size(); ++i) {
+    const auto& row = rows[i];
+    ASSERT_EQ(row.size(), head.size()) << "row " << i;
+    if (row[0] == "hold") {
+      EXPECT_TRUE(row[cp].empty() && row[ca1].empty());
+      ++hold_rows;
+      continue;
+    }
+    const double sum = std::stod(row[cp]) + std::stod(row[cv]) + std::stod(row[ca]);
+    EXPECT_NEAR(sum, 1.0, 1e-9) << "row " << i;
+    const double ts = std::stod(row[t]);
+    if (ts > 18.0) ca_late += std::stod(row[ca]), ++late;
+    if (ts > 8.0 && ts < 14.0) ca_early += std::stod(row[ca]), ++early;
+  }
+  EXPECT_GT(hold_rows, 0);
+  ASSERT_GT(late, 0);
+  ASSERT_GT(early, 0);
+  EXPECT_GT(ca_late / late, 0.7);
+  EXPECT_LT(ca_early / early, ca_late / late);
+}
+
+TEST_F(ImmTrace, CompareSaysHowImmStandsAgainstItsSingleModels) {
+  const CliRun r = run({"compare", "--scenarios", "e1-line", "--predictors", "hold,kf-cv,kf-ca,imm", "--runs", "2",
+                        "--no-plots", "--out", path("cmp")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("imm / best of kf-cv, kf-ca (rmse): "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("; imm / hold: "), std::string::npos) << r.out;
+  EXPECT_NE(slurp(path("cmp") + "/leaderboard.md").find("imm / best of kf-cv, kf-ca (rmse): "), std::string::npos);
+  // Without kf-ca in the table: no line.
+  const CliRun two = run({"compare", "--scenarios", "e1-line", "--predictors", "hold,kf-cv,imm", "--runs", "1",
+                          "--no-plots", "--out", path("cmp2")});
+  ASSERT_EQ(two.code, 0) << two.err;
+  EXPECT_EQ(two.out.find("imm / best of"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace predvs
