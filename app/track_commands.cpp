@@ -101,8 +101,12 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     if (!isPredictor(name)) throw std::invalid_argument("--param " + kv + ": unknown predictor '" + name + "'");
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
+    if (text == "auto") {
+      fixed[name].setText(key, text);  // r: auto, q: auto
+      continue;
+    }
     if (text.empty() || *end != '\0' || !std::isfinite(v))
-      throw std::invalid_argument("--param " + kv + ": expected a number");
+      throw std::invalid_argument("--param " + kv + ": expected a number or 'auto'");
     fixed[name].set(key, v);
   }
   for (const auto& [name, p] : fixed) {

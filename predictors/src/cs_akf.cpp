@@ -189,6 +189,7 @@ CsKalmanPredictor::CsKalmanPredictor(int channels, const Params& params, bool au
                           params.get("p0_vel", 1e4, 0.0, 1e12),
                           params.get("p0_acc", 1e4, 0.0, 1e12)),
       alpha_(params.get("alpha", 1.0, 1e-6, 1e3)) {
+  readCoastParam(params);
   if ((auto_r || params.texts().count("r")) && isAutoMeasurementNoise(params)) enableAutoNoise();
 }
 
@@ -235,13 +236,17 @@ double CsAkfPredictor::accelerationVariance(int c) const {
 /// compromise: a small loss on smooth motion for a much faster reaction to a manoeuvre.
 /// Issue 11: 10 and 1000 (tuned at 10 Hz on E2) lost to hold on most generated maneuvering tracks
 /// (29/144, `predvs track-study`); 1e4 and 1e6 ((100 px/s^2)^2 and (1000 px/s^2)^2) beat it on 116/144.
-constexpr double kDefaultSigmaMinSq = 1e4;
+/// With coasting (channel_predictor.h) the floor became the limit: 1e5 ((316 px/s^2)^2, a white-jerk
+/// density 2 alpha sigma^2 = 2e5 px^2/s^5 at alpha = 1/s, the order of kf-ca's 3e5) is the default
+/// (docs/MODELS.md §15 and docs/PERFORMANCE.md "Defaults that hold" give the grid that chose it).
+constexpr double kDefaultSigmaMinSq = 1e5;
 constexpr double kDefaultSigmaMaxSq = 1e6;
 
 CsAkfAdaptivePredictor::CsAkfAdaptivePredictor(int channels, const Params& params)
     : CsKalmanPredictor(channels, params),
-      sigma_min_sq_(params.get("sigma_min_sq", kDefaultSigmaMinSq, 0.0, 1e12)),
       sigma_max_sq_(params.get("sigma_max_sq", kDefaultSigmaMaxSq, 0.0, 1e12)),
+      // a ceiling given below the default floor lowers the default floor with it
+      sigma_min_sq_(params.get("sigma_min_sq", std::min(kDefaultSigmaMinSq, sigma_max_sq_), 0.0, 1e12)),
       adapt_tau_s_(params.get("adapt_tau_s", 0.0, 0.0, 1e3)),
       sigma2_(static_cast<size_t>(channels), sigma_max_sq_),
       a_prev_(static_cast<size_t>(channels), 0.0) {

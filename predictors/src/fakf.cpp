@@ -67,11 +67,13 @@ fuzzy::DomSystemConfig domConfig(const Params& p) {
 
 FakfClassicPredictor::FakfClassicPredictor(int channels, const Params& params)
     : ChannelPredictor<2>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12), 0.0),
-      q_(params.get("q", kDefaultQCv, 0.0, 1e12)),
+      q_(processNoiseParam(params, "q", kDefaultQCv, 0.0, 1e12)),
       r_min_(params.get("r_min", 0.01 * r0_, 1e-12, 1e12)),
       r_max_(params.get("r_max", 100.0 * r0_, 1e-12, 1e12)),
       window_length_(static_cast<int>(params.get("window", 10.0, 2.0, 1000.0))),
       dom_(fuzzy::makeFakfDomSystem(domConfig(params))) {
+  readCoastParam(params);
+  if (isAutoProcessNoise(params, "q")) enableAutoProcessNoise();
   if (!(r_min_ <= r0_ && r0_ <= r_max_))
     throw std::invalid_argument("fakf-classic: need r_min <= r <= r_max");
   relative_bounds_ = !params.has("r_min") && !params.has("r_max");
@@ -133,6 +135,7 @@ FakfPredictor::FakfPredictor(int channels, const Params& params)
       r_min_(params.get("r_min", 0.01 * r0_, 1e-12, 1e12)),
       r_max_(params.get("r_max", 100.0 * r0_, 1e-12, 1e12)),
       de_min_(params.get("de_min", 2.0, 0.0, 1e9)),
+      de_sigma_(params.get("de_sigma", 3.0, 0.0, 1e3)),
       inflate_below_de_min_(params.get("inflate_below_de_min", 0.0, 0.0, 1.0) != 0.0),
       beta_(fuzzy::makeFakfBetaSystem(betaConfig(params))),
       gamma_(fuzzy::makeFakfGammaSystem(gammaConfig(params))) {
@@ -178,7 +181,8 @@ void FakfPredictor::inflatePrior(int c, double dt) {
   if (ch.measured++ % inflation_period_ != 0) return;
   if (ch.has_ref) {
     const double dE = std::abs(e_mean - ch.e_ref);
-    if (dE > std::abs(ch.e_ref) && (inflate_below_de_min_ || dE >= de_min_)) {
+    const double de_noise = de_sigma_ * std::sqrt(2.0 * S / window_length_);  // 3-sigma of dE under noise
+    if (dE > std::abs(ch.e_ref) && (inflate_below_de_min_ || dE >= de_min_) && dE >= de_noise) {
       ch.gamma = gamma_.evaluate(dE);
       g.P *= ch.gamma;
       ++ch.inflations;

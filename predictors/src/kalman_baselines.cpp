@@ -14,14 +14,18 @@ void HoldPredictor::step(int c, double /*dt*/, double z) {
 
 KfCvPredictor::KfCvPredictor(int channels, const Params& params)
     : ChannelPredictor<2>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12), 0.0),
-      q_(params.get("q", kDefaultQCv, 0.0, 1e12)) {
+      q_(processNoiseParam(params, "q", kDefaultQCv, 0.0, 1e12)) {
+  readCoastParam(params);
+  if (isAutoProcessNoise(params, "q")) enableAutoProcessNoise();
   if (isAutoMeasurementNoise(params)) enableAutoNoise();
 }
 
 KfCaPredictor::KfCaPredictor(int channels, const Params& params)
     : ChannelPredictor<3>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12),
                           params.get("p0_acc", 1e4, 0.0, 1e12)),
-      q_(params.get("q", kDefaultQCa, 0.0, 1e15)) {
+      q_(processNoiseParam(params, "q", kDefaultQCa, 0.0, 1e15)) {
+  readCoastParam(params);
+  if (isAutoProcessNoise(params, "q")) enableAutoProcessNoise();
   if (isAutoMeasurementNoise(params)) enableAutoNoise();
 }
 

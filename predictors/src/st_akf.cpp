@@ -10,10 +10,12 @@ namespace predvs {
 StAkfPredictor::StAkfPredictor(int channels, const Params& params)
     : ChannelPredictor<3>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12),
                           params.get("p0_acc", 1e4, 0.0, 1e12)),
-      q_(params.get("q", 1000.0, 0.0, 1e15)),
+      q_(processNoiseParam(params, "q", kDefaultQStAkf, 0.0, 1e15)),
       rho_(params.get("rho", 0.95, 0.0, 1.0)),
       beta_(params.get("beta", 5.0, 1.0, 1e6)),
       ext_(static_cast<size_t>(channels)) {
+  readCoastParam(params);
+  if (isAutoProcessNoise(params, "q")) enableAutoProcessNoise();
   a_ << params.get("a1", 1.0, 1.0, 1e6), params.get("a2", 1.0, 1.0, 1e6), params.get("a3", 1.0, 1.0, 1e6);
   if (isAutoMeasurementNoise(params)) enableAutoNoise();
 }
@@ -44,7 +46,10 @@ void StAkfPredictor::step(int c, double dt, double z) {
   ex.has_V0 = true;
   const double N = ex.V0 - Q(0, 0) - beta_ * R;
   const double M = a_(0) * FPFt(0, 0);
-  const double cf = M > 0.0 ? N / M : 0.0;
+  // No fading while R is still the start-up estimate (r: auto, its first ~53 frames): an innovation
+  // power above the filter's then only says that the prior R was too small, not that the target
+  // manoeuvres, and fading on it sets the gain to ~1 and the acceleration to the noise.
+  const double cf = M > 0.0 && nominalNoiseFinal(c) ? N / M : 0.0;
   for (int i = 0; i < 3; ++i) ex.lambda(i) = std::max(1.0, a_(i) * cf);
   ex.s_unfaded = FPFt(0, 0) + Q(0, 0) + R;
   const Vec<3> sqrt_l = ex.lambda.cwiseSqrt();

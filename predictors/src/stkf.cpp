@@ -44,6 +44,7 @@ StkfPredictor::StkfPredictor(int channels, const Params& params)
       r_(static_cast<size_t>(channels), r0_),
       pending_(static_cast<size_t>(channels), 0) {
   if (window_ > 0) T_st_ = makeResidualMaker(window_);
+  readCoastParam(params);
   if (isAutoMeasurementNoise(params)) enableAutoNoise();
 }
 

@@ -257,9 +257,11 @@ TEST(CsAdaptive, BeatsTheWorstAmaxButNotTheBestOnAccelerationJump) {
   // THEN the fixed filter's error depends strongly on a_max (measured x2.2 between a_max = 50 and 5)
   EXPECT_GT(worst / best, 1.8);
   // and the adaptive one is better than the worst a_max choices but NOT as good as the best tuned
-  // a_max: measured ~1.7x the best error. Asserted as measured, with margin.
+  // a_max: measured ~1.7x the best error with the floor of 1e4, 2.2x with the issue-11 floor of
+  // 1e5 (a wider filter: noisier on this 1 px, 30 Hz jump, better on the generated manoeuvres,
+  // docs/MODELS.md §15). Asserted as measured, with margin.
   EXPECT_LT(ad, worst);
-  EXPECT_LT(ad, 2.0 * best);
+  EXPECT_LT(ad, 2.5 * best);
   EXPECT_THROW(makePredictor("cs-akf-adaptive", 2, {{"a_max", 50.0}}), std::invalid_argument);
 }
 

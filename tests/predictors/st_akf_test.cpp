@@ -41,7 +41,8 @@ TEST(StAkf, NoFadingOnAModelMatchedSignalFadingAfterAManoeuvre) {
 
 TEST(StAkf, MultipleFactorsFollowThePresetRatios) {
   // GIVEN preset ratios a = (1, 2, 4) and a manoeuvre that makes the filter fade
-  StAkfPredictor f(1, {{"q", 1.0}, {"a1", 1.0}, {"a2", 2.0}, {"a3", 4.0}});
+  // (r given: with `r: auto` there is no fading until the estimate is frozen, after 53 frames)
+  StAkfPredictor f(1, {{"q", 1.0}, {"r", 1.0}, {"a1", 1.0}, {"a2", 2.0}, {"a3", 4.0}});
   for (int n = 0; n < 50; ++n) f.update(0.04 * n, vec1(0.0));
   f.update(50 * 0.04, vec1(100.0));
   // THEN lambda_i = a_i c once a_1 c > 1

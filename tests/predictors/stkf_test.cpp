@@ -17,7 +17,9 @@ namespace {
 /// paper's filter.
 Params withPaperValues(const Params& params) {
   Params p = params;
-  const std::pair<const char*, double> paper[] = {{"r", 5.0}, {"q_pos", 5.0}, {"q_vel", 20.0}, {"squared", 1.0}};
+  // coast_tau_s = 0: the paper's predict-only extrapolation through an occlusion (no coasting decay)
+  const std::pair<const char*, double> paper[] = {
+      {"r", 5.0}, {"q_pos", 5.0}, {"q_vel", 20.0}, {"squared", 1.0}, {"coast_tau_s", 0.0}};
   for (const auto& kv : paper)
     if (!p.has(kv.first)) p.set(kv.first, kv.second);
   return p;

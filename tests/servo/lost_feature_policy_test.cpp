@@ -149,7 +149,9 @@ TEST(LostFeaturePolicy, ClosedLoopDropStopsIbvsWhenEveryPointIsDropped) {
   ServoConfig c = occludedLoop(LostAction::Drop);
   c.compensation = Compensation::Auto;
   c.forecast = ForecastMode::Feedforward;
-  auto kf = makePredictor("kf-cv", 8);
+  // (coast_tau_s = 0: with the default coasting the velocity is re-learnt after the gap and the
+  // error of the last frame is 10.8 px with drop, 12.0 px with hold, just above the bound below)
+  auto kf = makePredictor("kf-cv", 8, {{"coast_tau_s", 0.0}});
   const ServoResult r = runServoLoop(c, *kf);
   int dropped = 0;
   for (const auto& s : r.trace) {
@@ -241,17 +243,23 @@ TEST(LostFeaturePolicy, E7LikeOcclusionPolicyEndsNoWorseThanHold) {
     }
     return sum / 5.0;
   };
-  const Params kf_e7{{"r", 5}, {"q", 200}};  // E7's kf-cv tuning
+  // E7's kf-cv tuning; st-akf with its q before issue 11; both without coasting (coast_tau_s = 0,
+  // as e7-occlusion pins): the pure extrapolation E7 studies
+  const Params kf_e7{{"r", 5}, {"q", 200}, {"coast_tau_s", 0}};
+  const Params st_e7{{"q", 1000}, {"coast_tau_s", 0}};
   const double hold = end_error("hold", {}, LostAction::Extrapolate);
   const double kf_off = end_error("kf-cv", kf_e7, LostAction::Extrapolate);
-  const double st_off = end_error("st-akf", {}, LostAction::Extrapolate);
+  const double st_off = end_error("st-akf", st_e7, LostAction::Extrapolate);
+  // (with the default coasting, tau = 0.2 s, the coasted estimate stops near where the target was
+  // lost and ends the 3 s gap below hold: kf-cv measured 6.8 px against hold's 9.4)
+  EXPECT_LT(end_error("kf-cv", {{"r", 5}, {"q", 200}}, LostAction::Extrapolate), kf_off);
   // GIVEN the policy off, the extrapolation over 3 s ends worse than holding (the E7 finding)
   EXPECT_GT(kf_off, hold);
   EXPECT_GT(st_off, 2.0 * hold);
   // WHEN the policy holds after 1 s THEN both end no worse than hold (equal: the same last frame)
   constexpr double kSameFrameTol = 1e-9;
   EXPECT_LE(end_error("kf-cv", kf_e7, LostAction::Hold), hold + kSameFrameTol);
-  EXPECT_LE(end_error("st-akf", {}, LostAction::Hold), hold + kSameFrameTol);
+  EXPECT_LE(end_error("st-akf", st_e7, LostAction::Hold), hold + kSameFrameTol);
   // AND the open loop refuses drop (no task to drop a feature from)
   cfg.lost.action = LostAction::Drop;
   auto p = makePredictor("kf-cv", 3);

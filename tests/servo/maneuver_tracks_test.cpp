@@ -1,16 +1,18 @@
 // The maneuvering-track generator (servo/maneuver_tracks.h), and the test-sized version of the
 // "defaults that hold" grid of issue 11: every predictor with its default parameters predicts
-// better than `hold` on every generated track (the full grid: `predvs track-study`,
-// docs/PERFORMANCE.md).
+// better than `hold` on every generated track, on a tuning grid (two named exceptions) and on a
+// held-out grid (the full grids: `predvs track-study`, docs/PERFORMANCE.md).
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/maneuver_tracks.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace predvs {
 namespace {
@@ -92,53 +94,89 @@ TEST(ManeuverTracks, HoldErrorIsTheMotionOverTheHorizon) {
   EXPECT_NEAR(s.rmse_truth_px, s.rmse_meas_px, 1e-9);
 }
 
-/// Test-sized "defaults that hold" grid: 6 kinds x {10, 60} Hz x {0.5, 3} px, 20 s, one seed.
-/// Measured at this commit (ratio = RMSE vs truth / hold's, 2 frames ahead), wins out of 24:
-/// the bounds below are those figures with a margin, so that a change of defaults that loses to
-/// hold more often fails here. Not every predictor beats hold everywhere yet (issue 11 item 3 is
-/// met on this grid by kf-cv, cs-akf, fakf-classic, stkf and imm only): the losses are bursts, zigzag and
-/// hand at 10 Hz with 3 px noise, the abrupt 5000 px/s^2 starts and stops of a burst
-/// (docs/PERFORMANCE.md "Defaults that hold" has the full grid).
-// Measured wins: kf-ca 23, cs-akf-adaptive 19, fakf 21, st-akf 22, st-akf-pm 22 (of 24);
-// kf-cv, cs-akf, fakf-classic, stkf and imm 24. Geometric-mean ratios 0.44 (imm) .. 0.59 (fakf).
-const std::map<std::string, int> kMinWins = {{"kf-ca", 22}, {"cs-akf-adaptive", 18},
-                                             {"st-akf", 21}, {"st-akf-pm", 21}, {"fakf", 20}};
-
-TEST(DefaultsThatHold, PredictorsBeatHoldOnGeneratedTracks) {
-  std::map<std::string, int> wins;
+/// Every predictor with its defaults against hold on one grid of generated tracks: returns, per
+/// predictor, the tracks it does not beat hold on ("kind rate Hz noise px #seed") with the ratio
+/// RMSE / RMSE(hold) vs truth, 2 frames ahead; prints the wins and geometric-mean ratios.
+std::map<std::string, std::map<std::string, double>> lossesToHold(const std::vector<double>& rates,
+                                                                  const std::vector<double>& noises,
+                                                                  std::uint64_t seed, double duration_s,
+                                                                  std::map<std::string, double>& mean_ratio) {
+  std::map<std::string, std::map<std::string, double>> losses;
   std::map<std::string, double> log_ratio;
   int tracks = 0;
   for (ManeuverKind kind : maneuverKinds())
-    for (double rate : {10.0, 60.0})
-      for (double noise : {0.5, 3.0}) {
+    for (double rate : rates)
+      for (double noise : noises) {
         ManeuverTrackConfig c;
         c.kind = kind;
         c.rate_hz = rate;
         c.noise_px = noise;
-        c.duration_s = 20.0;
-        c.seed = 7;
+        c.duration_s = duration_s;
+        c.seed = seed;
         const ManeuverTrack t = generateManeuverTrack(c);
         const double horizon = 2.0 / rate;
         auto hold = makePredictor("hold", 2);
         const double hold_rmse = scoreOnTrack(t, *hold, horizon).rmse_truth_px;
         ++tracks;
+        char label[96];
+        std::snprintf(label, sizeof label, "%s %g Hz %g px #%llu", maneuverKindName(kind).c_str(), rate, noise,
+                      static_cast<unsigned long long>(seed));
         for (const auto& info : predictorRegistry()) {
           if (info.name == "hold") continue;
           auto p = makePredictor(info.name, 2);
-          const double rmse = scoreOnTrack(t, *p, horizon).rmse_truth_px;
-          wins[info.name] += rmse < hold_rmse ? 1 : 0;
-          log_ratio[info.name] += std::log(rmse / hold_rmse);
+          const double ratio = scoreOnTrack(t, *p, horizon).rmse_truth_px / hold_rmse;
+          log_ratio[info.name] += std::log(ratio);
+          losses[info.name];  // every predictor has an entry
+          if (!(ratio < 1.0)) losses[info.name][label] = ratio;
         }
       }
-  for (const auto& [name, w] : wins) {
-    const double mean_ratio = std::exp(log_ratio[name] / tracks);
-    std::printf("[ defaults ] %-16s beats hold on %2d/%d tracks, geometric-mean ratio %.3f\n", name.c_str(), w, tracks,
-                mean_ratio);
-    if (name == "kf-cv" || name == "cs-akf" || name == "fakf-classic" || name == "stkf" || name == "imm")
-      EXPECT_EQ(w, tracks) << name;
-    else
-      EXPECT_GE(w, kMinWins.at(name)) << name;
-    EXPECT_LT(mean_ratio, 0.8) << name;
+  for (const auto& [name, l] : losses) {
+    mean_ratio[name] = std::exp(log_ratio[name] / tracks);
+    std::printf("[ defaults ] %-16s beats hold on %2d/%d tracks, geometric-mean ratio %.3f\n", name.c_str(),
+                tracks - static_cast<int>(l.size()), tracks, mean_ratio[name]);
+    for (const auto& [track, ratio] : l) std::printf("[ defaults ]   loses on %s: x%.3f\n", track.c_str(), ratio);
+  }
+  return losses;
+}
+
+/// Test-sized "defaults that hold" grid (issue 11 item 3): 6 kinds x {10, 60} Hz x {0.5, 3} px,
+/// 20 s, seed 7 (24 tracks, tuned on with the full grid of docs/PERFORMANCE.md). Every predictor
+/// must beat hold on every track, except the two losses measured at this commit, named here with
+/// their track: both at 10 Hz and 3 px noise, the corner of the envelope where a model with an
+/// acceleration state estimates it from 3 px noise 0.1 s apart (docs/MODELS.md §15). Any other
+/// loss, or one of these two growing beyond x1.10, fails.
+const std::map<std::string, std::map<std::string, double>> kKnownLosses = {
+    {"cs-akf-adaptive", {{"bursts 10 Hz 3 px #7", 1.10}}},  // measured x1.013
+    {"fakf", {{"hand 10 Hz 3 px #7", 1.10}}},               // measured x1.067
+};
+
+TEST(DefaultsThatHold, PredictorsBeatHoldOnGeneratedTracks) {
+  std::map<std::string, double> mean_ratio;
+  const auto losses = lossesToHold({10.0, 60.0}, {0.5, 3.0}, 7, 20.0, mean_ratio);
+  ASSERT_EQ(losses.size(), predictorRegistry().size() - 1);
+  for (const auto& [name, l] : losses) {
+    for (const auto& [track, ratio] : l) {
+      const auto known = kKnownLosses.find(name);
+      const bool listed = known != kKnownLosses.end() && known->second.count(track);
+      EXPECT_TRUE(listed) << name << " loses to hold on " << track << " (x" << ratio << ")";
+      if (listed) {
+        EXPECT_LT(ratio, known->second.at(track)) << name << " on " << track;
+      }
+    }
+    EXPECT_LT(mean_ratio[name], 0.7) << name;  // measured 0.45 (imm) .. 0.60 (stkf)
+  }
+}
+
+/// Held-out grid, not tuned on: rates and noise levels that are not in the tuning grid, other seed
+/// and duration (6 kinds x {15, 30} Hz x {1, 2} px, 15 s, seed 21). Every predictor beats hold
+/// on every track (measured: all 24 of 24, geometric-mean ratios 0.44 .. 0.55).
+TEST(DefaultsThatHold, HeldOutGridEveryPredictorBeatsHoldEverywhere) {
+  std::map<std::string, double> mean_ratio;
+  const auto losses = lossesToHold({15.0, 30.0}, {1.0, 2.0}, 21, 15.0, mean_ratio);
+  ASSERT_EQ(losses.size(), predictorRegistry().size() - 1);
+  for (const auto& [name, l] : losses) {
+    for (const auto& [track, ratio] : l) ADD_FAILURE() << name << " loses to hold on " << track << " (x" << ratio << ")";
+    EXPECT_LT(mean_ratio[name], 0.7) << name;
   }
 }
 

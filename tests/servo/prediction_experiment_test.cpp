@@ -67,7 +67,8 @@ TEST(PredictionExperiment, OcclusionIsPredictOnly) {
   c.occlusions.push_back({3.0, 5.0});
   c.lost.action = LostAction::Extrapolate;  // the lost-feature policy off: predict-only throughout
   const auto line = makeTrajectory("line");
-  auto kf = makePredictor("kf-cv", 2);
+  // (coast_tau_s = 0: no coasting decay, so the gap is a pure constant-velocity extrapolation)
+  auto kf = makePredictor("kf-cv", 2, {{"coast_tau_s", 0.0}});
   const PredictionResult r = runPredictionExperiment(c, *line, *kf);
   // THEN rows during the occlusion flag the measurement as lost but the prediction continues
   int lost = 0;

@@ -3,17 +3,37 @@
 // Channels are independent, each with a fixed-size Gaussian state of N entries. A derived filter
 // provides the motion model (transition and process noise over any dt), its measurement noise,
 // and may override step() to adapt R, Q or P (fuzzy, strong-tracking, self-tuning filters).
+//
+// Coasting (issue 11, docs/MODELS.md §15): on a frame where channel c is not measured (dropped
+// frame, occlusion), its velocity and acceleration estimates decay before the time update,
+//   v <- v exp(-dt / tau),   a <- a exp(-2 dt / tau),   tau = coast_tau_s (s),
+// i.e. without measurements the target's velocity is a first-order Markov process that returns to
+// rest with time constant tau, and the coasted position tends to p + v tau instead of growing
+// without bound. A measured frame is not affected (the prediction horizon of a measured frame is
+// extrapolated with the full model). The covariance is left as the model propagates it (the decay
+// claims no extra certainty). tau = 0 switches coasting off (the model's own extrapolation, as
+// before). Every predictor with a motion state reads the key `coast_tau_s` (s, default
+// kDefaultCoastTauS) through readCoastParam(); `hold` has no velocity to decay.
 #pragma once
 
 #include "predvs/predictors/kalman_math.h"
 #include "predvs/predictors/noise_estimate.h"
 #include "predvs/predictors/predictor.h"
+#include "predvs/predictors/process_noise_adapt.h"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace predvs {
+
+/// Default coasting time constant (s): the velocity of an unmeasured target decays with it.
+/// Chosen with `predvs track-study` on the main and held-out grids (docs/PERFORMANCE.md "Defaults
+/// that hold"): a hard stop (the generated `stops` and `bursts` tracks) inside an occlusion of
+/// 0.1..0.3 s otherwise costs an extrapolation error far above hold's. 0.2 s is the longest
+/// 2-frame horizon of the 10..60 Hz envelope, so a single dropped frame at 10 Hz keeps 60 % of v.
+inline constexpr double kDefaultCoastTauS = 0.2;
 
 template <int N>
 class ChannelPredictor : public Predictor {
@@ -24,6 +44,7 @@ class ChannelPredictor : public Predictor {
     resetClock();
     for (auto& c : state_) c = ChannelState{};
     for (auto& e : r_est_) e.reset();
+    for (auto& m : q_auto_) m.reset();
     resetAdaptation();
   }
 
@@ -43,7 +64,13 @@ class ChannelPredictor : public Predictor {
         }
         continue;
       }
+      if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
+        const double e = std::exp(-dt / coast_tau_s_);
+        s.g.x(1) *= e;
+        if constexpr (N == 3) s.g.x(2) *= e * e;
+      }
       step(c, dt, z(c));
+      if (!q_auto_.empty() && s.innovation.valid) q_auto_[static_cast<size_t>(c)].observe(s.innovation.eps, s.innovation.S, dt);
     }
   }
   using Predictor::update;
@@ -87,9 +114,22 @@ class ChannelPredictor : public Predictor {
   virtual double measurementNoise(int c) const { return nominalNoise(c); }
   /// The nominal R of channel c: r0_, or the start-up estimate when enableAutoNoise() was called.
   double nominalNoise(int c) const { return r_est_.empty() ? r0_ : r_est_[static_cast<size_t>(c)].variance(); }
-  /// Makes R a start-up estimate per channel (noise_estimate.h) with r0_ as its prior; called by a
-  /// derived constructor when its `r` parameter is absent or `auto`.
+  /// Makes R a start-up estimate per channel (noise_estimate.h); called by a derived constructor
+  /// when its `r` parameter is absent or `auto`. The estimate's prior is
+  /// r0_.
   void enableAutoNoise() { r_est_.assign(state_.size(), StartupNoiseEstimator(r0_)); }
+  /// Reads `coast_tau_s` (s, >= 0, default kDefaultCoastTauS); called by every derived constructor
+  /// whose state has a velocity.
+  void readCoastParam(const Params& params) {
+    coast_tau_s_ = params.get("coast_tau_s", kDefaultCoastTauS, 0.0, 1e6);
+  }
+  double coastTauS() const { return coast_tau_s_; }
+  /// Makes the process noise of every channel adapted by covariance matching (`q: auto`,
+  /// process_noise_adapt.h); called by a derived constructor when its `q` is absent or `auto`.
+  void enableAutoProcessNoise() { q_auto_.assign(state_.size(), ProcessNoiseMatcher()); }
+  /// q / q0 of channel c: 1 unless enableAutoProcessNoise() was called. A derived processNoise()
+  /// multiplies its nominal density by it.
+  double processNoiseScale(int c) const { return q_auto_.empty() ? 1.0 : q_auto_[static_cast<size_t>(c)].scale(); }
   bool autoNoise() const { return !r_est_.empty(); }
   /// The `r` entry of noiseParameters(): r0_, i.e. the number given for `r`, or, when `r` is
   /// `auto`, the prior the start-up estimate begins from (not the running estimate, which depends
@@ -121,9 +161,11 @@ class ChannelPredictor : public Predictor {
 
   std::vector<ChannelState> state_;
   std::vector<StartupNoiseEstimator> r_est_;  ///< empty unless enableAutoNoise()
+  std::vector<ProcessNoiseMatcher> q_auto_;   ///< empty unless enableAutoProcessNoise()
   double r0_;
   double p0_vel_;
   double p0_acc_;
+  double coast_tau_s_ = 0.0;  ///< 0 until readCoastParam(): hold never coasts
 };
 
 }  // namespace predvs

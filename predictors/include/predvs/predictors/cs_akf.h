@@ -77,6 +77,7 @@ double rayleighVariance(double abar, double a_max, double a_neg_max, double sigm
 ///           a number fixes it): measurement noise variance.
 ///   p0_vel  ((px/s)^2, default 1e4): initial velocity variance (100 px/s std covers 10..100 px/s).
 ///   p0_acc  ((px/s^2)^2, default 1e4): initial acceleration variance (as kf-ca).
+///   coast_tau_s (s, default 0.2): velocity decay on frames without a measurement (channel_predictor.h).
 class CsKalmanPredictor : public ChannelPredictor<3> {
  public:
   /// Acceleration correlation rate (1/s).
@@ -168,7 +169,8 @@ class CsAkfPredictor : public CsKalmanPredictor {
 /// acceleration correction K_a eps is small when sigma^2 is small (low gain), so a low floor
 /// reacts to a jump slowly: the floor, not a_max, is now the parameter that matters.
 /// Parameters (besides alpha, r, p0_vel, p0_acc):
-///   sigma_min_sq ((px/s^2)^2, default 1e4 since issue 11, 10 before): the floor. On smooth motion sigma^2 stays on it and it
+///   sigma_min_sq ((px/s^2)^2, default 1e5 since issue 11, 10 before; sigma_max_sq when only a lower
+///                ceiling is given): the floor. On smooth motion sigma^2 stays on it and it
 ///                alone sets the smoothing / lag trade-off (docs/MODELS.md §11); its effect is measured in
 ///                tests/predictors/cs_akf_test.cpp (see kDefaultSigmaMinSq in cs_akf.cpp).
 ///   sigma_max_sq ((px/s^2)^2, default 1e6 ~ (4-pi)/pi * 3600^2; 1000 before issue 11): the ceiling.
@@ -205,8 +207,8 @@ class CsAkfAdaptivePredictor : public CsKalmanPredictor {
   void initialize(int c, double z) override;
 
  private:
+  double sigma_max_sq_;  // before sigma_min_sq_: its default depends on the ceiling
   double sigma_min_sq_;
-  double sigma_max_sq_;
   double adapt_tau_s_;
   std::vector<double> sigma2_;  ///< per channel, (px/s^2)^2
   std::vector<double> a_prev_;  ///< a(k-1|k-1) per channel, px/s^2

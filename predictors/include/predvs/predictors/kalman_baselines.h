@@ -31,9 +31,11 @@ class HoldPredictor : public ChannelPredictor<2> {
 
 /// `kf-cv`: constant-velocity Kalman filter per channel, x = [p, v],
 /// F = [[1, T], [0, 1]], Q = q [[T^3/3, T^2/2], [T^2/2, T]] (white acceleration, q in px^2/s^3).
-/// Parameters: q (px^2/s^3, default kDefaultQCv = 1e4), r (measurement variance px^2; default
-/// `auto`: estimated from the first frames of each channel, predictors/noise_estimate.h; a number
-/// fixes it), p0_vel ((px/s)^2, default 1e4).
+/// Parameters: q (px^2/s^3, default kDefaultQCv = 1e4; `auto`: adapted online from that value by
+/// covariance matching, predictors/process_noise_adapt.h, opt-in), r (measurement variance px^2;
+/// default `auto`: estimated from the first frames of each channel, predictors/noise_estimate.h; a
+/// number fixes it), p0_vel ((px/s)^2, default 1e4), coast_tau_s (s, default 0.2: the velocity
+/// decays with this time constant on frames without a measurement, channel_predictor.h).
 class KfCvPredictor : public ChannelPredictor<2> {
  public:
   KfCvPredictor(int channels, const Params& params);
@@ -44,7 +46,7 @@ class KfCvPredictor : public ChannelPredictor<2> {
 
  protected:
   Mat<2> transition(int, double dt) const override { return cvTransition(dt); }
-  Mat<2> processNoise(int, double dt) const override { return cvProcessNoise(q_, dt); }
+  Mat<2> processNoise(int c, double dt) const override { return cvProcessNoise(q_ * processNoiseScale(c), dt); }
 
  private:
   double q_;
@@ -52,8 +54,9 @@ class KfCvPredictor : public ChannelPredictor<2> {
 
 /// `kf-ca`: constant-acceleration Kalman filter per channel, x = [p, v, a],
 /// F = [[1, T, T^2/2], [0, 1, T], [0, 0, 1]], white-jerk Q of density q (px^2/s^5).
-/// Parameters: q (px^2/s^5, default kDefaultQCa = 3e5), r (px^2, default `auto` as kf-cv),
-/// p0_vel ((px/s)^2, 1e4), p0_acc ((px/s^2)^2, 1e4).
+/// Parameters: q (px^2/s^5, default kDefaultQCa = 3e5; or `auto` as kf-cv), r (px^2, default
+/// `auto` as kf-cv), p0_vel ((px/s)^2, 1e4), p0_acc ((px/s^2)^2, 1e4), coast_tau_s (s, 0.2, as
+/// kf-cv; the acceleration decays twice as fast).
 class KfCaPredictor : public ChannelPredictor<3> {
  public:
   KfCaPredictor(int channels, const Params& params);
@@ -64,7 +67,7 @@ class KfCaPredictor : public ChannelPredictor<3> {
 
  protected:
   Mat<3> transition(int, double dt) const override { return caTransition(dt); }
-  Mat<3> processNoise(int, double dt) const override { return caProcessNoise(q_, dt); }
+  Mat<3> processNoise(int c, double dt) const override { return caProcessNoise(q_ * processNoiseScale(c), dt); }
 
  private:
   double q_;

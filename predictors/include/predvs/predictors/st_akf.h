@@ -10,6 +10,14 @@
 
 namespace predvs {
 
+/// Default white-jerk density of st-akf and st-akf-pm (px^2/s^5): 1e5, i.e. a jerk of ~300 px/s^3
+/// per sqrt(s), the order of the turns and starts of targets moving at 50..400 px/s. Chosen on the
+/// generated maneuvering tracks (`predvs track-study`, docs/PERFORMANCE.md "Defaults that hold"):
+/// with 1000 (the value before issue 11) the filter relied on its fading factor to follow
+/// every manoeuvre and lagged on the `hand` sway at 3 px noise, where the fading (beta = 5) rarely
+/// triggers.
+inline constexpr double kDefaultQStAkf = 1e5;
+
 /// `st-akf`: constant-acceleration Kalman filter with fading factors (strong tracking).
 ///
 /// Per channel x = [p, v, a], F = CA transition over dt, Q = white-jerk noise of density q,
@@ -22,11 +30,16 @@ namespace predvs {
 ///   c = N / M,  lambda_i = max(1, a_i c),
 ///   P(k+1|k) = L^1/2 F P F' L^1/2 + Q,  L = diag(lambda_i).
 /// With all a_i = 1 this is the single-factor filter, lambda = max(1, tr N / tr M).
+/// While R is a start-up estimate that is not yet frozen (`r: auto`, noise_estimate.h) lambda = 1:
+/// the innovations then measure the R mismatch, not a manoeuvre (issue 11: at 60 Hz and 3 px the
+/// fading on the prior R = 1 px^2 drove the start-up acceleration to the noise, and an occlusion
+/// in the first second extrapolated it, x1.7 hold's error over the track; docs/MODELS.md §15).
 /// The paper writes L F P F'; with unequal factors that product is not symmetric, so the factors
 /// are applied symmetrically here (identical when the factors are equal). The measurement update
 /// is in Joseph form, since a faded gain is not the optimal one.
 ///
-/// Parameters: q (px^2/s^5, default 1000), r (px^2, default `auto`: predictors/noise_estimate.h),
+/// Parameters: q (px^2/s^5, default kDefaultQStAkf = 1e5, 1000 before issue 11; `auto`: adapted,
+/// process_noise_adapt.h), r (px^2, default `auto`: predictors/noise_estimate.h),
 /// p0_vel (1e4), p0_acc (1e4), rho (0.95), beta (default 5 since issue 11, 1 before), a1, a2, a3
 /// (1: preset ratios of the fading factors of p, v, a; each >= 1).
 /// beta: with beta = 1 any innovation power above R fades P, so at 60 Hz and 3 px noise the noise
@@ -48,7 +61,7 @@ class StAkfPredictor : public ChannelPredictor<3> {
 
  protected:
   Mat<3> transition(int, double dt) const override { return caTransition(dt); }
-  Mat<3> processNoise(int, double dt) const override { return caProcessNoise(q_, dt); }
+  Mat<3> processNoise(int c, double dt) const override { return caProcessNoise(q_ * processNoiseScale(c), dt); }
   void resetAdaptation() override;
   void step(int c, double dt, double z) override;
   /// Starts channel c again at z (x = [z, 0, 0], P = P_0) and clears its fading memory.

@@ -40,7 +40,9 @@ namespace predvs {
 /// q_period_s, default 0), q_vel ((px/s)^2 per q_period_s, default 3000, i.e. a white acceleration
 /// of 3e4 px^2/s^3), q_period_s (T_0 = 0.1 s), p0_pos (1), p0_vel (1) (P_0 = I as the paper),
 /// window (k, default 15; 0 disables the self-tuning, giving the paper's plain KF; k = 1..2 is
-/// rejected because a line fit needs k >= 3), squared (default 0), reinit_threshold (4800).
+/// rejected because a line fit needs k >= 3), squared (default 0), reinit_threshold (4800),
+/// coast_tau_s (s, default 0.2: velocity decay on unmeasured frames, channel_predictor.h; the
+/// occlusion scenarios of paper 001 pin 0).
 /// The paper's values (r 5, q_pos 5, q_vel 20, squared 1) were the defaults before issue 11; they
 /// lost to hold on 128 of 144 generated maneuvering tracks (the squared variance of a line fit
 /// through a manoeuvre makes R huge, and q_vel = 20 cannot follow a turn), so they are now given

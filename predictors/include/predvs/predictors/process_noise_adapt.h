@@ -1,0 +1,62 @@
+// predvs — process noise adapted online by covariance matching of the innovations (`q: auto`,
+// issue 11 "defaults that hold", docs/MODELS.md §15).
+//
+// A Kalman filter whose process-noise density q is right produces innovations eps whose variance
+// is the one it predicts, S = H P(k|k-1) H' + R, i.e. E[eps^2 / S] = 1. Too large a q (a filter
+// that follows the noise) gives eps^2 / S below 1 on average, too small a q (a filter that lags a
+// manoeuvre) above 1. `q: auto` runs q = q0 exp(l) and moves l by a stochastic-approximation step
+// towards that balance after every measured frame:
+//
+//   l <- clamp(l + (dt / tau_s) (min(eps^2 / S, ratio_max) - 1), ln(scale_min), ln(scale_max)),
+//
+// dt the time since the previous update (s). The step is per second of data, not per frame, so
+// the same tau_s adapts at the same speed at 10 and at 60 Hz; q0 is the predictor's nominal
+// density in its own units (px^2/s^3 for a CV model, px^2/s^5 for a CA model) and stays the
+// starting point. eps^2 / S is clipped at ratio_max = 9 (a 3-sigma innovation) so that one outlier
+// or the first frames of a manoeuvre raise q by at most exp(8 dt / tau_s) per frame; the decrease
+// is at most exp(-dt / tau_s) per frame. Choices (measured with `predvs track-study`,
+// docs/PERFORMANCE.md "Defaults that hold"): tau_s = kDefaultQAutoTauS, scale bounds
+// [kQAutoScaleMin, kQAutoScaleMax] around q0. A frame without a measurement leaves l unchanged.
+#pragma once
+
+#include "predvs/predictors/params.h"
+
+#include <string>
+
+namespace predvs {
+
+/// Time constant of the adaptation (s).
+inline constexpr double kDefaultQAutoTauS = 1.0;
+/// Bounds of q / q0.
+inline constexpr double kQAutoScaleMin = 1e-3;
+inline constexpr double kQAutoScaleMax = 1e2;
+/// Largest eps^2 / S one frame contributes.
+inline constexpr double kQAutoRatioMax = 9.0;
+
+/// True when the process-noise key `key` (e.g. "q") holds the word `auto`: q is then adapted
+/// (ProcessNoiseMatcher) from the predictor's default. False when it is absent (the default q,
+/// fixed: `auto` is opt-in, see docs/PERFORMANCE.md for why) or holds a number, which fixes q.
+/// Throws std::invalid_argument naming the key for another word.
+bool isAutoProcessNoise(const Params& params, const std::string& key);
+/// The number given for `key` (checked against [lo, hi]), or `fallback` when absent or `auto`.
+/// Marks the key as read.
+double processNoiseParam(const Params& params, const std::string& key, double fallback, double lo, double hi);
+
+/// The per-channel state of the adaptation: the log scale l of q.
+class ProcessNoiseMatcher {
+ public:
+  explicit ProcessNoiseMatcher(double tau_s = kDefaultQAutoTauS, double scale_min = kQAutoScaleMin,
+                               double scale_max = kQAutoScaleMax);
+  void reset() { log_scale_ = 0.0; }
+  /// One measured frame: innovation eps (px) with predicted variance S (px^2), dt (s) since the
+  /// previous update. Ignored when S <= 0 or dt <= 0.
+  void observe(double eps, double S, double dt_s);
+  /// q / q0 now.
+  double scale() const;
+
+ private:
+  double tau_s_, log_min_, log_max_;
+  double log_scale_ = 0.0;
+};
+
+}  // namespace predvs
