@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <random>
+#include <tuple>
 
 namespace predvs {
 namespace {
@@ -115,7 +116,8 @@ TEST(NoiseFit, EveryFittablePredictorFitsWithoutLosingLikelihood) {
 TEST(NoiseFit, PredictionObjectiveLowersTheHStepErrorOnTheFitPart) {
   // GIVEN a generated maneuvering track (turns, 30 Hz, 1 px noise, 20 s) and a 2-frame horizon;
   // WHEN kf-cv, cs-akf-adaptive and stkf are fitted on the h-step prediction error from a start
-  // 100 times off in process noise THEN the h-step RMSE against the later measurements went down by
+  // 100 times off in process noise (cs-akf-adaptive's floor 100 times below: above, it would pass its
+  // ceiling) THEN the h-step RMSE against the later measurements went down by
   // over 1 % (far more than the solver's tolerance), r was held at the start-up noise estimate, and
   // predictionRmse() at the fitted params gives the reported figure.
   ManeuverTrackConfig c;
@@ -129,11 +131,12 @@ TEST(NoiseFit, PredictionObjectiveLowersTheHStepErrorOnTheFitPart) {
   NoiseFitOptions o;
   o.objective = FitObjective::Prediction;
   o.horizon_s = 2.0 / c.rate_hz;
-  const std::pair<const char*, const char*> starts[] = {{"kf-cv", "q"}, {"cs-akf-adaptive", "sigma_min_sq"}, {"stkf", "q_vel"}};
-  for (const auto& [name, key] : starts) {
+  const std::tuple<const char*, const char*, double> starts[] = {
+      {"kf-cv", "q", 100.0}, {"cs-akf-adaptive", "sigma_min_sq", 0.01}, {"stkf", "q_vel", 100.0}};
+  for (const auto& [name, key, factor] : starts) {
     Params start;
     for (const auto& np : makePredictor(name, 1)->noiseParameters())
-      if (np.key == key) start.set(key, np.value * 100.0);
+      if (np.key == key) start.set(key, np.value * factor);
     const NoiseFitResult f = fitNoise(name, start, t, o);
     EXPECT_EQ(f.objective, FitObjective::Prediction);
     EXPECT_GT(f.residuals, 2 * 500) << name;
@@ -150,7 +153,8 @@ TEST(NoiseFit, PredictionObjectiveLowersTheHStepErrorOnTheFitPart) {
 TEST(NoiseFit, PredictionObjectiveIsTheHStepErrorAgainstInterpolatedMeasurements) {
   // GIVEN a noiseless straight line at 2 px/frame with a dropped frame and a 1.5-frame horizon;
   // WHEN kf-cv (which converges to the exact line) is scored THEN the h-step RMSE is ~0: the target
-  // is the measurement interpolated at t + h, and the dropped frame is bridged by interpolation.
+  // is the measurement interpolated at t + h, and the dropped frame is bridged by interpolation
+  // (coasting off: its velocity decay over the dropped frame is not what this test is about).
   FitTrack t;
   t.channels.resize(1);
   for (int k = 0; k < 200; ++k) {
@@ -160,6 +164,7 @@ TEST(NoiseFit, PredictionObjectiveIsTheHStepErrorAgainstInterpolatedMeasurements
   Params p;
   p.set("r", 1e-6);
   p.set("q", 1e-3);
+  p.set("coast_tau_s", 0.0);
   int n = 0;
   const double rmse = predictionRmse("kf-cv", p, t, 0.15, 50, &n);
   EXPECT_LT(rmse, 1e-3);
