@@ -9,6 +9,7 @@
 #include "predvs/predictors/noise_estimate.h"
 #include "predvs/predictors/predictor.h"
 
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -61,6 +62,15 @@ class ChannelPredictor : public Predictor {
     Gaussian<N> g = s.g;
     timeUpdate(g, transition(channel, dt), processNoise(channel, dt));
     return toEstimate(g);
+  }
+
+  /// predict(channel, t_s).position() without the covariance: x(0) of the same F x product.
+  double predictPosition(int channel, double t_s) const override {
+    const ChannelState& s = state_.at(channel);
+    if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
+    const double dt = t_s - time();
+    if (!(dt > 0.0)) return s.g.x(0);
+    return predictedPosition(s.g, transition(channel, dt));
   }
 
   Innovation innovation(int channel) const override { return state_.at(channel).innovation; }

@@ -1,0 +1,92 @@
+#include "general_number.h"
+
+#include <charconv>
+#include <cstdint>
+#include <cstring>
+
+namespace predvs {
+namespace {
+
+__extension__ typedef unsigned __int128 u128;  // GCC and Clang on 64-bit targets
+
+constexpr uint64_t kPow10[] = {1ull,         10ull,         100ull,         1000ull,
+                               10000ull,     100000ull,     1000000ull,     10000000ull,
+                               100000000ull, 1000000000ull, 10000000000ull};
+constexpr uint64_t kPow5[] = {1ull,          5ull,           25ull,          125ull,
+                              625ull,        3125ull,        15625ull,       78125ull,
+                              390625ull,     1953125ull,     9765625ull,     48828125ull,
+                              244140625ull,  1220703125ull,  6103515625ull,  30517578125ull};
+constexpr int kMaxK = 15;  // kPow5's last index: 10 digits for values down to 1e-5
+
+char* slow(char* buf, double x, int precision) {
+  return std::to_chars(buf, buf + 32, x, std::chars_format::general, precision).ptr;
+}
+
+/// round(m 5^k 2^-s) to the nearest integer; false on an exact tie.
+inline bool roundScaled(uint64_t m, int k, int s, uint64_t& q) {
+  const u128 M = static_cast<u128>(m) * kPow5[k];
+  const u128 mask = (static_cast<u128>(1) << s) - 1, half = static_cast<u128>(1) << (s - 1);
+  const u128 rem = M & mask;
+  if (rem == half) return false;
+  q = static_cast<uint64_t>(M >> s) + (rem > half ? 1 : 0);
+  return true;
+}
+
+}  // namespace
+
+char* writeGeneral(char* buf, double x, int precision) {
+  const int P = precision;
+  uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  const int biased = static_cast<int>((bits >> 52) & 0x7ff);
+  if (P < 1 || P > 10 || biased == 0 || biased == 0x7ff) return slow(buf, x, precision);
+  const uint64_t m = (bits & ((uint64_t{1} << 52) - 1)) | (uint64_t{1} << 52);
+  const int e = biased - 1075;  // |x| = m 2^e, 2^52 <= m < 2^53
+  // X estimate: |x| in [2^(e+52), 2^(e+53)), so floor(log10|x|) is this or one more.
+  int X = static_cast<int>(static_cast<double>(e + 52) * 0.30102999566398120);
+  if (static_cast<double>(e + 52) * 0.30102999566398120 < X) --X;  // floor for negatives
+  uint64_t q = 0;
+  for (int attempt = 0;; ++attempt) {
+    const int k = P - 1 - X;
+    if (X < -4 || X >= P || k < 0 || k > kMaxK || attempt > 2) return slow(buf, x, precision);
+    const int s = -(e + k);  // > 0 here: |x| < 10^P <= 2^34 and k <= 15 give e + k < 0
+    if (s <= 0 || s >= 127) return slow(buf, x, precision);
+    if (!roundScaled(m, k, s, q)) return slow(buf, x, precision);
+    if (q < kPow10[P - 1]) {
+      --X;  // x below 10^X
+    } else if (q >= kPow10[P]) {
+      ++X;  // x at or above 10^(X+1), or rounded up to it
+    } else {
+      break;
+    }
+  }
+  // q has P digits; the value is q 10^(X - P + 1). Written from the right, byte by byte (no
+  // scratch array read back: that stalled on store forwarding).
+  int frac = P - 1 - X;  // digits after the point before trimming (for X < 0, -X - 1 zeros first)
+  while (frac > 0 && q % 10 == 0) {
+    q /= 10;
+    --frac;
+  }
+  const int int_len = X >= 0 ? X + 1 : 1;
+  char* p = buf;
+  if (bits >> 63) *p++ = '-';
+  char* const end = p + int_len + (frac > 0 ? 1 + frac : 0);
+  char* w = end;
+  for (int i = 0; i < frac; ++i) {  // X < 0: q runs out, the leading zeros follow
+    *--w = static_cast<char>('0' + q % 10);
+    q /= 10;
+  }
+  if (frac > 0) *--w = '.';
+  if (X >= 0) {
+    for (int i = 0; i < int_len; ++i) {
+      *--w = static_cast<char>('0' + q % 10);
+      q /= 10;
+    }
+  } else {
+    *--w = '0';
+  }
+  p = end;
+  return p;
+}
+
+}  // namespace predvs
