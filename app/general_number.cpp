@@ -60,30 +60,30 @@ char* writeGeneral(char* buf, double x, int precision) {
       break;
     }
   }
-  // q has P digits; the value is q 10^(X - P + 1). Written from the right, byte by byte (no
-  // scratch array read back: that stalled on store forwarding).
-  int frac = P - 1 - X;  // digits after the point before trimming (for X < 0, -X - 1 zeros first)
-  while (frac > 0 && q % 10 == 0) {
-    q /= 10;
-    --frac;
-  }
-  const int int_len = X >= 0 ? X + 1 : 1;
+  // q has P digits; the value is q 10^(X - P + 1). Laid out in full (sign, integer digits, '.',
+  // fraction digits; for X < 0 "0." and -X - 1 zeros first), the digits written from the right on
+  // 32-bit halves, byte by byte (a scratch array read back stalled on store forwarding); then the
+  // fraction's trailing zeros, and a bare '.', are cut.
   char* p = buf;
   if (bits >> 63) *p++ = '-';
-  char* const end = p + int_len + (frac > 0 ? 1 + frac : 0);
-  char* w = end;
-  for (int i = 0; i < frac; ++i) {  // X < 0: q runs out, the leading zeros follow
-    *--w = static_cast<char>('0' + q % 10);
-    q /= 10;
+  if (X < 0) {
+    *p++ = '0';
+    *p++ = '.';
+    for (int i = 0; i < -X - 1; ++i) *p++ = '0';
   }
-  if (frac > 0) *--w = '.';
-  if (X >= 0) {
-    for (int i = 0; i < int_len; ++i) {
-      *--w = static_cast<char>('0' + q % 10);
-      q /= 10;
-    }
-  } else {
-    *--w = '0';
+  const bool point = X >= 0 && X < P - 1;  // a '.' among the digits, at index X + 1
+  char* end = p + P + (point ? 1 : 0);
+  char* w = end;
+  uint32_t lo = static_cast<uint32_t>(q % 100000), hi = static_cast<uint32_t>(q / 100000);
+  for (int i = 0; i < P; ++i) {
+    uint32_t& h = i < 5 ? lo : hi;
+    if (point && w - 1 - p == X + 1) *--w = '.';
+    *--w = static_cast<char>('0' + h % 10);
+    h /= 10;
+  }
+  if (point || X < 0) {
+    while (end[-1] == '0') --end;  // stops at the '.' or at q's first digit (not 0)
+    if (end[-1] == '.') --end;
   }
   p = end;
   return p;

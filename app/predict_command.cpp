@@ -16,6 +16,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <fstream>
+#include <future>
 #include <algorithm>
 #include <iomanip>
 #include <limits>
@@ -342,8 +343,6 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
                             const std::string& command_line, bool plots, StagedOutputDir& dir, int jobs) {
   const int n = track.points();
   const bool single = n == 1;
-  writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);
-
   nlohmann::json summary;
   summary["command"] = command_line;
   summary["input"] = track.path;
@@ -382,7 +381,10 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
     if (!js) throw std::runtime_error(dir.file("summary.json") + ": write failed");
   }
 
-  if (!plots) return;
+  if (!plots) {
+    writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);
+    return;
+  }
   // Plot data (the first point): measured points at their time, predictions at the time they are
   // made for; every plotStride()-th row only (all of them up to kMaxPlotRows rows).
   const size_t stride = plotStride(track.size());
@@ -443,7 +445,16 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   }
   gp << "unset multiplot\n";
   gp.close();
-  runGnuplot(dir.staging().string(), "predictions.gp");
+  // gnuplot (another process, one core) draws while predictions.csv is written when there are
+  // threads to spare; its error, if any, is reported after the CSV's.
+  if (jobs < 2) {
+    writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);
+    runGnuplot(dir.staging().string(), "predictions.gp");
+    return;
+  }
+  std::future<void> drawing = std::async(std::launch::async, [&dir] { runGnuplot(dir.staging().string(), "predictions.gp"); });
+  writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);  // on throwing, ~future waits
+  drawing.get();
 }
 
 void printPredictionTable(const PredictionReport& report, const FeatureTrack& track, std::ostream& out) {

@@ -105,7 +105,8 @@ size_t plotStride(size_t rows);
 ///  predictions.png: u and v versus time of the first point (for N > 1 its title says so; every
 ///                   point is in predictions.csv and its errors in summary.json); thinned beyond
 ///                   kMaxPlotRows rows (its title then says so).
-///  jobs:            threads formatting predictions.csv (written in row order: the same file for any jobs).
+///  jobs:            threads formatting predictions.csv (written in row order: the same file for any
+///                   jobs); with jobs >= 2 gnuplot draws predictions.png meanwhile.
 void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
                             const std::string& command_line, bool plots, StagedOutputDir& dir, int jobs = 1);
 

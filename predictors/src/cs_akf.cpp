@@ -107,6 +107,15 @@ void singerQSeries(double x, double dt, double out[6]) {
 }  // namespace
 
 Mat<3> singerTransition(double alpha, double dt) {
+  // Like singerProcessNoise: the last two (alpha, dt) kept per thread, the same bits, no exp.
+  struct Cached {
+    double alpha = std::numeric_limits<double>::quiet_NaN(), dt = alpha;
+    Mat<3> F;
+  };
+  thread_local Cached cache[2];
+  thread_local int older = 0;  // the entry replaced next
+  for (const Cached& c : cache)
+    if (alpha == c.alpha && dt == c.dt) return c.F;
   const double x = alpha * dt;
   Mat<3> F = Mat<3>::Identity();
   F(0, 1) = dt;
@@ -120,6 +129,8 @@ Mat<3> singerTransition(double alpha, double dt) {
     F(1, 2) = (1.0 - e) / alpha;
   }
   F(2, 2) = std::exp(-x);
+  cache[older] = Cached{alpha, dt, F};
+  older = 1 - older;
   return F;
 }
 
