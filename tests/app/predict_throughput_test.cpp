@@ -2,6 +2,7 @@
 // keep the old behaviour: cells parse to the values strtod gives (and are rejected with the same
 // messages), the plot data is thinned by the documented rule, and the summary table stays aligned
 // for counts of seven digits and more. The speed itself is measured by bench/predict_io_bench.cpp.
+#include "cli.h"
 #include "output_dir.h"
 #include "predict_command.h"
 #include "track_csv.h"
@@ -10,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -181,6 +183,23 @@ TEST(PredictThroughput, ParallelRunGivesTheSameOutputsAsOneThread) {
     EXPECT_EQ(readAll(dir1 / "summary.json"), readAll(dir3 / "summary.json"));
     std::filesystem::remove_all(dir1);
     std::filesystem::remove_all(dir3);
+  }
+}
+
+TEST(PredictThroughput, BadJobsIsAOneLineErrorWithNoOutput) {
+  const std::string input = writeTemp("jobs.csv", "t,u,v\n0,1,2\n0.1,2,3\n0.2,3,4\n");
+  const auto out = std::filesystem::temp_directory_path() / "predvs_throughput_bad_jobs";
+  std::filesystem::remove_all(out);
+  for (const char* jobs : {"0", "x", "-2"}) {
+    std::ostringstream o, e;
+    const int rc = predvs::runCli({"predict", "--input", input, "--predictor", "kf-cv", "--delay-frames", "1", "--no-plots",
+                                   "--jobs", jobs, "--out", out.string()},
+                                  o, e);
+    const std::string err = e.str();
+    EXPECT_EQ(rc, 2) << jobs;
+    EXPECT_NE(err.find("--jobs"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << jobs;
   }
 }
 
