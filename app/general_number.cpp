@@ -32,6 +32,26 @@ inline bool roundScaled(uint64_t m, int k, int s, uint64_t& q) {
   return true;
 }
 
+/// "00".."99" as little-endian 16-bit words: the first digit in the low byte.
+struct PairTable {
+  uint16_t pair[100];
+  constexpr PairTable() : pair() {
+    for (int i = 0; i < 100; ++i) pair[i] = static_cast<uint16_t>(('0' + i / 10) | (('0' + i % 10) << 8));
+  }
+};
+constexpr PairTable kPairs{};
+
+/// The ten digits of q < 10^10, zero-padded, as bytes of a 128-bit word (digit 0 = most
+/// significant in the lowest byte, i.e. the text in memory order on a little-endian machine).
+inline u128 digitBytes(uint64_t q) {
+  const uint32_t hi = static_cast<uint32_t>(q / 100000000);   // 2 digits
+  const uint32_t lo = static_cast<uint32_t>(q % 100000000);   // 8 digits
+  const uint32_t a = lo / 10000, b = lo % 10000;               // 4 + 4 digits
+  const uint64_t low8 = static_cast<uint64_t>(kPairs.pair[a / 100]) | static_cast<uint64_t>(kPairs.pair[a % 100]) << 16 |
+                        static_cast<uint64_t>(kPairs.pair[b / 100]) << 32 | static_cast<uint64_t>(kPairs.pair[b % 100]) << 48;
+  return static_cast<u128>(kPairs.pair[hi]) | static_cast<u128>(low8) << 16;
+}
+
 }  // namespace
 
 char* writeGeneral(char* buf, double x, int precision) {
@@ -60,32 +80,30 @@ char* writeGeneral(char* buf, double x, int precision) {
       break;
     }
   }
-  // q has P digits; the value is q 10^(X - P + 1). Laid out in full (sign, integer digits, '.',
-  // fraction digits; for X < 0 "0." and -X - 1 zeros first), the digits written from the right on
-  // 32-bit halves, byte by byte (a scratch array read back stalled on store forwarding); then the
-  // fraction's trailing zeros, and a bare '.', are cut.
+  // q has P digits; the value is q 10^(X - P + 1). Its digits are built in a register, two at a
+  // time from a table (ten bytes, little-endian: the first digit in the lowest byte), the '.'
+  // inserted by shifts, and stored at once; the fraction's trailing zeros (and a bare '.') are
+  // then cut by the length.
+  int frac = P - 1 - X;  // digits after the point (for X < 0, the -X - 1 zeros included)
+  for (uint64_t r = q; frac > 0 && r % 10 == 0; r /= 10) --frac;
+  const u128 digits = digitBytes(q) >> (8 * (10 - P));  // P bytes
   char* p = buf;
   if (bits >> 63) *p++ = '-';
   if (X < 0) {
-    *p++ = '0';
-    *p++ = '.';
-    for (int i = 0; i < -X - 1; ++i) *p++ = '0';
+    std::memcpy(p, "0.0000", 6);
+    p += 2 - X - 1;
+    std::memcpy(p, &digits, 16);
+    return p + frac - (-X - 1);
   }
-  const bool point = X >= 0 && X < P - 1;  // a '.' among the digits, at index X + 1
-  char* end = p + P + (point ? 1 : 0);
-  char* w = end;
-  uint32_t lo = static_cast<uint32_t>(q % 100000), hi = static_cast<uint32_t>(q / 100000);
-  for (int i = 0; i < P; ++i) {
-    uint32_t& h = i < 5 ? lo : hi;
-    if (point && w - 1 - p == X + 1) *--w = '.';
-    *--w = static_cast<char>('0' + h % 10);
-    h /= 10;
+  if (frac == 0) {  // an integer: the X + 1 digits, no point (nothing of the fraction is kept)
+    std::memcpy(p, &digits, 16);
+    return p + X + 1;
   }
-  if (point || X < 0) {
-    while (end[-1] == '0') --end;  // stops at the '.' or at q's first digit (not 0)
-    if (end[-1] == '.') --end;
-  }
-  p = end;
+  const int at = 8 * (X + 1);  // bit offset of the '.'
+  const u128 low = digits & ((static_cast<u128>(1) << at) - 1);
+  const u128 with_point = low | (static_cast<u128>('.') << at) | ((digits >> at) << (at + 8));
+  std::memcpy(p, &with_point, 16);
+  p += X + 2 + frac;
   return p;
 }
 
