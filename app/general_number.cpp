@@ -17,6 +17,13 @@ constexpr uint64_t kPow5[] = {1ull,          5ull,           25ull,          125
                               390625ull,     1953125ull,     9765625ull,     48828125ull,
                               244140625ull,  1220703125ull,  6103515625ull,  30517578125ull};
 constexpr int kMaxK = 15;  // kPow5's last index: 10 digits for values down to 1e-5
+// The digits are laid out as bytes of an integer (digitBytes): the fast path needs the text order
+// to be the byte order, i.e. a little-endian machine; elsewhere std::to_chars does it all.
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+constexpr bool kLittleEndian = true;
+#else
+constexpr bool kLittleEndian = false;
+#endif
 
 char* slow(char* buf, double x, int precision) {
   return std::to_chars(buf, buf + 32, x, std::chars_format::general, precision).ptr;
@@ -59,7 +66,7 @@ char* writeGeneral(char* buf, double x, int precision) {
   uint64_t bits;
   std::memcpy(&bits, &x, sizeof bits);
   const int biased = static_cast<int>((bits >> 52) & 0x7ff);
-  if (P < 1 || P > 10 || biased == 0 || biased == 0x7ff) return slow(buf, x, precision);
+  if (!kLittleEndian || P < 1 || P > 10 || biased == 0 || biased == 0x7ff) return slow(buf, x, precision);
   const uint64_t m = (bits & ((uint64_t{1} << 52) - 1)) | (uint64_t{1} << 52);
   const int e = biased - 1075;  // |x| = m 2^e, 2^52 <= m < 2^53
   // X estimate: |x| in [2^(e+52), 2^(e+53)), so floor(log10|x|) is this or one more.

@@ -10,7 +10,7 @@
 // Fast path (the usual case of pixel coordinates and times): x normal, 1 <= P <= 10, X in [-4, P).
 // x = m 2^e exactly (m < 2^53), so x 10^k = m 5^k 2^(e+k) with k = P - 1 - X is computed exactly in
 // 128-bit integers and rounded to the nearest integer q (10^(P-1) <= q < 10^P); q's digits are x's
-// P significant digits. An exact tie (round-half-even territory), any other exponent, a
+// P significant digits (laid out two at a time from a table, on a little-endian machine). An exact tie (round-half-even territory), any other exponent, a
 // subnormal, zero, inf or NaN goes to std::to_chars itself, so the text is always to_chars'
 // (tests/app/general_number_test.cpp compares both on millions of values).
 #pragma once
