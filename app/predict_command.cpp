@@ -15,11 +15,13 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <future>
 #include <algorithm>
 #include <iomanip>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <numeric>
 #include <sstream>
@@ -272,30 +274,48 @@ namespace {
 /// Rows of predictions.csv formatted per work item (about 5 MB of text for 11 predictors).
 constexpr size_t kCsvChunkRows = 16384;
 
-/// Appends rows [i0, i1) of predictions.csv (every point of each frame) to `csv`.
-void appendCsvRows(std::string& csv, const FeatureTrack& track, const PredictionReport& report, size_t i0,
-                   size_t i1) {
+/// A cell of predictions.csv at p: x as csvNumber(x, 10) writes it, nothing for a non-finite x.
+/// Needs 32 bytes of room at p (writeGeneral).
+inline char* csvCell(char* p, double x) { return std::isfinite(x) ? writeGeneral(p, x, 10) : p; }
+
+/// The most bytes a row of predictions.csv can take (32 per number as writeGeneral asks, the
+/// separators, the point name).
+size_t csvRowBound(const FeatureTrack& track, const PredictionReport& report) {
+  size_t name = 0;
+  for (const auto& s : track.point_names) name = std::max(name, s.size());
+  return (4 + 2 * report.runs.size()) * 33 + name + 2;
+}
+
+/// Writes rows [i0, i1) of predictions.csv (every point of each frame) at p (room for
+/// (i1 - i0) * points * csvRowBound bytes); returns the end.
+char* writeCsvRows(char* p, const FeatureTrack& track, const PredictionReport& report, size_t i0, size_t i1) {
   const int n = track.points();
   const bool single = n == 1;
   for (size_t i = i0; i < i1; ++i)
-    for (int p = 0; p < n; ++p) {
-      const size_t pp = static_cast<size_t>(p);
-      appendNumber(csv, track.t_s[i], 10);
-      csv += ',';
-      if (!single) (csv += track.point_names[pp]) += ',';
-      appendNumber(csv, track.u_px[pp][i], 10);
-      csv += ',';
-      appendNumber(csv, track.v_px[pp][i], 10);
-      csv += ',';
-      appendNumber(csv, track.t_s[i] + report.horizon_s, 10);
-      for (const auto& run : report.runs) {
-        csv += ',';
-        appendNumber(csv, run.points[pp].u_pred_px[i], 10);
-        csv += ',';
-        appendNumber(csv, run.points[pp].v_pred_px[i], 10);
+    for (int k = 0; k < n; ++k) {
+      const size_t pp = static_cast<size_t>(k);
+      p = csvCell(p, track.t_s[i]);
+      *p++ = ',';
+      if (!single) {
+        const std::string& name = track.point_names[pp];
+        std::memcpy(p, name.data(), name.size());
+        p += name.size();
+        *p++ = ',';
       }
-      csv += '\n';
+      p = csvCell(p, track.u_px[pp][i]);
+      *p++ = ',';
+      p = csvCell(p, track.v_px[pp][i]);
+      *p++ = ',';
+      p = csvCell(p, track.t_s[i] + report.horizon_s);
+      for (const auto& run : report.runs) {
+        *p++ = ',';
+        p = csvCell(p, run.points[pp].u_pred_px[i]);
+        *p++ = ',';
+        p = csvCell(p, run.points[pp].v_pred_px[i]);
+      }
+      *p++ = '\n';
     }
+  return p;
 }
 
 /// predictions.csv (csvCell's format, 10 significant digits). Chunks of kCsvChunkRows rows are
@@ -315,11 +335,15 @@ void writePredictionsCsv(const std::string& path, const FeatureTrack& track, con
   std::condition_variable turn_changed;
   size_t next_to_write = 0;
   bool failed = false;
+  const size_t chunk_bytes = kCsvChunkRows * static_cast<size_t>(track.points()) * csvRowBound(track, report);
   parallelFor(chunks, jobs, [&](size_t c) {
-    std::string text;
+    std::unique_ptr<char[]> text;  // not initialised: only the part written is touched
+    size_t size = 0;
     try {
-      text.reserve(kCsvChunkRows * static_cast<size_t>(track.points()) * (48 + 24 * report.runs.size()));
-      appendCsvRows(text, track, report, c * kCsvChunkRows, std::min(track.size(), (c + 1) * kCsvChunkRows));
+      text.reset(new char[chunk_bytes]);
+      size = static_cast<size_t>(writeCsvRows(text.get(), track, report, c * kCsvChunkRows,
+                                              std::min(track.size(), (c + 1) * kCsvChunkRows)) -
+                                 text.get());
     } catch (...) {
       std::lock_guard<std::mutex> lock(turn_mutex);
       failed = true;  // the chunks after this one must not wait for it
@@ -329,7 +353,7 @@ void writePredictionsCsv(const std::string& path, const FeatureTrack& track, con
     std::unique_lock<std::mutex> lock(turn_mutex);
     turn_changed.wait(lock, [&] { return next_to_write == c || failed; });
     if (failed) return;
-    file.write(text.data(), static_cast<std::streamsize>(text.size()));
+    file.write(text.get(), static_cast<std::streamsize>(size));
     ++next_to_write;
     turn_changed.notify_all();
   });
