@@ -171,7 +171,7 @@ void runPredictor(Predictor& predictor, const FeatureTrack& track, double horizo
   }
 }
 
-/// The order in which the threads take the predictors: longest first (their CPU time on the first
+/// The order in which the threads take the predictors: longest first (their wall time on the first
 /// kTrialRows rows of the track, measured on a throw-away instance), so that the last ones to finish
 /// are short. Only the speed depends on it, never the results. Registry order for one thread.
 std::vector<size_t> longestFirst(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
