@@ -4,6 +4,7 @@
 #include "campaign.h"
 #include "compare_command.h"
 #include "output_dir.h"
+#include "parallel_for.h"
 #include "predict_command.h"
 #include "scenario_file.h"
 #include "scenario_inputs.h"
@@ -127,6 +128,7 @@ struct PredictArgs {
   std::string out_dir;
   std::vector<std::string> params;
   bool no_plots = false;
+  std::string jobs;         ///< --jobs N (default: every core)
   std::string params_file;  ///< --params FILE (fit_command.h)
   bool fit = false;         ///< --fit
   std::string fit_split;    ///< --fit-split F
@@ -238,6 +240,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
       throw std::invalid_argument(std::string("--fit-objective: ") + e.what());
     }
   }
+  const int jobs = a.jobs.empty() ? hardwareJobs() : static_cast<int>(parseIntegerArg("--jobs", a.jobs, 1, 1024));
   if (!a.no_plots) requireGnuplot();
 
   const FeatureTrack track = readFeatureTrack(a.input);
@@ -262,7 +265,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
         throw std::invalid_argument(a.input + ": --fit " + s.name + ": " + e.what());
       }
     }
-  PredictionReport report = predictTrack(track, specs, horizon_s);
+  PredictionReport report = predictTrack(track, specs, horizon_s, jobs);
   if (a.fit && fit_rows < track.size() && !a.fit_split.empty())
     for (auto& run : report.runs) {
       // Score only the rows after the fit: the predictions made before it are blanked.
@@ -283,7 +286,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
     }
 
   StagedOutputDir dir(a.out_dir);
-  writePredictionOutputs(track, report, delay_frames, command_line, !a.no_plots, dir);
+  writePredictionOutputs(track, report, delay_frames, command_line, !a.no_plots, dir, jobs);
   dir.commit();
 
   out << fit_log.str();
@@ -418,6 +421,9 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                       "predictor parameter KEY=VALUE (repeatable); with several predictors write PREDICTOR.KEY=VALUE")
       ->type_name("KEY=VALUE");
   predict->add_flag("--no-plots", pa.no_plots, "do not draw predictions.png (no gnuplot needed)");
+  predict->add_option("--jobs", pa.jobs,
+                      "threads running the predictors and writing predictions.csv (default: every core; the outputs do not depend on it)")
+      ->type_name("N");
   predict->add_option("--params", pa.params_file,
                       "parameter file (YAML, as written by fit-noise) for the predictors it names; --param wins")
       ->type_name("FILE");

@@ -2,20 +2,28 @@
 
 #include "report.h"
 
+#include "general_number.h"
 #include "gnuplot.h"
 #include "output_dir.h"
+#include "parallel_for.h"
 
 #include "predvs/predictors/predictor.h"
 
 #include <nlohmann/json.hpp>
 
-#include <charconv>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <future>
 #include <algorithm>
 #include <iomanip>
 #include <limits>
+#include <memory>
+#include <mutex>
+#include <numeric>
 #include <sstream>
 #include <stdexcept>
 
@@ -33,17 +41,16 @@ nlohmann::json errorsJson(const PredictionErrors& e) {
   return j;
 }
 
-/// Appends x as csvNumber(x, precision) would write it (printf "%.{precision}g": std::to_chars in
-/// the general format is specified to give the same characters), without a stream or a temporary
-/// string; nothing for a non-finite x (an empty cell), or `nan_text` when given.
+/// Appends x as csvNumber(x, precision) would write it (printf "%.{precision}g", the characters of
+/// std::to_chars in the general format: writeGeneral), without a stream or a temporary string;
+/// nothing for a non-finite x (an empty cell), or `nan_text` when given.
 void appendNumber(std::string& out, double x, int precision, const char* nan_text = "") {
   if (!std::isfinite(x)) {
     out += nan_text;
     return;
   }
   char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, precision);
-  out.append(buf, r.ptr);
+  out.append(buf, writeGeneral(buf, x, precision));
 }
 
 /// Writes `text` to `path` in one call; throws std::runtime_error naming the file on failure.
@@ -59,11 +66,36 @@ size_t plotStride(size_t rows) { return rows <= kMaxPlotRows ? 1 : (rows + kMaxP
 
 namespace {
 
-/// y interpolated at t_s[i] + horizon_s for every row i (interpolateAt), computed once per point
-/// and shared by every predictor's scoring.
+/// y interpolated at t_s[i] + horizon_s for every row i, computed once per point and shared by
+/// every predictor's scoring. interpolateAt's rule and arithmetic, with its binary search replaced
+/// by a cursor: t_s[i] + horizon_s does not decrease with i, so neither does its lower bound.
 std::vector<double> referenceAt(const std::vector<double>& t_s, const std::vector<double>& y, double horizon_s) {
-  std::vector<double> r(t_s.size());
-  for (size_t i = 0; i < t_s.size(); ++i) r[i] = interpolateAt(t_s, y, t_s[i] + horizon_s);
+  const size_t n = t_s.size();
+  std::vector<double> r(n);
+  size_t bound = 0;  // first row with t_s >= t (std::lower_bound)
+  for (size_t i = 0; i < n; ++i) {
+    const double t = t_s[i] + horizon_s;
+    while (bound < n && t_s[bound] < t) ++bound;
+    size_t hi = bound;
+    while (hi < n && !std::isfinite(y[hi])) ++hi;
+    if (hi >= n) {
+      r[i] = kNaN;
+      continue;
+    }
+    if (t_s[hi] == t) {
+      r[i] = y[hi];
+      continue;
+    }
+    size_t lo = bound;  // one past the candidate
+    while (lo > 0 && !std::isfinite(y[lo - 1])) --lo;
+    if (lo == 0) {
+      r[i] = kNaN;
+      continue;
+    }
+    const double t0 = t_s[lo - 1], t1 = t_s[hi];
+    const double w = (t - t0) / (t1 - t0);
+    r[i] = (1.0 - w) * y[lo - 1] + w * y[hi];
+  }
   return r;
 }
 
@@ -117,104 +149,224 @@ PredictionErrors pooledErrors(const std::vector<PredictionErrors>& parts) {
   return fromSquareSums(su, sv, n);
 }
 
+namespace {
+
+/// Runs one predictor along the track: run.points[p].u/v_pred_px[i] = its position of point p at
+/// t_i + horizon after the update with frame i (vectors already sized to the track).
+void runPredictor(Predictor& predictor, const FeatureTrack& track, double horizon_s, size_t rows,
+                  PredictionRun& run) {
+  const int n = track.points();
+  Eigen::VectorXd z(2 * n), x(2 * n);
+  for (size_t i = 0; i < rows; ++i) {
+    for (int p = 0; p < n; ++p) {
+      z(2 * p) = track.u_px[static_cast<size_t>(p)][i];
+      z(2 * p + 1) = track.v_px[static_cast<size_t>(p)][i];
+    }
+    predictor.update(track.t_s[i], z);
+    predictor.predictPositions(track.t_s[i] + horizon_s, x);
+    for (int p = 0; p < n; ++p) {
+      run.points[static_cast<size_t>(p)].u_pred_px[i] = x(2 * p);
+      run.points[static_cast<size_t>(p)].v_pred_px[i] = x(2 * p + 1);
+    }
+  }
+}
+
+/// The order in which the threads take the predictors: longest first (their wall time on the first
+/// kTrialRows rows of the track, measured on a throw-away instance), so that the last ones to finish
+/// are short. Only the speed depends on it, never the results. Registry order for one thread.
+std::vector<size_t> longestFirst(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
+                                 double horizon_s, int jobs) {
+  std::vector<size_t> order(predictors.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  constexpr size_t kTrialRows = 2000;
+  if (jobs < 2 || predictors.size() < 2 || track.size() < 10 * kTrialRows) return order;
+  std::vector<double> cost(predictors.size());
+  for (size_t k = 0; k < predictors.size(); ++k) {
+    PredictionRun trial;
+    trial.points.resize(static_cast<size_t>(track.points()));
+    for (auto& pt : trial.points) pt.u_pred_px.resize(kTrialRows), pt.v_pred_px.resize(kTrialRows);
+    auto predictor = makePredictor(predictors[k].name, 2 * track.points(), predictors[k].params);
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      runPredictor(*predictor, track, horizon_s, kTrialRows, trial);
+    } catch (...) {
+      // The real run reports it.
+    }
+    cost[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return cost[a] > cost[b]; });
+  return order;
+}
+
+}  // namespace
+
 PredictionReport predictTrack(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
-                              double horizon_s) {
+                              double horizon_s, int jobs) {
   if (!(horizon_s >= 0.0) || !std::isfinite(horizon_s))
     throw std::invalid_argument("the prediction horizon must be a finite number >= 0 s");
   PredictionReport report;
   report.horizon_s = horizon_s;
   const int n = track.points();
-  // The references at t + horizon, per point: measured and (if any) true.
-  std::vector<std::vector<double>> u_meas_at, v_meas_at, u_true_at, v_true_at;
-  for (size_t p = 0; p < static_cast<size_t>(n); ++p) {
-    u_meas_at.push_back(referenceAt(track.t_s, track.u_px[p], horizon_s));
-    v_meas_at.push_back(referenceAt(track.t_s, track.v_px[p], horizon_s));
-    if (!track.hasTruth()) continue;
-    u_true_at.push_back(referenceAt(track.t_s, track.u_true_px[p], horizon_s));
-    v_true_at.push_back(referenceAt(track.t_s, track.v_true_px[p], horizon_s));
-  }
-  for (const auto& spec : predictors) {
-    PredictionRun run;
-    run.spec = spec;
-    run.points.resize(static_cast<size_t>(n));
+  const size_t np = static_cast<size_t>(n);
+  // Every predictor built first, in order (an unknown name or parameter throws as before).
+  std::vector<std::unique_ptr<Predictor>> instances;
+  report.runs.resize(predictors.size());
+  for (size_t k = 0; k < predictors.size(); ++k) {
+    instances.push_back(makePredictor(predictors[k].name, 2 * n, predictors[k].params));
+    PredictionRun& run = report.runs[k];
+    run.spec = predictors[k];
+    run.points.resize(np);
     for (auto& pt : run.points) {
-      pt.u_pred_px.reserve(track.size());
-      pt.v_pred_px.reserve(track.size());
+      pt.u_pred_px.resize(track.size());
+      pt.v_pred_px.resize(track.size());
     }
-    auto predictor = makePredictor(spec.name, 2 * n, spec.params);
-    Eigen::VectorXd z(2 * n);
-    for (size_t i = 0; i < track.size(); ++i) {
-      for (int p = 0; p < n; ++p) {
-        z(2 * p) = track.u_px[static_cast<size_t>(p)][i];
-        z(2 * p + 1) = track.v_px[static_cast<size_t>(p)][i];
-      }
-      predictor->update(track.t_s[i], z);
-      const Eigen::VectorXd x = predictor->predictPositions(track.t_s[i] + horizon_s);
-      for (int p = 0; p < n; ++p) {
-        run.points[static_cast<size_t>(p)].u_pred_px.push_back(x(2 * p));
-        run.points[static_cast<size_t>(p)].v_pred_px.push_back(x(2 * p + 1));
-      }
+  }
+  // The references at t + horizon, per point: measured and (if any) true. Items of the same pool
+  // as the predictors, after them: short ones that fill the gaps at the end.
+  std::vector<std::vector<double>> u_meas_at(np), v_meas_at(np), u_true_at(np), v_true_at(np);
+  std::vector<std::pair<const std::vector<double>*, std::vector<double>*>> references;
+  for (size_t p = 0; p < np; ++p) {
+    references.emplace_back(&track.u_px[p], &u_meas_at[p]);
+    references.emplace_back(&track.v_px[p], &v_meas_at[p]);
+    if (!track.hasTruth()) continue;
+    references.emplace_back(&track.u_true_px[p], &u_true_at[p]);
+    references.emplace_back(&track.v_true_px[p], &v_true_at[p]);
+  }
+  const std::vector<size_t> order = longestFirst(track, predictors, horizon_s, jobs);
+  // Each item owns its outputs; an exception is kept per item and the first predictor's in
+  // registry order is rethrown, as the serial loop would have.
+  std::vector<std::exception_ptr> errors(predictors.size());
+  parallelFor(order.size() + references.size(), jobs, [&](size_t item) {
+    if (item >= order.size()) {
+      const auto& ref = references[item - order.size()];
+      *ref.second = referenceAt(track.t_s, *ref.first, horizon_s);
+      return;
     }
+    const size_t k = order[item];
+    try {
+      runPredictor(*instances[k], track, horizon_s, track.size(), report.runs[k]);
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  });
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  parallelFor(report.runs.size(), jobs, [&](size_t k) {
+    PredictionRun& run = report.runs[k];
     std::vector<PredictionErrors> meas, truth;
-    for (int p = 0; p < n; ++p) {
-      const size_t pp = static_cast<size_t>(p);
-      PointPrediction& pt = run.points[pp];
-      pt.vs_measurement = errorsAgainst(pt.u_pred_px, pt.v_pred_px, u_meas_at[pp], v_meas_at[pp]);
+    for (size_t p = 0; p < np; ++p) {
+      PointPrediction& pt = run.points[p];
+      pt.vs_measurement = errorsAgainst(pt.u_pred_px, pt.v_pred_px, u_meas_at[p], v_meas_at[p]);
       meas.push_back(pt.vs_measurement);
       if (track.hasTruth()) {
-        pt.vs_truth = errorsAgainst(pt.u_pred_px, pt.v_pred_px, u_true_at[pp], v_true_at[pp]);
+        pt.vs_truth = errorsAgainst(pt.u_pred_px, pt.v_pred_px, u_true_at[p], v_true_at[p]);
         truth.push_back(pt.vs_truth);
       }
     }
     run.vs_measurement = pooledErrors(meas);
     if (track.hasTruth()) run.vs_truth = pooledErrors(truth);
-    report.runs.push_back(std::move(run));
-  }
+  });
   return report;
 }
 
-void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
-                            const std::string& command_line, bool plots, StagedOutputDir& dir) {
+namespace {
+
+/// Rows of predictions.csv formatted per work item (about 5 MB of text for 11 predictors).
+constexpr size_t kCsvChunkRows = 16384;
+
+/// A cell of predictions.csv at p: x as csvNumber(x, 10) writes it, nothing for a non-finite x.
+/// Needs 32 bytes of room at p (writeGeneral).
+inline char* csvCell(char* p, double x) { return std::isfinite(x) ? writeGeneral(p, x, 10) : p; }
+
+/// The most bytes a row of predictions.csv can take (32 per number as writeGeneral asks, the
+/// separators, the point name).
+size_t csvRowBound(const FeatureTrack& track, const PredictionReport& report) {
+  size_t name = 0;
+  for (const auto& s : track.point_names) name = std::max(name, s.size());
+  return (4 + 2 * report.runs.size()) * 33 + name + 2;
+}
+
+/// Writes rows [i0, i1) of predictions.csv (every point of each frame) at p (room for
+/// (i1 - i0) * points * csvRowBound bytes); returns the end.
+char* writeCsvRows(char* p, const FeatureTrack& track, const PredictionReport& report, size_t i0, size_t i1) {
   const int n = track.points();
   const bool single = n == 1;
-  {
-    // csvCell's format (10 significant digits), built in a buffer written out every ~4 MB.
-    const std::string csv_path = dir.file("predictions.csv");
-    std::ofstream csv_file(csv_path, std::ios::binary);
-    constexpr size_t kChunk = size_t{4} << 20;
-    std::string csv;
-    csv.reserve(kChunk + 4096);
-    auto flush = [&] {
-      csv_file.write(csv.data(), static_cast<std::streamsize>(csv.size()));
-      csv.clear();
-    };
-    csv += single ? "t,u,v,t_target" : "t,point,u,v,t_target";
-    for (const auto& run : report.runs) csv += "," + run.spec.name + ".u_pred," + run.spec.name + ".v_pred";
-    csv += '\n';
-    for (size_t i = 0; i < track.size(); ++i)
-      for (int p = 0; p < n; ++p) {
-        const size_t pp = static_cast<size_t>(p);
-        appendNumber(csv, track.t_s[i], 10);
-        csv += ',';
-        if (!single) (csv += track.point_names[pp]) += ',';
-        appendNumber(csv, track.u_px[pp][i], 10);
-        csv += ',';
-        appendNumber(csv, track.v_px[pp][i], 10);
-        csv += ',';
-        appendNumber(csv, track.t_s[i] + report.horizon_s, 10);
-        for (const auto& run : report.runs) {
-          csv += ',';
-          appendNumber(csv, run.points[pp].u_pred_px[i], 10);
-          csv += ',';
-          appendNumber(csv, run.points[pp].v_pred_px[i], 10);
-        }
-        csv += '\n';
-        if (csv.size() >= kChunk) flush();
+  for (size_t i = i0; i < i1; ++i)
+    for (int k = 0; k < n; ++k) {
+      const size_t pp = static_cast<size_t>(k);
+      p = csvCell(p, track.t_s[i]);
+      *p++ = ',';
+      if (!single) {
+        const std::string& name = track.point_names[pp];
+        std::memcpy(p, name.data(), name.size());
+        p += name.size();
+        *p++ = ',';
       }
-    flush();
-    if (!csv_file) throw std::runtime_error(csv_path + ": write failed");
-  }
+      p = csvCell(p, track.u_px[pp][i]);
+      *p++ = ',';
+      p = csvCell(p, track.v_px[pp][i]);
+      *p++ = ',';
+      p = csvCell(p, track.t_s[i] + report.horizon_s);
+      for (const auto& run : report.runs) {
+        *p++ = ',';
+        p = csvCell(p, run.points[pp].u_pred_px[i]);
+        *p++ = ',';
+        p = csvCell(p, run.points[pp].v_pred_px[i]);
+      }
+      *p++ = '\n';
+    }
+  return p;
+}
 
+/// predictions.csv (csvCell's format, 10 significant digits). Chunks of kCsvChunkRows rows are
+/// formatted on `jobs` threads and written in row order: the thread that formatted chunk c waits
+/// until chunk c - 1 is written, writes its own, and takes the next one, so formatting and writing
+/// overlap and the file is the same for any jobs.
+void writePredictionsCsv(const std::string& path, const FeatureTrack& track, const PredictionReport& report,
+                         int jobs) {
+  const bool single = track.points() == 1;
+  std::ofstream file(path, std::ios::binary);
+  std::string header = single ? "t,u,v,t_target" : "t,point,u,v,t_target";
+  for (const auto& run : report.runs) header += "," + run.spec.name + ".u_pred," + run.spec.name + ".v_pred";
+  header += '\n';
+  file.write(header.data(), static_cast<std::streamsize>(header.size()));
+  const size_t chunks = (track.size() + kCsvChunkRows - 1) / kCsvChunkRows;
+  std::mutex turn_mutex;
+  std::condition_variable turn_changed;
+  size_t next_to_write = 0;
+  bool failed = false;
+  const size_t chunk_bytes = kCsvChunkRows * static_cast<size_t>(track.points()) * csvRowBound(track, report);
+  parallelFor(chunks, jobs, [&](size_t c) {
+    std::unique_ptr<char[]> text;  // not initialised: only the part written is touched
+    size_t size = 0;
+    try {
+      text.reset(new char[chunk_bytes]);
+      size = static_cast<size_t>(writeCsvRows(text.get(), track, report, c * kCsvChunkRows,
+                                              std::min(track.size(), (c + 1) * kCsvChunkRows)) -
+                                 text.get());
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(turn_mutex);
+      failed = true;  // the chunks after this one must not wait for it
+      turn_changed.notify_all();
+      throw;
+    }
+    std::unique_lock<std::mutex> lock(turn_mutex);
+    turn_changed.wait(lock, [&] { return next_to_write == c || failed; });
+    if (failed) return;
+    file.write(text.get(), static_cast<std::streamsize>(size));
+    ++next_to_write;
+    turn_changed.notify_all();
+  });
+  file.flush();
+  if (!file) throw std::runtime_error(path + ": write failed");
+}
+
+}  // namespace
+
+void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
+                            const std::string& command_line, bool plots, StagedOutputDir& dir, int jobs) {
+  const int n = track.points();
+  const bool single = n == 1;
   nlohmann::json summary;
   summary["command"] = command_line;
   summary["input"] = track.path;
@@ -253,7 +405,10 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
     if (!js) throw std::runtime_error(dir.file("summary.json") + ": write failed");
   }
 
-  if (!plots) return;
+  if (!plots) {
+    writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);
+    return;
+  }
   // Plot data (the first point): measured points at their time, predictions at the time they are
   // made for; every plotStride()-th row only (all of them up to kMaxPlotRows rows).
   const size_t stride = plotStride(track.size());
@@ -314,7 +469,16 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   }
   gp << "unset multiplot\n";
   gp.close();
-  runGnuplot(dir.staging().string(), "predictions.gp");
+  // gnuplot (another process, one core) draws while predictions.csv is written when there are
+  // threads to spare; its error, if any, is reported after the CSV's.
+  if (jobs < 2) {
+    writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);
+    runGnuplot(dir.staging().string(), "predictions.gp");
+    return;
+  }
+  std::future<void> drawing = std::async(std::launch::async, [&dir] { runGnuplot(dir.staging().string(), "predictions.gp"); });
+  writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);  // on throwing, ~future waits
+  drawing.get();
 }
 
 void printPredictionTable(const PredictionReport& report, const FeatureTrack& track, std::ostream& out) {

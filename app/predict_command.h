@@ -73,8 +73,11 @@ struct PredictionReport {
 
 /// Runs every predictor along the track. Throws std::invalid_argument for an unknown predictor or
 /// parameter (message names them) or a non-positive horizon.
+/// jobs: threads (>= 1; the caller's thread is one of them). The predictors are independent, so
+/// each runs whole on one thread (longest first) and the interpolated references fill the gaps;
+/// the report is the same, bit for bit, for any jobs.
 PredictionReport predictTrack(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
-                              double horizon_s);
+                              double horizon_s, int jobs = 1);
 
 /// RMSE of (u_pred, v_pred) made at rows t against (u_ref, v_ref) interpolated at t + horizon.
 PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vector<double>& u_pred,
@@ -102,8 +105,10 @@ size_t plotStride(size_t rows);
 ///  predictions.png: u and v versus time of the first point (for N > 1 its title says so; every
 ///                   point is in predictions.csv and its errors in summary.json); thinned beyond
 ///                   kMaxPlotRows rows (its title then says so).
+///  jobs:            threads formatting predictions.csv (written in row order: the same file for any
+///                   jobs); with jobs >= 2 gnuplot draws predictions.png meanwhile.
 void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
-                            const std::string& command_line, bool plots, StagedOutputDir& dir);
+                            const std::string& command_line, bool plots, StagedOutputDir& dir, int jobs = 1);
 
 /// The aligned table printed on the terminal: overall errors per predictor, and for N > 1 points
 /// the RMSE against the measurement (and the truth) per point.

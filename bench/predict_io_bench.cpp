@@ -1,11 +1,14 @@
 // predvs bench — throughput of `predvs predict` (issue 11 item 8, docs/PERFORMANCE.md "predict
 // throughput"): reading a track CSV (readFeatureTrack) and running every registered predictor
-// along it (predictTrack), separately, so that the predictors' own share of a run is measured.
+// along it (predictTrack, on 1 and 2 threads), and writing predictions.csv + summary.json
+// (writePredictionOutputs without the plot, 1 and 2 threads), separately, so that the predictors' own
+// share of a run is measured.
 //
 // The track: PREDVS_BENCH_TRACK=FILE if set (e.g. the 2-million-row `predvs make-track` file of
 // docs/PERFORMANCE.md), else a generated one-point track of 200,000 rows at 30 Hz (t,u,v,u_true,
 // v_true; a sine sweep with 1.5 px noise, 10 significant digits as the reports write), written once
 // to the temp directory. Items per second = rows per second.
+#include "output_dir.h"
 #include "predict_command.h"
 #include "track_csv.h"
 
@@ -54,17 +57,48 @@ void BM_ReadFeatureTrack(benchmark::State& state) {
 }
 BENCHMARK(BM_ReadFeatureTrack)->Unit(benchmark::kMillisecond);
 
-void BM_PredictTrackAll(benchmark::State& state) {
-  const predvs::FeatureTrack track = predvs::readFeatureTrack(benchTrackPath());
+const predvs::FeatureTrack& benchTrack() {
+  static const predvs::FeatureTrack track = predvs::readFeatureTrack(benchTrackPath());
+  return track;
+}
+
+std::vector<predvs::PredictorSpec> allPredictors() {
   std::vector<predvs::PredictorSpec> specs;
   for (const auto& p : predvs::predictorRegistry()) specs.push_back({p.name, {}});
+  return specs;
+}
+
+/// Every registered predictor along the track on state.range(0) threads (`--jobs`). Real time is
+/// reported for the threaded runs (CPU time would count the calling thread only).
+void BM_PredictTrackAll(benchmark::State& state) {
+  const predvs::FeatureTrack& track = benchTrack();
+  const auto specs = allPredictors();
   const double horizon_s = 2 * predvs::medianPeriod(track.t_s);
   for (auto _ : state) {
-    const predvs::PredictionReport report = predvs::predictTrack(track, specs, horizon_s);
+    const predvs::PredictionReport report = predvs::predictTrack(track, specs, horizon_s, static_cast<int>(state.range(0)));
     benchmark::DoNotOptimize(report.runs.data());
   }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * track.size()));
 }
-BENCHMARK(BM_PredictTrackAll)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PredictTrackAll)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PredictTrackAll)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+/// predictions.csv and summary.json of every predictor (no plot) on state.range(0) threads, into a
+/// temporary directory: formatting and writing only.
+void BM_WritePredictions(benchmark::State& state) {
+  const predvs::FeatureTrack& track = benchTrack();
+  const predvs::PredictionReport report =
+      predvs::predictTrack(track, allPredictors(), 2 * predvs::medianPeriod(track.t_s), 2);
+  const auto out = std::filesystem::temp_directory_path() / "predvs_bench_predictions";
+  for (auto _ : state) {
+    predvs::StagedOutputDir dir(out);
+    predvs::writePredictionOutputs(track, report, 2, "predvs bench", false, dir, static_cast<int>(state.range(0)));
+    dir.commit();
+  }
+  std::filesystem::remove_all(out);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * track.size()));
+}
+BENCHMARK(BM_WritePredictions)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WritePredictions)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -107,6 +107,15 @@ void singerQSeries(double x, double dt, double out[6]) {
 }  // namespace
 
 Mat<3> singerTransition(double alpha, double dt) {
+  // Like singerProcessNoise: the last two (alpha, dt) kept per thread, the same bits, no exp.
+  struct Cached {
+    double alpha = std::numeric_limits<double>::quiet_NaN(), dt = alpha;
+    Mat<3> F;
+  };
+  thread_local Cached cache[2];
+  thread_local int older = 0;  // the entry replaced next
+  for (const Cached& c : cache)
+    if (alpha == c.alpha && dt == c.dt) return c.F;
   const double x = alpha * dt;
   Mat<3> F = Mat<3>::Identity();
   F(0, 1) = dt;
@@ -120,6 +129,8 @@ Mat<3> singerTransition(double alpha, double dt) {
     F(1, 2) = (1.0 - e) / alpha;
   }
   F(2, 2) = std::exp(-x);
+  cache[older] = Cached{alpha, dt, F};
+  older = 1 - older;
   return F;
 }
 
@@ -138,10 +149,16 @@ Vec<3> singerInput(double alpha, double dt) {
 
 Mat<3> singerProcessNoise(double alpha, double sigma2, double dt) {
   // [q_ij] depends on (alpha, dt) only, which stay the same from frame to frame on a uniformly
-  // sampled track: the last one is kept per thread (bit-identical result, no exp per frame).
-  thread_local double last_alpha = std::numeric_limits<double>::quiet_NaN(), last_dt = last_alpha;
-  thread_local Mat<3> last_q;
-  if (alpha == last_alpha && dt == last_dt) return (2.0 * alpha * sigma2) * last_q;
+  // sampled track: the last two (the frame period and a prediction horizon, asked alternately)
+  // are kept per thread (bit-identical result, no exp per frame).
+  struct Cached {
+    double alpha = std::numeric_limits<double>::quiet_NaN(), dt = alpha;
+    Mat<3> q;
+  };
+  thread_local Cached cache[2];
+  thread_local int older = 0;  // the entry replaced next
+  for (const Cached& c : cache)
+    if (alpha == c.alpha && dt == c.dt) return (2.0 * alpha * sigma2) * c.q;
   const double x = alpha * dt;
   double q11, q12, q13, q22, q23, q33;
   if (x < kSingerSeriesThreshold) {
@@ -165,9 +182,8 @@ Mat<3> singerProcessNoise(double alpha, double sigma2, double dt) {
   }
   Mat<3> Q;
   Q << q11, q12, q13, q12, q22, q23, q13, q23, q33;
-  last_alpha = alpha;
-  last_dt = dt;
-  last_q = Q;
+  cache[older] = Cached{alpha, dt, Q};
+  older = 1 - older;
   return (2.0 * alpha * sigma2) * Q;
 }
 

@@ -4,6 +4,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace predvs {
 
@@ -79,8 +80,15 @@ void Predictor::resetClock() { t_last_ = std::numeric_limits<double>::quiet_NaN(
 
 Eigen::VectorXd Predictor::predictPositions(double t_s) const {
   Eigen::VectorXd out(channels_);
-  for (int c = 0; c < channels_; ++c) out(c) = predict(c, t_s).position();
+  predictPositions(t_s, out);
   return out;
+}
+
+void Predictor::predictPositions(double t_s, Eigen::Ref<Eigen::VectorXd> out) const {
+  if (out.size() != channels_)
+    throw std::invalid_argument(name() + ": predictPositions into " + std::to_string(out.size()) +
+                                " entries, expected " + std::to_string(channels_));
+  for (int c = 0; c < channels_; ++c) out(c) = predictPosition(c, t_s);
 }
 
 Eigen::VectorXd Predictor::predictVelocities(double t_s) const {

@@ -140,6 +140,13 @@ ChannelEstimate StkfPredictor::predict(int channel, double t_s) const {
   return e;
 }
 
+double StkfPredictor::predictPosition(int channel, double t_s) const {
+  double p = ChannelPredictor<2>::predictPosition(channel, t_s);
+  const double dt = t_s - time();
+  if (dt > 0.0 && initialized(channel)) p += dt * known_v_px_s_(channel);
+  return p;
+}
+
 void StkfPredictor::setKnownImageVelocity(const Eigen::VectorXd& v_px_s) {
   if (v_px_s.size() != channels())
     throw std::invalid_argument("stkf: known image velocity has " + std::to_string(v_px_s.size()) +

@@ -2,14 +2,22 @@
 // keep the old behaviour: cells parse to the values strtod gives (and are rejected with the same
 // messages), the plot data is thinned by the documented rule, and the summary table stays aligned
 // for counts of seven digits and more. The speed itself is measured by bench/predict_io_bench.cpp.
+#include "cli.h"
+#include "output_dir.h"
 #include "predict_command.h"
 #include "track_csv.h"
 
+#include "predvs/predictors/predictor.h"
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -87,6 +95,112 @@ TEST(PredictThroughput, SummaryTableStaysAlignedForSevenDigitCounts) {
   EXPECT_NE(rows[1].find("2.996  "), std::string::npos) << out.str();
   EXPECT_NE(rows[3].find("2.996  123456789"), std::string::npos) << out.str();
   EXPECT_EQ(rows[0].back(), 'n');
+}
+
+/// A generated track: `points` points moving on curves with 1.5 px noise, 2 % of cells empty (the
+/// whole frame for point 0 every 97th frame), with truth; 30 Hz with a little jitter.
+predvs::FeatureTrack syntheticTrack(size_t rows, int points) {
+  predvs::FeatureTrack track;
+  track.path = "synthetic";
+  track.format = points == 1 ? "wide" : "long";
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 1.5);
+  for (int p = 0; p < points; ++p) track.point_names.push_back(std::to_string(p));
+  const size_t np = static_cast<size_t>(points);
+  track.u_px.assign(np, {});
+  track.v_px.assign(np, {});
+  track.u_true_px.assign(np, {});
+  track.v_true_px.assign(np, {});
+  double t = 0.0;
+  for (size_t i = 0; i < rows; ++i) {
+    track.t_s.push_back(t);
+    for (size_t p = 0; p < np; ++p) {
+      const double u = 320.0 + 150.0 * std::sin(0.3 * t + p) + 20.0 * std::sin(2.0 * t);
+      const double v = 240.0 + 100.0 * std::cos(0.21 * t + p);
+      const bool drop = uni(rng) < 0.02 || (p == 0 && i % 97 == 50);
+      track.u_px[p].push_back(drop ? std::nan("") : u + noise(rng));
+      track.v_px[p].push_back(drop ? std::nan("") : v + noise(rng));
+      track.u_true_px[p].push_back(u);
+      track.v_true_px[p].push_back(v);
+    }
+    t += (1.0 + 0.1 * (uni(rng) - 0.5)) / 30.0;
+  }
+  return track;
+}
+
+bool sameBits(double a, double b) { return (std::isnan(a) && std::isnan(b)) || std::memcmp(&a, &b, sizeof a) == 0; }
+
+std::string readAll(const std::filesystem::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+
+/// predictTrack and writePredictionOutputs with `jobs` threads; returns the output directory.
+std::filesystem::path predictWith(const predvs::FeatureTrack& track, int jobs, const std::string& name,
+                                  predvs::PredictionReport& report) {
+  std::vector<predvs::PredictorSpec> specs;
+  for (const auto& info : predvs::predictorRegistry()) specs.push_back({info.name, {}});
+  report = predvs::predictTrack(track, specs, 2.0 / 30.0, jobs);
+  const auto out = std::filesystem::temp_directory_path() / ("predvs_throughput_jobs_" + name);
+  std::filesystem::remove_all(out);
+  predvs::StagedOutputDir dir(out);
+  predvs::writePredictionOutputs(track, report, 2, "predvs predict (test)", /*plots=*/false, dir, jobs);
+  dir.commit();
+  return out;
+}
+
+TEST(PredictThroughput, ParallelRunGivesTheSameOutputsAsOneThread) {
+  // GIVEN a one-point track long enough for the longest-first ordering and several CSV chunks,
+  // and a three-point track (long layout)
+  for (const auto& [rows, points] : {std::pair<size_t, int>{40000, 1}, std::pair<size_t, int>{3000, 3}}) {
+    const predvs::FeatureTrack track = syntheticTrack(rows, points);
+    const std::string tag = std::to_string(points);
+    // WHEN every predictor runs on 1 thread and on 3
+    predvs::PredictionReport one, three;
+    const auto dir1 = predictWith(track, 1, tag + "_1", one);
+    const auto dir3 = predictWith(track, 3, tag + "_3", three);
+    // THEN every prediction and every error has the same bits, in registry order
+    ASSERT_EQ(one.runs.size(), predvs::predictorRegistry().size());
+    ASSERT_EQ(three.runs.size(), one.runs.size());
+    for (size_t k = 0; k < one.runs.size(); ++k) {
+      EXPECT_EQ(three.runs[k].spec.name, predvs::predictorRegistry()[k].name);
+      EXPECT_TRUE(sameBits(three.runs[k].vs_truth.rmse_px, one.runs[k].vs_truth.rmse_px)) << one.runs[k].spec.name;
+      EXPECT_EQ(three.runs[k].vs_measurement.n, one.runs[k].vs_measurement.n);
+      EXPECT_GT(one.runs[k].vs_measurement.n, static_cast<int>(rows) / 2) << one.runs[k].spec.name;
+      for (size_t p = 0; p < static_cast<size_t>(points); ++p)
+        for (size_t i = 0; i < rows; ++i) {
+          ASSERT_TRUE(sameBits(three.runs[k].points[p].u_pred_px[i], one.runs[k].points[p].u_pred_px[i]))
+              << one.runs[k].spec.name << " row " << i;
+          ASSERT_TRUE(sameBits(three.runs[k].points[p].v_pred_px[i], one.runs[k].points[p].v_pred_px[i]))
+              << one.runs[k].spec.name << " row " << i;
+        }
+    }
+    // ... and the files are byte for byte the same
+    const std::string csv1 = readAll(dir1 / "predictions.csv");
+    EXPECT_GT(csv1.size(), rows * 100 * static_cast<size_t>(points));
+    EXPECT_TRUE(csv1 == readAll(dir3 / "predictions.csv")) << tag;
+    EXPECT_EQ(readAll(dir1 / "summary.json"), readAll(dir3 / "summary.json"));
+    std::filesystem::remove_all(dir1);
+    std::filesystem::remove_all(dir3);
+  }
+}
+
+TEST(PredictThroughput, BadJobsIsAOneLineErrorWithNoOutput) {
+  const std::string input = writeTemp("jobs.csv", "t,u,v\n0,1,2\n0.1,2,3\n0.2,3,4\n");
+  const auto out = std::filesystem::temp_directory_path() / "predvs_throughput_bad_jobs";
+  std::filesystem::remove_all(out);
+  for (const char* jobs : {"0", "x", "-2"}) {
+    std::ostringstream o, e;
+    const int rc = predvs::runCli({"predict", "--input", input, "--predictor", "kf-cv", "--delay-frames", "1", "--no-plots",
+                                   "--jobs", jobs, "--out", out.string()},
+                                  o, e);
+    const std::string err = e.str();
+    EXPECT_EQ(rc, 2) << jobs;
+    EXPECT_NE(err.find("--jobs"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << jobs;
+  }
 }
 
 }  // namespace

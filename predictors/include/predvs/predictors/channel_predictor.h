@@ -22,6 +22,7 @@
 #include "predvs/predictors/process_noise_adapt.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -88,6 +89,15 @@ class ChannelPredictor : public Predictor {
     Gaussian<N> g = s.g;
     timeUpdate(g, transition(channel, dt), processNoise(channel, dt));
     return toEstimate(g);
+  }
+
+  /// predict(channel, t_s).position() without the covariance: x(0) of the same F x product.
+  double predictPosition(int channel, double t_s) const override {
+    const ChannelState& s = state_.at(channel);
+    if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
+    const double dt = t_s - time();
+    if (!(dt > 0.0)) return s.g.x(0);
+    return predictedPosition(s.g, transition(channel, dt));
   }
 
   Innovation innovation(int channel) const override { return state_.at(channel).innovation; }

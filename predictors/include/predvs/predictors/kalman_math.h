@@ -41,6 +41,14 @@ inline void timeUpdate(Gaussian<N>& g, const Mat<N>& F, const Mat<N>& Q) {
   symmetrize(g.P);
 }
 
+/// (F x)(0): the position timeUpdate(g, F, Q) would give, the same arithmetic (the same Eigen
+/// product here, the same expression in the 2-state specialisation below), without touching P.
+template <int N>
+inline double predictedPosition(const Gaussian<N>& g, const Mat<N>& F) {
+  const Vec<N> x = (F * g.x).eval();
+  return x(0);
+}
+
 /// Measurement update of a scalar position measurement (H = [1 0 ..]) in Joseph form:
 ///   K = P H' / S,  x <- x + K eps,  P <- (I - K H) P (I - K H)' + K R K'.
 /// The Joseph form keeps P symmetric PSD even when the gain is sub-optimal (adapted R, inflated
@@ -79,6 +87,11 @@ inline void timeUpdate<2>(Gaussian<2>& g, const Mat<2>& F, const Mat<2>& Q) {
   g.P(0, 0) = fp00 * a + fp01 * b + Q(0, 0);
   g.P(0, 1) = g.P(1, 0) = fp00 * c + fp01 * d + q01;
   g.P(1, 1) = fp10 * c + fp11 * d + Q(1, 1);
+}
+
+template <>
+inline double predictedPosition<2>(const Gaussian<2>& g, const Mat<2>& F) {
+  return F(0, 0) * g.x(0) + F(0, 1) * g.x(1);
 }
 
 template <>

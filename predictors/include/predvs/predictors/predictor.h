@@ -79,6 +79,9 @@ class Predictor {
   void update(double t_s);
   /// Estimate of `channel` at time t_s (>= last update time), without changing the filter.
   virtual ChannelEstimate predict(int channel, double t_s) const = 0;
+  /// Just the position of predict(channel, t_s), the same number (bit for bit). A filter may
+  /// override it to skip the covariance (the per-channel Kalman filters do); the default asks predict().
+  virtual double predictPosition(int channel, double t_s) const { return predict(channel, t_s).position(); }
   /// Innovation of the last update on `channel`.
   virtual Innovation innovation(int channel) const = 0;
 
@@ -100,8 +103,10 @@ class Predictor {
 
   /// Time of the last update (NaN before the first).
   double time() const { return t_last_; }
-  /// Predicted positions of every channel at t_s (convenience over predict()).
+  /// Predicted positions of every channel at t_s (convenience over predictPosition()).
   Eigen::VectorXd predictPositions(double t_s) const;
+  /// The same into `out` (size channels()), without allocating: the per-frame form for long tracks.
+  void predictPositions(double t_s, Eigen::Ref<Eigen::VectorXd> out) const;
   /// Predicted velocities of every channel at t_s.
   Eigen::VectorXd predictVelocities(double t_s) const;
 

@@ -60,6 +60,7 @@ class StkfPredictor : public ChannelPredictor<2> {
   using Predictor::update;
   /// Includes the known image velocity set for the next update, if any.
   ChannelEstimate predict(int channel, double t_s) const override;
+  double predictPosition(int channel, double t_s) const override;
 
   /// Known image velocity (px/s per channel) induced by the robot's own motion, B_i u in paper
   /// 001 eq. 30: the next time update adds dt * v to each position. Applies to the next update()
