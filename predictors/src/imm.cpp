@@ -36,6 +36,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       r_(1.0),
       p0_vel_(params.get("p0_vel", 1e4, 0.0, 1e12)),
       p0_acc_(params.get("p0_acc", 1e4, 0.0, 1e12)),
+      coast_tau_s_(params.get("coast_tau_s", kDefaultCoastTauS, 0.0, 1e6)),
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
   const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
@@ -193,6 +194,14 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       symmetrize(P);
       mixed[jj].x = mean;
       mixed[jj].P = P;
+    }
+    // Coasting on an unmeasured frame (channel_predictor.h): velocity and acceleration decay.
+    if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
+      const double e = std::exp(-dt / coast_tau_s_);
+      for (int j = 0; j < m; ++j) {
+        mixed[static_cast<size_t>(j)].x(1) *= e;
+        mixed[static_cast<size_t>(j)].x(2) *= e * e;
+      }
     }
     // Mode-matched filters (each zeroes the states its model does not have).
     for (int j = 0; j < m; ++j) timeUpdate(mixed[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));

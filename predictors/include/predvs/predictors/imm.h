@@ -48,7 +48,10 @@
 // (px^2/s^5, default kDefaultQCa), alpha (1/s, default 0: CA; > 0: Singer), r (px^2; default `auto`,
 // predictors/noise_estimate.h; a number fixes it), tau_cp_s (5), tau_cv_s (30), tau_ca_s (3)
 // (stationary shares 13 / 79 / 8 %), cp (1; 0 leaves the CP mode out), p0_vel ((px/s)^2, 1e4),
-// p0_acc ((px/s^2)^2, 1e4). The initial mode probabilities are equal. q_cp and the tau were chosen
+// p0_acc ((px/s^2)^2, 1e4), coast_tau_s (s, default kDefaultCoastTauS; 0 = off): on a frame with
+// no measurement, each mode's mixed velocity and acceleration decay before its time update, the
+// law of every other predictor (channel_predictor.h, docs/MODELS.md §15), so imm coasts like its
+// single models. The initial mode probabilities are equal. q_cp and the tau were chosen
 // on the generated tracks (servo/maneuver_tracks.h) and the paper scenarios E1-E4, E7 together
 // (docs/PERFORMANCE.md "IMM against its single models"); they are not sharp optima (one at a
 // time, tau_cv 10 / 100 s, tau_ca 1 / 10 s, tau_cp 2 / 10 s, q_cp 1 / 5 px^2/s: 210-214 of 216
@@ -61,6 +64,7 @@
 // the other predictors' rows); the closed-loop log does not write predictor diagnostics yet.
 #pragma once
 
+#include "predvs/predictors/channel_predictor.h"
 #include "predvs/predictors/kalman_math.h"
 #include "predvs/predictors/noise_estimate.h"
 #include "predvs/predictors/predictor.h"
@@ -121,6 +125,7 @@ class ImmPredictor : public Predictor {
   Gaussian<3> combine(const std::array<Gaussian<3>, kMaxModes>& g, const std::array<double, kMaxModes>& w) const;
 
   double q_cp_, q_cv_, q_ca_, alpha_, r_, p0_vel_, p0_acc_;
+  double coast_tau_s_;  ///< s; 0 = no coasting
   bool r_auto_;
   std::vector<Mode> modes_;
   ModeMatrix rates_;
