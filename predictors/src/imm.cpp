@@ -109,6 +109,7 @@ Mat<3> ImmPredictor::processNoise(int j, double dt) const {
 }
 
 ImmPredictor::ModeMatrix ImmPredictor::chain(double dt) const {
+  if (dt == chain_dt_) return chain_;
   // exp(Lambda dt) by scaling and squaring: halve until the norm is below 1/2, Taylor to order 12
   // (truncation < 0.5^13 / 13! relative), square back. Rows of the result sum to one.
   const int m = modeCount();
@@ -127,6 +128,8 @@ ImmPredictor::ModeMatrix ImmPredictor::chain(double dt) const {
   }
   for (int s = 0; s < squarings; ++s) E = (E * E).eval();
   for (int i = 0; i < m; ++i) E.row(i) /= E.row(i).sum();
+  chain_dt_ = dt;
+  chain_ = E;
   return E;
 }
 
@@ -271,6 +274,19 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
   std::array<Gaussian<3>, kMaxModes> g = ch.g;
   for (int j = 0; j < modeCount(); ++j) timeUpdate(g[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));
   return toEstimate(combine(g, ch.mu));
+}
+
+double ImmPredictor::predictPosition(int channel, double t_s) const {
+  const Channel& ch = chan_.at(static_cast<size_t>(channel));
+  if (!ch.initialized) return std::numeric_limits<double>::quiet_NaN();
+  const double dt = t_s - time();
+  if (!(dt > 0.0)) return predict(channel, t_s).position();
+  double p = 0.0;
+  for (int j = 0; j < modeCount(); ++j) {
+    const auto jj = static_cast<size_t>(j);
+    p += ch.mu[jj] * predictedPosition(ch.g[jj], transition(j, dt));
+  }
+  return p;
 }
 
 NamedValues ImmPredictor::diagnostics() const {

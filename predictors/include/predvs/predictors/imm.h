@@ -88,6 +88,9 @@ class ImmPredictor : public Predictor {
   void update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) override;
   using Predictor::update;
   ChannelEstimate predict(int channel, double t_s) const override;
+  /// predict(channel, t_s).position() without the covariances: sum_j mu_j (F_j x_j)(0), the same
+  /// arithmetic in the same order (bit for bit).
+  double predictPosition(int channel, double t_s) const override;
   Innovation innovation(int channel) const override { return chan_.at(static_cast<size_t>(channel)).innovation; }
   NamedValues diagnostics() const override;
   /// q_cv, q_ca and r: the number given, or, when `r` is `auto`, the estimator's prior (1 px^2).
@@ -129,6 +132,10 @@ class ImmPredictor : public Predictor {
   bool r_auto_;
   std::vector<Mode> modes_;
   ModeMatrix rates_;
+  // chain(dt) of the last dt asked (every frame of a uniform track asks the same one): the same
+  // matrix, computed once. Mutable cache of a const function; an instance is used by one thread.
+  mutable double chain_dt_ = -1.0;
+  mutable ModeMatrix chain_;
   std::vector<Channel> chan_;
 };
 
