@@ -1,5 +1,7 @@
 #include "parallel_runs.h"
 
+#include "parallel_for.h"
+
 #include <algorithm>
 #include <atomic>
 #include <exception>
@@ -51,34 +53,23 @@ class Progress {
 }  // namespace
 
 void runParallel(size_t count, const std::function<void(size_t)>& run, const ParallelOptions& o, std::ostream& err) {
-  std::atomic<size_t> next{0}, done{0};
-  std::atomic<bool> failed{false};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto work = [&] {
-    for (;;) {
-      const size_t i = next.fetch_add(1);
-      if (i >= count || failed) return;
-      try {
-        run(i);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        failed = true;
-      }
-      ++done;
-    }
+  std::atomic<size_t> done{0};
+  WorkQueue queue(count);
+  auto body = [&](size_t i) {
+    run(i);
+    ++done;
   };
+  auto work = [&] { queue.work(body); };
   std::vector<std::thread> pool;
   for (int w = 0; w < std::max(1, o.workers); ++w) pool.emplace_back(work);
   Progress progress(err, count, o.progress_bar, o.label);
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - o.start).count(); };
-  while (done < count && !failed) {
+  while (done < count && !queue.failed()) {
     progress.show(done, elapsed());
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   for (auto& th : pool) th.join();
-  if (error) std::rethrow_exception(error);
+  queue.rethrow();
   progress.show(done, elapsed());
 }
 

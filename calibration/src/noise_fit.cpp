@@ -152,6 +152,32 @@ struct Model {
   }
 };
 
+/// d r / d theta into jac (n x k, row-major) by central differences of `step` in each theta_j.
+/// Where one side cannot be evaluated, the one-sided difference from r0 = r(theta) if `one_sided`;
+/// false when that is not allowed or neither side can be evaluated.
+template <class ResidualsAt>
+bool differenceJacobian(const double* theta, size_t k, size_t n, double step, bool one_sided, const double* r0,
+                        const ResidualsAt& residualsAt, double* jac) {
+  std::vector<double> rp(n), rm(n);
+  for (size_t j = 0; j < k; ++j) {
+    std::vector<double> tp(theta, theta + k), tm(theta, theta + k);
+    tp[j] += step;
+    tm[j] -= step;
+    const bool okp = residualsAt(tp.data(), rp.data());
+    const bool okm = (okp || one_sided) && residualsAt(tm.data(), rm.data());
+    if (okp && okm) {
+      for (size_t r = 0; r < n; ++r) jac[r * k + j] = (rp[r] - rm[r]) / (2.0 * step);
+    } else if (one_sided && okp) {
+      for (size_t r = 0; r < n; ++r) jac[r * k + j] = (rp[r] - r0[r]) / step;
+    } else if (one_sided && okm) {
+      for (size_t r = 0; r < n; ++r) jac[r * k + j] = (r0[r] - rm[r]) / step;
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
 /// The prediction objective's residuals as a Ceres cost, Jacobian by central differences in theta
 /// (one-sided where one side fails).
 class PredictionResiduals : public ceres::CostFunction {
@@ -163,27 +189,10 @@ class PredictionResiduals : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const double* theta = parameters[0];
     if (!m_.predictionResiduals(theta, residuals)) return false;
-    if (jacobians && jacobians[0]) {
-      const size_t k = m_.keys.size();
-      const auto n = static_cast<size_t>(num_residuals());
-      std::vector<double> rp(n), rm(n);
-      for (size_t j = 0; j < k; ++j) {
-        std::vector<double> tp(theta, theta + k), tm(theta, theta + k);
-        tp[j] += kPredictionLogStep;
-        tm[j] -= kPredictionLogStep;
-        const bool okp = m_.predictionResiduals(tp.data(), rp.data());
-        const bool okm = m_.predictionResiduals(tm.data(), rm.data());
-        if (okp && okm) {
-          for (size_t r = 0; r < n; ++r) jacobians[0][r * k + j] = (rp[r] - rm[r]) / (2.0 * kPredictionLogStep);
-        } else if (okp) {
-          for (size_t r = 0; r < n; ++r) jacobians[0][r * k + j] = (rp[r] - residuals[r]) / kPredictionLogStep;
-        } else if (okm) {
-          for (size_t r = 0; r < n; ++r) jacobians[0][r * k + j] = (residuals[r] - rm[r]) / kPredictionLogStep;
-        } else {
-          return false;
-        }
-      }
-    }
+    if (jacobians && jacobians[0])
+      return differenceJacobian(theta, m_.keys.size(), static_cast<size_t>(num_residuals()), kPredictionLogStep, true,
+                                residuals, [this](const double* t, double* r) { return m_.predictionResiduals(t, r); },
+                                jacobians[0]);
     return true;
   }
 
@@ -252,18 +261,9 @@ class FisherResiduals : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const double* theta = parameters[0];
     if (!residualsAt(theta, residuals)) return false;
-    if (jacobians && jacobians[0]) {
-      const size_t k = m_.keys.size();
-      const auto n = static_cast<size_t>(num_residuals());
-      std::vector<double> rp(n), rm(n);
-      for (size_t j = 0; j < k; ++j) {
-        std::vector<double> tp(theta, theta + k), tm(theta, theta + k);
-        tp[j] += kLogStep;
-        tm[j] -= kLogStep;
-        if (!residualsAt(tp.data(), rp.data()) || !residualsAt(tm.data(), rm.data())) return false;
-        for (size_t r = 0; r < n; ++r) jacobians[0][r * k + j] = (rp[r] - rm[r]) / (2.0 * kLogStep);
-      }
-    }
+    if (jacobians && jacobians[0])
+      return differenceJacobian(theta, m_.keys.size(), static_cast<size_t>(num_residuals()), kLogStep, false, residuals,
+                                [this](const double* t, double* r) { return residualsAt(t, r); }, jacobians[0]);
     return true;
   }
 
