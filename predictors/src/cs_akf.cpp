@@ -104,18 +104,36 @@ void singerQSeries(double x, double dt, double out[6]) {
   out[5] = 0.5 * dt * acc[5];         // p = 1
 }
 
+/// The last two values of a function of (alpha, dt), kept per thread by its caller: on a uniformly
+/// sampled track the same two (the frame period and a prediction horizon) are asked alternately,
+/// so the function is evaluated once for each (the same bits, no exp per frame).
+template <class T>
+class LastTwo {
+ public:
+  const T* find(double alpha, double dt) const {
+    for (const Entry& e : entries_)
+      if (alpha == e.alpha && dt == e.dt) return &e.value;
+    return nullptr;
+  }
+  void put(double alpha, double dt, const T& value) {
+    entries_[older_] = Entry{alpha, dt, value};
+    older_ = 1 - older_;
+  }
+
+ private:
+  struct Entry {
+    double alpha = std::numeric_limits<double>::quiet_NaN(), dt = alpha;
+    T value;
+  };
+  Entry entries_[2];
+  int older_ = 0;  // the entry replaced next
+};
+
 }  // namespace
 
 Mat<3> singerTransition(double alpha, double dt) {
-  // Like singerProcessNoise: the last two (alpha, dt) kept per thread, the same bits, no exp.
-  struct Cached {
-    double alpha = std::numeric_limits<double>::quiet_NaN(), dt = alpha;
-    Mat<3> F;
-  };
-  thread_local Cached cache[2];
-  thread_local int older = 0;  // the entry replaced next
-  for (const Cached& c : cache)
-    if (alpha == c.alpha && dt == c.dt) return c.F;
+  thread_local LastTwo<Mat<3>> cache;  // LastTwo: the same bits, no exp per frame
+  if (const Mat<3>* F = cache.find(alpha, dt)) return *F;
   const double x = alpha * dt;
   Mat<3> F = Mat<3>::Identity();
   F(0, 1) = dt;
@@ -129,8 +147,7 @@ Mat<3> singerTransition(double alpha, double dt) {
     F(1, 2) = (1.0 - e) / alpha;
   }
   F(2, 2) = std::exp(-x);
-  cache[older] = Cached{alpha, dt, F};
-  older = 1 - older;
+  cache.put(alpha, dt, F);
   return F;
 }
 
@@ -148,17 +165,9 @@ Vec<3> singerInput(double alpha, double dt) {
 }
 
 Mat<3> singerProcessNoise(double alpha, double sigma2, double dt) {
-  // [q_ij] depends on (alpha, dt) only, which stay the same from frame to frame on a uniformly
-  // sampled track: the last two (the frame period and a prediction horizon, asked alternately)
-  // are kept per thread (bit-identical result, no exp per frame).
-  struct Cached {
-    double alpha = std::numeric_limits<double>::quiet_NaN(), dt = alpha;
-    Mat<3> q;
-  };
-  thread_local Cached cache[2];
-  thread_local int older = 0;  // the entry replaced next
-  for (const Cached& c : cache)
-    if (alpha == c.alpha && dt == c.dt) return (2.0 * alpha * sigma2) * c.q;
+  // [q_ij] depends on (alpha, dt) only (LastTwo: kept for the last two per thread).
+  thread_local LastTwo<Mat<3>> cache;
+  if (const Mat<3>* q = cache.find(alpha, dt)) return (2.0 * alpha * sigma2) * *q;
   const double x = alpha * dt;
   double q11, q12, q13, q22, q23, q33;
   if (x < kSingerSeriesThreshold) {
@@ -182,8 +191,7 @@ Mat<3> singerProcessNoise(double alpha, double sigma2, double dt) {
   }
   Mat<3> Q;
   Q << q11, q12, q13, q12, q22, q23, q13, q23, q33;
-  cache[older] = Cached{alpha, dt, Q};
-  older = 1 - older;
+  cache.put(alpha, dt, Q);
   return (2.0 * alpha * sigma2) * Q;
 }
 
