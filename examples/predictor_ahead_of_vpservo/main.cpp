@@ -5,6 +5,8 @@
 // s_dot the predicted feature velocity, v_seen the camera twist when the newest frame was taken (a P-law alone lags the moving
 // target by (image speed) / lambda, whatever the delay).
 // Prints the steady-state RMS image error (pixels) without and with the predictor.
+// Usage: predictor_ahead_of_vpservo [NAME [KEY=VALUE ...]]   (default kf-cv; KEY=VALUE: the
+// predictor's parameters, e.g. `kf-ca q=1000 r=1`; docs/MODELS.md gives each predictor's keys)
 #include <predvs/predictors/predictor.h>
 
 #include <visp3/core/vpMeterPixelConversion.h>
@@ -15,11 +17,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
 
-static double runLoop(const std::string& predictor_name) {  // "" = no predictor
+static double runLoop(const std::string& predictor_name, const predvs::Params& params = {}) {  // "" = none
   const double dt_s = 0.04, duration_s = 25.0, radius_m = 0.05, omega_radps = 0.5;
   const int delay_frames = 2;
   const vpCameraParameters cam(800, 800, 320, 240);
@@ -39,7 +42,7 @@ static double runLoop(const std::string& predictor_name) {  // "" = no predictor
     task.addFeature(p[i], pd[i]);
   }
   std::unique_ptr<predvs::Predictor> predictor;
-  if (!predictor_name.empty()) predictor = predvs::makePredictor(predictor_name, 8);
+  if (!predictor_name.empty()) predictor = predvs::makePredictor(predictor_name, 8, params);
   std::vector<Eigen::VectorXd> measured_px;  // image points at every frame (u0 v0 ... u3 v3)
   std::vector<vpColVector> twists;  // camera twist sent at every step (m/s, rad/s)
   double sum_sq = 0;
@@ -88,9 +91,21 @@ static double runLoop(const std::string& predictor_name) {  // "" = no predictor
 
 int main(int argc, char** argv) {
   const std::string name = argc > 1 ? argv[1] : "kf-cv";
+  predvs::Params params;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const size_t eq = arg.find('=');
+    char* end = nullptr;
+    const double value = eq == std::string::npos ? 0.0 : std::strtod(arg.c_str() + eq + 1, &end);
+    if (eq == std::string::npos || eq == 0 || end == arg.c_str() + eq + 1 || *end != '\0') {
+      std::fprintf(stderr, "predictor_ahead_of_vpservo: '%s': expected KEY=VALUE with a number\n", arg.c_str());
+      return 2;
+    }
+    params.set(arg.substr(0, eq), value);
+  }
   try {
     std::printf("steady-state RMS image error without predictor: %.3f px\n", runLoop(""));
-    std::printf("steady-state RMS image error with %s: %.3f px\n", name.c_str(), runLoop(name));
+    std::printf("steady-state RMS image error with %s: %.3f px\n", name.c_str(), runLoop(name, params));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "predictor_ahead_of_vpservo: %s\n", e.what());
     return 1;

@@ -18,4 +18,7 @@ with=$(echo "$out" | sed -n 's/.*with kf-cv: \([0-9.]*\) px/\1/p')
 [ -n "$without" ] && [ -n "$with" ] || fail "unexpected output"
 awk -v a="$with" -v b="$without" 'BEGIN { exit !(a > 0 && 4 * a < b) }' || fail "kf-cv error $with px not 4x below $without px"
 if "$work/predictor_ahead_of_vpservo" no-such-predictor >/dev/null 2>&1; then fail "unknown predictor accepted"; fi
+if "$work/predictor_ahead_of_vpservo" kf-cv q=x >/dev/null 2>&1; then fail "a bad KEY=VALUE accepted"; fi
+out=$("$work/predictor_ahead_of_vpservo" kf-cv q=400 r=0.25 2>/dev/null) || fail "kf-cv q=400 r=0.25 exited non-zero"
+echo "$out" | grep -q "with kf-cv: " || fail "parameters on the command line: unexpected output: $out"
 echo "example_test: OK"
