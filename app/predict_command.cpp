@@ -66,39 +66,6 @@ size_t plotStride(size_t rows) { return rows <= kMaxPlotRows ? 1 : (rows + kMaxP
 
 namespace {
 
-/// y interpolated at t_s[i] + horizon_s for every row i, computed once per point and shared by
-/// every predictor's scoring. interpolateAt's rule and arithmetic, with its binary search replaced
-/// by a cursor: t_s[i] + horizon_s does not decrease with i, so neither does its lower bound.
-std::vector<double> referenceAt(const std::vector<double>& t_s, const std::vector<double>& y, double horizon_s) {
-  const size_t n = t_s.size();
-  std::vector<double> r(n);
-  size_t bound = 0;  // first row with t_s >= t (std::lower_bound)
-  for (size_t i = 0; i < n; ++i) {
-    const double t = t_s[i] + horizon_s;
-    while (bound < n && t_s[bound] < t) ++bound;
-    size_t hi = bound;
-    while (hi < n && !std::isfinite(y[hi])) ++hi;
-    if (hi >= n) {
-      r[i] = kNaN;
-      continue;
-    }
-    if (t_s[hi] == t) {
-      r[i] = y[hi];
-      continue;
-    }
-    size_t lo = bound;  // one past the candidate
-    while (lo > 0 && !std::isfinite(y[lo - 1])) --lo;
-    if (lo == 0) {
-      r[i] = kNaN;
-      continue;
-    }
-    const double t0 = t_s[lo - 1], t1 = t_s[hi];
-    const double w = (t - t0) / (t1 - t0);
-    r[i] = (1.0 - w) * y[lo - 1] + w * y[hi];
-  }
-  return r;
-}
-
 /// The RMSEs of n (u, v) errors from their sums of squares (NaN when n == 0).
 PredictionErrors fromSquareSums(double su, double sv, int n) {
   PredictionErrors e;
@@ -113,7 +80,7 @@ PredictionErrors fromSquareSums(double su, double sv, int n) {
   return e;
 }
 
-/// predictionErrors against references already interpolated at t + horizon (referenceAt).
+/// predictionErrors against references already interpolated at t + horizon (interpolateShifted).
 PredictionErrors errorsAgainst(const std::vector<double>& u_pred, const std::vector<double>& v_pred,
                                const std::vector<double>& u_ref_at, const std::vector<double>& v_ref_at) {
   double su = 0.0, sv = 0.0;
@@ -134,7 +101,7 @@ PredictionErrors errorsAgainst(const std::vector<double>& u_pred, const std::vec
 PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vector<double>& u_pred,
                                   const std::vector<double>& v_pred, double horizon_s,
                                   const std::vector<double>& u_ref, const std::vector<double>& v_ref) {
-  return errorsAgainst(u_pred, v_pred, referenceAt(t_s, u_ref, horizon_s), referenceAt(t_s, v_ref, horizon_s));
+  return errorsAgainst(u_pred, v_pred, interpolateShifted(t_s, u_ref, horizon_s), interpolateShifted(t_s, v_ref, horizon_s));
 }
 
 PredictionErrors pooledErrors(const std::vector<PredictionErrors>& parts) {
@@ -239,7 +206,7 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
   parallelFor(order.size() + references.size(), jobs, [&](size_t item) {
     if (item >= order.size()) {
       const auto& ref = references[item - order.size()];
-      *ref.second = referenceAt(track.t_s, *ref.first, horizon_s);
+      *ref.second = interpolateShifted(track.t_s, *ref.first, horizon_s);  // once per point, for every predictor
       return;
     }
     const size_t k = order[item];

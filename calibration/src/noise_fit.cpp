@@ -2,6 +2,7 @@
 
 #include "predvs/predictors/noise_estimate.h"
 #include "predvs/predictors/predictor.h"
+#include "predvs/servo/sampled_signal.h"
 
 #include <ceres/ceres.h>
 #include <ceres/covariance.h>
@@ -37,36 +38,19 @@ struct PredictionTarget {
 };
 
 /// The targets of every frame >= burn_in (sorted by frame): the measurement of each channel
-/// interpolated linearly at t_k + h between its nearest measured rows, inside its measured span.
+/// interpolated linearly at t_k + h between its nearest measured rows, inside its measured span
+/// (servo/sampled_signal.h, the rule `predvs predict` scores with).
 std::vector<PredictionTarget> predictionTargets(const FitTrack& track, double horizon_s, int burn_in) {
-  std::vector<PredictionTarget> out;
   const int n = static_cast<int>(track.channels.size());
-  std::vector<std::vector<size_t>> measured(static_cast<size_t>(n));
-  std::vector<std::vector<double>> times(static_cast<size_t>(n));
+  std::vector<std::vector<double>> at(static_cast<size_t>(n));
   for (int c = 0; c < n; ++c)
-    for (size_t i = 0; i < track.t_s.size(); ++i)
-      if (std::isfinite(track.channels[static_cast<size_t>(c)][i])) {
-        measured[static_cast<size_t>(c)].push_back(i);
-        times[static_cast<size_t>(c)].push_back(track.t_s[i]);
-      }
-  for (size_t k = static_cast<size_t>(std::max(burn_in, 0)); k < track.t_s.size(); ++k) {
-    const double tt = track.t_s[k] + horizon_s;
+    at[static_cast<size_t>(c)] = interpolateShifted(track.t_s, track.channels[static_cast<size_t>(c)], horizon_s);
+  std::vector<PredictionTarget> out;
+  for (size_t k = static_cast<size_t>(std::max(burn_in, 0)); k < track.t_s.size(); ++k)
     for (int c = 0; c < n; ++c) {
-      const auto& ts = times[static_cast<size_t>(c)];
-      const auto& idx = measured[static_cast<size_t>(c)];
-      const auto& z = track.channels[static_cast<size_t>(c)];
-      if (ts.empty() || tt < ts.front() || tt > ts.back()) continue;
-      const size_t j = static_cast<size_t>(std::lower_bound(ts.begin(), ts.end(), tt) - ts.begin());
-      double value;
-      if (ts[j] == tt) {
-        value = z[idx[j]];
-      } else {
-        const double w = (tt - ts[j - 1]) / (ts[j] - ts[j - 1]);
-        value = (1.0 - w) * z[idx[j - 1]] + w * z[idx[j]];
-      }
-      out.push_back({k, c, tt, value});
+      const double value = at[static_cast<size_t>(c)][k];
+      if (std::isfinite(value)) out.push_back({k, c, track.t_s[k] + horizon_s, value});
     }
-  }
   return out;
 }
 

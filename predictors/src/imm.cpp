@@ -36,7 +36,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       r_(1.0),
       p0_vel_(params.get("p0_vel", 1e4, 0.0, 1e12)),
       p0_acc_(params.get("p0_acc", 1e4, 0.0, 1e12)),
-      coast_tau_s_(params.get("coast_tau_s", kDefaultCoastTauS, 0.0, 1e6)),
+      coast_tau_s_(coastTauParam(params)),
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
   const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
@@ -181,31 +181,16 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       for (int i = 0; i < m; ++i) cbar[jj] += Pi(i, j) * ch.mu[static_cast<size_t>(i)];
       std::array<Gaussian<3>, kMaxModes> src;
       std::array<double, kMaxModes> w{};
-      Vec<3> mean = Vec<3>::Zero();
       for (int i = 0; i < m; ++i) {
         const auto ii = static_cast<size_t>(i);
         w[ii] = cbar[jj] > 0.0 ? Pi(i, j) * ch.mu[ii] / cbar[jj] : (i == j ? 1.0 : 0.0);
         src[ii] = embed(ch.g[ii], modes_[ii].dim, ch.g[jj], modes_[jj].dim);
-        mean += w[ii] * src[ii].x;
       }
-      Mat<3> P = Mat<3>::Zero();
-      for (int i = 0; i < m; ++i) {
-        const auto ii = static_cast<size_t>(i);
-        const Vec<3> d = src[ii].x - mean;
-        P += w[ii] * (src[ii].P + d * d.transpose());
-      }
-      symmetrize(P);
-      mixed[jj].x = mean;
-      mixed[jj].P = P;
+      mixed[jj] = combine(src, w);
     }
     // Coasting on an unmeasured frame (channel_predictor.h): velocity and acceleration decay.
-    if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
-      const double e = std::exp(-dt / coast_tau_s_);
-      for (int j = 0; j < m; ++j) {
-        mixed[static_cast<size_t>(j)].x(1) *= e;
-        mixed[static_cast<size_t>(j)].x(2) *= e * e;
-      }
-    }
+    if (coast_tau_s_ > 0.0 && !isMeasured(z(c)))
+      for (int j = 0; j < m; ++j) coast(mixed[static_cast<size_t>(j)].x, dt, coast_tau_s_);
     // Mode-matched filters (each zeroes the states its model does not have).
     for (int j = 0; j < m; ++j) timeUpdate(mixed[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));
     if (isMeasured(z(c))) {

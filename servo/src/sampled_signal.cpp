@@ -23,4 +23,35 @@ double interpolateAt(const std::vector<double>& t_s, const std::vector<double>& 
   return (1.0 - w) * y[static_cast<size_t>(lo)] + w * y[static_cast<size_t>(hi)];
 }
 
+std::vector<double> interpolateShifted(const std::vector<double>& t_s, const std::vector<double>& y, double shift_s) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  const size_t n = t_s.size();
+  std::vector<double> r(n);
+  size_t bound = 0;  // first row with t_s >= t (std::lower_bound)
+  for (size_t i = 0; i < n; ++i) {
+    const double t = t_s[i] + shift_s;
+    while (bound < n && t_s[bound] < t) ++bound;
+    size_t hi = bound;
+    while (hi < n && !std::isfinite(y[hi])) ++hi;
+    if (hi >= n) {
+      r[i] = kNaN;
+      continue;
+    }
+    if (t_s[hi] == t) {
+      r[i] = y[hi];
+      continue;
+    }
+    size_t lo = bound;  // one past the candidate
+    while (lo > 0 && !std::isfinite(y[lo - 1])) --lo;
+    if (lo == 0) {
+      r[i] = kNaN;
+      continue;
+    }
+    const double t0 = t_s[lo - 1], t1 = t_s[hi];
+    const double w = (t - t0) / (t1 - t0);
+    r[i] = (1.0 - w) * y[lo - 1] + w * y[hi];
+  }
+  return r;
+}
+
 }  // namespace predvs

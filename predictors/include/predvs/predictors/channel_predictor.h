@@ -36,6 +36,18 @@ namespace predvs {
 /// 2-frame horizon of the 10..60 Hz envelope, so a single dropped frame at 10 Hz keeps 60 % of v.
 inline constexpr double kDefaultCoastTauS = 0.2;
 
+/// The `coast_tau_s` parameter (s, >= 0, default kDefaultCoastTauS; 0 = no coasting).
+inline double coastTauParam(const Params& params) { return params.get("coast_tau_s", kDefaultCoastTauS, 0.0, 1e6); }
+
+/// The coasting decay of an unmeasured frame (above) on a state [p, v(, a)]:
+/// v <- v e, a <- a e^2, e = exp(-dt / tau_s); tau_s > 0.
+template <int N>
+inline void coast(Vec<N>& x, double dt, double tau_s) {
+  const double e = std::exp(-dt / tau_s);
+  x(1) *= e;
+  if constexpr (N == 3) x(2) *= e * e;
+}
+
 template <int N>
 class ChannelPredictor : public Predictor {
  public:
@@ -65,11 +77,7 @@ class ChannelPredictor : public Predictor {
         }
         continue;
       }
-      if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
-        const double e = std::exp(-dt / coast_tau_s_);
-        s.g.x(1) *= e;
-        if constexpr (N == 3) s.g.x(2) *= e * e;
-      }
+      if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) coast(s.g.x, dt, coast_tau_s_);
       step(c, dt, z(c));
       if (!q_auto_.empty() && s.innovation.valid) q_auto_[static_cast<size_t>(c)].observe(s.innovation.eps, s.innovation.S, dt);
     }
@@ -130,9 +138,7 @@ class ChannelPredictor : public Predictor {
   void enableAutoNoise() { r_est_.assign(state_.size(), StartupNoiseEstimator(r0_)); }
   /// Reads `coast_tau_s` (s, >= 0, default kDefaultCoastTauS); called by every derived constructor
   /// whose state has a velocity.
-  void readCoastParam(const Params& params) {
-    coast_tau_s_ = params.get("coast_tau_s", kDefaultCoastTauS, 0.0, 1e6);
-  }
+  void readCoastParam(const Params& params) { coast_tau_s_ = coastTauParam(params); }
   double coastTauS() const { return coast_tau_s_; }
   /// Makes the process noise of every channel adapted by covariance matching (`q: auto`,
   /// process_noise_adapt.h); called by a derived constructor when its `q` is absent or `auto`.

@@ -10,4 +10,9 @@ namespace predvs {
 /// extrapolation).
 double interpolateAt(const std::vector<double>& t_s, const std::vector<double>& y, double t);
 
+/// interpolateAt(t_s, y, t_s[i] + shift_s) for every row i, in one pass: the same rule and the same
+/// arithmetic, with the binary search replaced by a cursor (t_s[i] + shift_s does not decrease with
+/// i, so neither does its lower bound). shift_s >= 0 is the horizon of an h-step comparison.
+std::vector<double> interpolateShifted(const std::vector<double>& t_s, const std::vector<double>& y, double shift_s);
+
 }  // namespace predvs
