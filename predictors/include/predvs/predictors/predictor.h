@@ -100,6 +100,12 @@ class Predictor {
   /// instance was built with. Empty: nothing to fit (e.g. `hold`). Each key is a Params key of the
   /// predictor, so makePredictor(name(), n, {key: value}) builds it.
   virtual std::vector<NoiseParameter> noiseParameters() const { return {}; }
+  /// Structural variants a noise fit should try besides the configuration it is given: each a
+  /// Params override of keys that are not noise levels, e.g. {model: cv} and {model: ca} for a
+  /// filter that runs on either motion model. A fit (calibration/noise_fit.h) fits the noise of
+  /// every variant and keeps the one with the best objective on the fit data. Empty: one structure.
+  /// The variants do not depend on this instance's own parameters.
+  virtual std::vector<Params> structuralVariants() const { return {}; }
 
   /// Time of the last update (NaN before the first).
   double time() const { return t_last_; }
