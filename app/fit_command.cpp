@@ -68,6 +68,14 @@ void printFit(const NoiseFitResult& fit, std::ostream& out) {
       << (fit.objective == FitObjective::Prediction ? "  [minimised]" : "");
   if (fit.starts > 1) out << "; " << fit.starts << " starts, kept #" << fit.best_start;
   out << "\n";
+  if (!fit.variants.empty()) {
+    out << "  structure (fitted each, kept the best " << (fit.objective == FitObjective::Prediction ? "RMSE" : "log-likelihood")
+        << "):";
+    for (const auto& v : fit.variants)
+      out << "  " << v.variant << " " << std::setprecision(4) << v.objective_before << " -> " << v.objective_after
+          << (v.variant == fit.variant ? " [kept]" : "");
+    out << "\n";
+  }
   out.unsetf(std::ios::fixed);
 }
 
@@ -88,9 +96,11 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
     const std::string text = kv.substr(eq + 1);
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v))
-      throw std::invalid_argument("--param " + kv.substr(0, eq) + ": expected a number, got '" + text + "'");
-    base.set(kv.substr(0, eq), v);
+    if (text.empty()) throw std::invalid_argument("--param " + kv.substr(0, eq) + ": expected a value");
+    if (*end == '\0' && std::isfinite(v))
+      base.set(kv.substr(0, eq), v);
+    else
+      base.setText(kv.substr(0, eq), text);  // a word (model: ca, r: auto); the predictor checks it
   }
   try {
     makePredictor(a.predictor, 2, base);
@@ -168,6 +178,12 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
                            {"held", v.held}});
   j["params"] = nlohmann::json::object();
   for (const auto& kv : fit.params.values()) j["params"][kv.first] = kv.second;
+  for (const auto& kv : fit.params.texts()) j["params"][kv.first] = kv.second;
+  j["variant"] = fit.variant;
+  j["variants"] = nlohmann::json::array();
+  for (const auto& v : fit.variants)
+    j["variants"].push_back({{"variant", v.variant}, {"objective_before", v.objective_before},
+                             {"objective_after", v.objective_after}});
   {
     std::ofstream f(dir.file("fit.json"));
     f << j.dump(2) << "\n";

@@ -195,6 +195,7 @@ nlohmann::json metricDefinitionsJson(const std::vector<std::string>& names, cons
 nlohmann::json paramsJson(const Params& params) {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& kv : params.values()) j[kv.first] = kv.second;
+  for (const auto& kv : params.texts()) j[kv.first] = kv.second;  // words: model: ca, r: auto
   return j;
 }
 

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 
 namespace predvs {
@@ -277,8 +278,17 @@ class FisherResiduals : public ceres::CostFunction {
 
 }  // namespace
 
-std::vector<NoiseParameter> fitParameters(const std::string& predictor) {
-  std::vector<NoiseParameter> keys = makePredictor(predictor, 1)->noiseParameters();
+namespace {
+/// Only the words of `p` (e.g. model: ca, r: auto): what selects a predictor's structure.
+Params textsOf(const Params& p) {
+  Params t;
+  for (const auto& kv : p.texts()) t.setText(kv.first, kv.second);
+  return t;
+}
+}  // namespace
+
+std::vector<NoiseParameter> fitParameters(const std::string& predictor, const Params& structure) {
+  std::vector<NoiseParameter> keys = makePredictor(predictor, 1, structure)->noiseParameters();
   if (keys.empty()) throw std::invalid_argument("predictor '" + predictor + "' has no parameters to fit");
   return keys;
 }
@@ -319,15 +329,19 @@ double predictionRmse(const std::string& predictor, const Params& params, const 
   return std::sqrt(2.0 * h / static_cast<double>(m.targets.size()));
 }
 
-NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,
-                        const NoiseFitOptions& options) {
+namespace {
+
+/// One fit of the predictor's noise with its structure as `base` gives it (fitNoise, below, runs
+/// this once per structural variant).
+NoiseFitResult fitOneStructure(const std::string& predictor, const Params& base, const FitTrack& track,
+                               const NoiseFitOptions& options) {
   if (track.channels.empty()) throw std::invalid_argument("noise fit: the track has no channel");
   for (const auto& ch : track.channels)
     if (ch.size() != track.t_s.size()) throw std::invalid_argument("noise fit: the channels and t have different lengths");
   if (!(options.horizon_s >= 0.0)) throw std::invalid_argument("noise fit: expected a horizon >= 0 s");
   Model m;
   m.predictor = predictor;
-  m.keys = fitParameters(predictor);
+  m.keys = fitParameters(predictor, textsOf(base));
   m.track = &track;
   m.burn_in = options.burn_in_frames;
   int measured = 0;
@@ -537,6 +551,72 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
   }
   res.values.insert(res.values.end(), held.begin(), held.end());
   return res;
+}
+
+/// "key=value,key=value" of a variant's overrides (texts and numbers).
+std::string describeVariant(const Params& v) {
+  std::ostringstream o;
+  o.precision(10);
+  const char* sep = "";
+  for (const auto& kv : v.texts()) {
+    o << sep << kv.first << "=" << kv.second;
+    sep = ",";
+  }
+  for (const auto& kv : v.values()) {
+    o << sep << kv.first << "=" << kv.second;
+    sep = ",";
+  }
+  return o.str();
+}
+
+}  // namespace
+
+NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,
+                        const NoiseFitOptions& options) {
+  // The structural variants the predictor offers, unless `base` already pins one of their keys.
+  std::vector<Params> variants = makePredictor(predictor, 1, textsOf(base))->structuralVariants();
+  for (const auto& v : variants) {
+    bool pinned = false;
+    for (const auto& kv : v.texts()) pinned = pinned || base.has(kv.first);
+    for (const auto& kv : v.values()) pinned = pinned || base.has(kv.first);
+    if (pinned) {
+      variants.clear();
+      break;
+    }
+  }
+  if (variants.empty()) return fitOneStructure(predictor, base, track, options);
+
+  const bool by_prediction = options.objective == FitObjective::Prediction;
+  NoiseFitResult best;
+  bool have = false;
+  std::vector<VariantFit> tried;
+  std::string first_error;
+  for (const auto& v : variants) {
+    Params pv = base;
+    for (const auto& kv : v.texts()) pv.setText(kv.first, kv.second);
+    for (const auto& kv : v.values()) pv.set(kv.first, kv.second);
+    NoiseFitResult r;
+    try {
+      r = fitOneStructure(predictor, pv, track, options);
+    } catch (const std::invalid_argument& e) {
+      if (first_error.empty()) first_error = e.what();
+      continue;  // this structure cannot run on the track (e.g. too few targets for its keys)
+    }
+    VariantFit f;
+    f.variant = describeVariant(v);
+    f.objective_before = by_prediction ? r.rmse_before_px : r.loglik_before;
+    f.objective_after = by_prediction ? r.rmse_after_px : r.loglik_after;
+    tried.push_back(f);
+    const bool better = !have || (by_prediction ? r.rmse_after_px < best.rmse_after_px : r.loglik_after > best.loglik_after);
+    if (better) {
+      best = r;
+      best.variant = f.variant;
+      have = true;
+    }
+  }
+  if (!have) throw std::invalid_argument(first_error);
+  best.variants = tried;
+  return best;
 }
 
 }  // namespace predvs

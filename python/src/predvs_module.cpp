@@ -355,6 +355,13 @@ PYBIND11_MODULE(_predvs, m) {
       .def_readonly("residuals", &NoiseFitResult::residuals)
       .def_readonly("rmse_before_px", &NoiseFitResult::rmse_before_px)
       .def_readonly("rmse_after_px", &NoiseFitResult::rmse_after_px)
+      .def_readonly("variant", &NoiseFitResult::variant, "the structural variant kept, e.g. 'model=ca' (empty: none offered)")
+      .def_property_readonly("variants", [](const NoiseFitResult& r) {
+            py::list l;
+            for (const auto& v : r.variants)
+              l.append(py::make_tuple(v.variant, v.objective_before, v.objective_after));
+            return l;
+          }, "every structural variant fitted: (variant, objective before, after)")
       .def_readonly("starts", &NoiseFitResult::starts)
       .def_readonly("best_start", &NoiseFitResult::best_start)
       .def("__repr__", [](const NoiseFitResult& r) {
@@ -362,7 +369,7 @@ PYBIND11_MODULE(_predvs, m) {
                std::to_string(r.innovations) + " innovations, " + std::to_string(r.iterations) + " iterations>";
       });
 
-  m.def("fit_parameters", &fitParameters, py::arg("name"),
+  m.def("fit_parameters", [](const std::string& name) { return fitParameters(name); }, py::arg("name"),
         "The keys fit_noise fits for `name`, with bounds and defaults (ValueError for hold or an unknown name).");
   m.def(
       "fit_noise",

@@ -68,10 +68,10 @@
 namespace predvs {
 
 /// The keys fitted for `predictor`: the noiseParameters() of the predictor built with its
-/// defaults (their `value` is the default, the starting value when neither `base` nor the track
-/// gives one). Throws std::invalid_argument for an unknown predictor, or one with nothing to fit
-/// (`hold`).
-std::vector<NoiseParameter> fitParameters(const std::string& predictor);
+/// defaults and the words of `structure` (e.g. {model: ca}: the keys depend on the structure);
+/// their `value` is the default, the starting value when neither `base` nor the track gives one.
+/// Throws std::invalid_argument for an unknown predictor, or one with nothing to fit (`hold`).
+std::vector<NoiseParameter> fitParameters(const std::string& predictor, const Params& structure = {});
 
 /// A track to fit on: frame times and any number of measured channels (u_0, v_0, u_1, v_1, ...),
 /// [channel][frame], NaN where not measured. One predictor with that many channels runs over it;
@@ -107,6 +107,15 @@ struct FittedValue {
   bool held = false;  ///< not fitted: kept at `initial` (r under the prediction objective)
 };
 
+/// One structural variant a fit tried (Predictor::structuralVariants()): its overrides and the
+/// objective at its start values and after its fit (h-step RMSE in px for the prediction
+/// objective, lower is better; log-likelihood for the likelihood objective, higher is better).
+struct VariantFit {
+  std::string variant;  ///< "key=value,...", e.g. "model=ca"
+  double objective_before = 0.0;
+  double objective_after = 0.0;
+};
+
 struct NoiseFitResult {
   std::string predictor;
   Params params;  ///< the base params with the fitted keys set: what predict/servo/compare use
@@ -124,6 +133,8 @@ struct NoiseFitResult {
   double rmse_after_px = 0.0;      ///< ... at the fitted values
   int starts = 1;                  ///< starting points tried
   int best_start = 0;              ///< the one kept (0 = the start values)
+  std::string variant;             ///< the structural variant kept, "key=value,..." (empty: none offered)
+  std::vector<VariantFit> variants;  ///< every variant fitted, in the predictor's order (empty: none)
 };
 
 /// Innovation log-likelihood of `predictor` with `params` over the track (rows >= burn_in_frames);
@@ -137,7 +148,13 @@ double innovationLogLikelihood(const std::string& predictor, const Params& param
 double predictionRmse(const std::string& predictor, const Params& params, const FitTrack& track, double horizon_s,
                       int burn_in_frames, int* n = nullptr);
 
-/// Fits the keys of `predictor` (fitParameters) on the track. Starting values: the value in `base`
+/// Fits the keys of `predictor` (fitParameters) on the track. When the predictor offers
+/// structural variants (Predictor::structuralVariants(), e.g. its motion model) and `base` sets
+/// none of their keys, every variant is fitted in turn (each as below) and the one with the best
+/// objective on the track is kept: the result's params carry its keys (e.g. model: ca), `variant`
+/// names it and `variants` lists every variant's objective; before/after fields are the kept
+/// variant's. A variant that cannot be fitted on the track is skipped (the first error is thrown
+/// if none can). When `base` pins a variant key, only that structure is fitted. Starting values: the value in `base`
 /// if given, else for r the start-up noise estimate of the track (noise_estimate.h), else the
 /// predictor's default; each clamped into its bounds. Other keys of `base` are kept fixed. Throws std::invalid_argument
 /// (bad predictor, fewer than 4 * burn_in measured rows, no finite objective at the start, no h-step
