@@ -136,6 +136,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     std::string predictor;
     TrackScore score;
     double ratio;
+    std::string variant;  ///< with --fit: the structural variant the fit kept (e.g. model=ca), else empty
   };
   std::vector<ManeuverTrackConfig> configs;
   for (ManeuverKind kind : kinds)
@@ -168,12 +169,17 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     fo.horizon_s = horizon;  // the command's own horizon: the score is what is fitted
     for (const auto& name : names) {
       Params params = fixed.count(name) ? fixed.at(name) : Params{};
-      if (a.fit && name != "hold") params = fitNoise(name, params, head, fo).params;
+      std::string variant;
+      if (a.fit && name != "hold") {
+        const NoiseFitResult fit = fitNoise(name, params, head, fo);
+        params = fit.params;
+        variant = fit.variant;
+      }
       auto p = makePredictor(name, 2, params);
       const TrackScore sc = scoreOnTrack(track, *p, horizon, split);
       if (name == "hold") hold_rmse = sc.rmse_truth_px;
       per_track[i].push_back({maneuverKindName(c.kind), c.rate_hz, c.noise_px, static_cast<long>(c.seed), name, sc,
-                              sc.rmse_truth_px / hold_rmse});
+                              sc.rmse_truth_px / hold_rmse, variant});
     }
   };
   if (a.jobs == 1) {
@@ -326,15 +332,31 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
                 ? " (squared error of the " + std::to_string(a.delay_frames) + "-frame prediction vs the later measurements)"
                 : " (innovation log-likelihood)")
         << ", " << a.fit_starts << " start" << (a.fit_starts > 1 ? "s" : "") << "; scored on the rest\n";
+  if (a.fit) {
+    // Which structure the fit kept, per predictor that offers several (Predictor::structuralVariants).
+    std::map<std::string, std::map<std::string, int>> kept;
+    for (const auto& r : rows)
+      if (!r.variant.empty()) ++kept[r.predictor][r.variant];
+    for (const auto& name : names) {
+      if (!kept.count(name)) continue;
+      out << "fit kept for " << name << ":";
+      for (const auto& kv : kept.at(name)) out << " " << kv.first << " on " << kv.second;
+      out << " tracks\n";
+    }
+  }
 
   if (!a.out.empty()) {
     StagedOutputDir dir(a.out);
     std::ofstream csv(dir.file("study.csv"));
-    csv << "kind,rate_hz,noise_px,seed,predictor,rmse_truth_px,rmse_meas_px,n,ratio_to_hold\n";
+    csv << "kind,rate_hz,noise_px,seed,predictor,rmse_truth_px,rmse_meas_px,n,ratio_to_hold,fit_variant\n";
     for (const auto& r : rows)
       csv << r.kind << "," << r.rate_hz << "," << r.noise_px << "," << r.seed << "," << r.predictor << ","
           << csvCell(r.score.rmse_truth_px) << "," << csvCell(r.score.rmse_meas_px) << "," << r.score.n << ","
-          << csvCell(r.ratio) << "\n";
+          << csvCell(r.ratio) << "," << [&] {
+               std::string v = r.variant;  // "key=value,key=value": one CSV cell
+               std::replace(v.begin(), v.end(), ',', ';');
+               return v;
+             }() << "\n";
     if (!csv) throw std::runtime_error(dir.file("study.csv") + ": write failed");
     csv.close();
     dir.commit();
