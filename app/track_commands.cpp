@@ -101,12 +101,11 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     if (!isPredictor(name)) throw std::invalid_argument("--param " + kv + ": unknown predictor '" + name + "'");
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
-    if (text == "auto") {
-      fixed[name].setText(key, text);  // r: auto, q: auto
+    if (text.empty()) throw std::invalid_argument("--param " + kv + ": expected a number or a word");
+    if (*end != '\0' || !std::isfinite(v)) {
+      fixed[name].setText(key, text);  // a word (r: auto, q: auto, model: ca): the predictor checks it below
       continue;
     }
-    if (text.empty() || *end != '\0' || !std::isfinite(v))
-      throw std::invalid_argument("--param " + kv + ": expected a number or 'auto'");
     fixed[name].set(key, v);
   }
   for (const auto& [name, p] : fixed) {

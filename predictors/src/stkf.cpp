@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -9,54 +10,132 @@ namespace predvs {
 
 namespace {
 
-int windowParam(const Params& params) {
-  const double k = params.get("window", 15.0, 0.0, 1000.0);
-  if (k != static_cast<int>(k) || (k > 0.0 && k < 3.0))
-    throw std::invalid_argument("predictor parameter 'window' must be 0 (off) or an integer >= 3, got " +
-                                std::to_string(k));
+/// The `model` word: "cv" (default) or "ca"; anything else is a one-line error naming the key.
+std::string modelParam(const Params& params) {
+  const std::string m = params.text("model", "cv");
+  if (m != "cv" && m != "ca")
+    throw std::invalid_argument("predictor parameter 'model' must be cv or ca, got '" + m + "'");
+  return m;
+}
+
+/// `window`: 0 (off) or an integer k >= min_k (min_k = number of polynomial coefficients + 1).
+int windowParam(const Params& params, int min_k, double fallback) {
+  const double k = params.get("window", fallback, 0.0, 1000.0);
+  if (k != static_cast<int>(k) || (k > 0.0 && k < min_k))
+    throw std::invalid_argument("predictor parameter 'window' must be 0 (off) or an integer >= " +
+                                std::to_string(min_k) + (min_k > 3 ? " (model ca: a quadratic fit)" : "") +
+                                ", got " + std::to_string(k));
   return static_cast<int>(k);
 }
 
+constexpr const char* kModelWord[] = {"", "", "cv", "ca"};
+
 }  // namespace
 
-Eigen::MatrixXd StkfPredictor::makeResidualMaker(int k) {
-  if (k < 3) throw std::invalid_argument("stkf: residual maker needs k >= 3");
-  Eigen::MatrixXd A(k, 2);
-  for (int i = 0; i < k; ++i) A.row(i) << i + 1.0, 1.0;
-  const Eigen::Matrix2d AtA = A.transpose() * A;
-  // (A'A)^-1 A' by a solve: X = argmin, no explicit inverse.
-  const Eigen::MatrixXd pinvA = AtA.ldlt().solve(A.transpose());
+template <int N>
+Eigen::MatrixXd StkfFilter<N>::makeResidualMaker(int k) {
+  if (k < N + 1)
+    throw std::invalid_argument(std::string("stkf: residual maker needs k >= ") + std::to_string(N + 1));
+  Eigen::MatrixXd A(k, N);
+  Eigen::MatrixXd pinvA;  // (A'A)^-1 A' by a solve: X = argmin, no explicit inverse.
+  if constexpr (N == 2) {
+    for (int i = 0; i < k; ++i) A.row(i) << i + 1.0, 1.0;
+    const Eigen::Matrix2d AtA = A.transpose() * A;
+    pinvA = AtA.ldlt().solve(A.transpose());
+  } else {
+    // [s^2, s, 1] with s affine in n = i + 1 spans the same space as [n^2, n, 1].
+    for (int i = 0; i < k; ++i) {
+      const double s = (2.0 * (i + 1.0) - k - 1.0) / (k - 1.0);
+      A.row(i) << s * s, s, 1.0;
+    }
+    const Eigen::Matrix3d AtA = A.transpose() * A;
+    pinvA = AtA.ldlt().solve(A.transpose());
+  }
   return Eigen::MatrixXd::Identity(k, k) - A * pinvA;
 }
 
-StkfPredictor::StkfPredictor(int channels, const Params& params)
-    : ChannelPredictor<2>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1.0, 0.0, 1e12), 0.0),
-      q_pos_(params.get("q_pos", 0.0, 0.0, 1e12)),
-      q_vel_(params.get("q_vel", 3000.0, 0.0, 1e12)),
-      q_period_s_(params.get("q_period_s", 0.1, 1e-9, 1e3)),
+template <int N>
+StkfFilter<N>::StkfFilter(int channels, const Params& params)
+    : Base(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", N == 2 ? 1.0 : kDefaultStkfCaP0, 0.0, 1e12),
+           N == 3 ? params.get("p0_acc", kDefaultStkfCaP0, 0.0, 1e12) : 0.0),
       p0_pos_(params.get("p0_pos", 1.0, 0.0, 1e12)),
-      window_(windowParam(params)),
+      window_(windowParam(params, N + 1, N == 2 ? 15.0 : kDefaultStkfCaWindow)),
       squared_(params.get("squared", 0.0, 0.0, 1.0) != 0.0),
       reinit_threshold_(params.get("reinit_threshold", 4800.0, 1e-12, 1e300)),
+      reinit_threshold_vel_(N == 3 ? params.get("reinit_threshold_vel", std::numeric_limits<double>::infinity(), 1e-12,
+                                                std::numeric_limits<double>::infinity())
+                                   : reinit_threshold_),
+      reinit_threshold_acc_(N == 3 ? params.get("reinit_threshold_acc", std::numeric_limits<double>::infinity(), 1e-12,
+                                                std::numeric_limits<double>::infinity())
+                                   : std::numeric_limits<double>::infinity()),
       known_v_px_s_(Eigen::VectorXd::Zero(channels)),
       window_y_(static_cast<size_t>(channels), Eigen::VectorXd::Zero(window_)),
       window_count_(static_cast<size_t>(channels), 0),
       r_(static_cast<size_t>(channels), r0_),
       pending_(static_cast<size_t>(channels), 0) {
+  const std::string model = modelParam(params);
+  if (model != kModelWord[N])
+    throw std::invalid_argument("stkf: model '" + model + "' is built by makeStkfPredictor(), not by StkfFilter<" +
+                                std::to_string(N) + "> (model " + kModelWord[N] + ")");
+  if constexpr (N == 2) {
+    q_pos_ = params.get("q_pos", 0.0, 0.0, 1e12);
+    q_vel_ = params.get("q_vel", 3000.0, 0.0, 1e12);
+    q_period_s_ = params.get("q_period_s", 0.1, 1e-9, 1e3);
+  } else {
+    q_ = params.get("q", kDefaultQStkfCa, 0.0, 1e15);
+  }
   if (window_ > 0) T_st_ = makeResidualMaker(window_);
-  readCoastParam(params);
-  if (isAutoMeasurementNoise(params)) enableAutoNoise();
+  this->readCoastParam(params);
+  if (isAutoMeasurementNoise(params)) this->enableAutoNoise();
 }
 
-Mat<2> StkfPredictor::processNoise(int, double dt) const {
-  Mat<2> Q = Mat<2>::Zero();
-  const double scale = dt / q_period_s_;
-  Q(0, 0) = scale * q_pos_;
-  Q(1, 1) = scale * q_vel_;
-  return Q;
+template <int N>
+std::vector<NoiseParameter> StkfFilter<N>::noiseParameters() const {
+  if constexpr (N == 2)
+    return {this->measurementNoiseParameter(), {"q_pos", 1e-6, 1e4, q_pos_}, {"q_vel", 1e-4, 1e7, q_vel_}};
+  else
+    return {this->measurementNoiseParameter(), jerkDensityParameter("q", q_)};
 }
 
-void StkfPredictor::resetAdaptation() {
+template <int N>
+std::vector<Params> StkfFilter<N>::structuralVariants() const {
+  Params cv, ca;
+  cv.setText("model", "cv");
+  ca.setText("model", "ca");
+  return {cv, ca};
+}
+
+template <int N>
+Mat<N> StkfFilter<N>::transition(int, double dt) const {
+  if constexpr (N == 2)
+    return cvTransition(dt);
+  else
+    return caTransition(dt);
+}
+
+template <int N>
+Mat<N> StkfFilter<N>::processNoise(int, double dt) const {
+  if constexpr (N == 2) {
+    Mat<2> Q = Mat<2>::Zero();
+    const double scale = dt / q_period_s_;
+    Q(0, 0) = scale * q_pos_;
+    Q(1, 1) = scale * q_vel_;
+    return Q;
+  } else {
+    return caProcessNoise(q_, dt);
+  }
+}
+
+template <int N>
+bool StkfFilter<N>::pastReinitThreshold(const Mat<N>& P) const {
+  if constexpr (N == 2)
+    return P.diagonal().maxCoeff() > reinit_threshold_;
+  else
+    return P(0, 0) > reinit_threshold_ || P(1, 1) > reinit_threshold_vel_ || P(2, 2) > reinit_threshold_acc_;
+}
+
+template <int N>
+void StkfFilter<N>::resetAdaptation() {
   for (size_t c = 0; c < r_.size(); ++c) {
     window_count_[c] = 0;
     r_[c] = r0_;
@@ -66,7 +145,8 @@ void StkfPredictor::resetAdaptation() {
   reinits_ = 0;
 }
 
-void StkfPredictor::pushSample(int c, double z) {
+template <int N>
+void StkfFilter<N>::pushSample(int c, double z) {
   const size_t i = static_cast<size_t>(c);
   if (window_ == 0) return;
   Eigen::VectorXd& y = window_y_[i];
@@ -77,28 +157,33 @@ void StkfPredictor::pushSample(int c, double z) {
     y(window_ - 1) = z;
   }
   if (window_count_[i] < window_) {
-    r_[i] = nominalNoise(c);
+    r_[i] = this->nominalNoise(c);
     return;
   }
-  // Residuals of the least-squares line through the window (mean zero: the fit has an intercept).
+  // Residuals of the least-squares polynomial through the window (mean zero: the fit has an
+  // intercept).
   const Eigen::VectorXd eps = T_st_ * y;
   const double var = eps.squaredNorm() / (window_ - 1);
-  r_[i] = nominalNoise(c) + (squared_ ? var * var : var);
+  r_[i] = this->nominalNoise(c) + (squared_ ? var * var : var);
 }
 
-void StkfPredictor::initialize(int c, double z) {
+template <int N>
+void StkfFilter<N>::initialize(int c, double z) {
   const size_t i = static_cast<size_t>(c);
   window_count_[i] = 0;
   pushSample(c, z);  // first sample of a new window: R = R_0
-  Gaussian<2>& g = state_[i].g;
-  g.x << z, 0.0;
+  Gaussian<N>& g = state_[i].g;
+  g.x.setZero();
+  g.x(0) = z;
   g.P.setZero();
   g.P(0, 0) = p0_pos_;
   g.P(1, 1) = p0_vel_;
+  if constexpr (N == 3) g.P(2, 2) = p0_acc_;
   pending_[i] = 0;
 }
 
-void StkfPredictor::step(int c, double dt, double z) {
+template <int N>
+void StkfFilter<N>::step(int c, double dt, double z) {
   const size_t i = static_cast<size_t>(c);
   ChannelState& s = state_[i];
   if (pending_[i] != 0) {
@@ -116,42 +201,54 @@ void StkfPredictor::step(int c, double dt, double z) {
     pushSample(c, z);
   else
     window_count_[i] = 0;  // the fixed T_st assumes consecutive, equally spaced samples
-  if (window_ == 0) r_[i] = nominalNoise(c);
+  if (window_ == 0) r_[i] = this->nominalNoise(c);
   timeUpdate(s.g, transition(c, dt), processNoise(c, dt));
   s.g.x(0) += dt * known_v_px_s_(c);  // B u: known robot-induced image motion
   if (isMeasured(z)) s.innovation = measurementUpdate(s.g, z, r_[i]);
-  if (s.g.P.diagonal().maxCoeff() > reinit_threshold_) {
+  if (pastReinitThreshold(s.g.P)) {
     pending_[i] = 1;
     window_count_[i] = 0;
-    r_[i] = nominalNoise(c);
+    r_[i] = this->nominalNoise(c);
     ++reinits_;
   }
 }
 
-void StkfPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) {
-  ChannelPredictor<2>::update(t_s, z);
+template <int N>
+void StkfFilter<N>::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) {
+  Base::update(t_s, z);
   known_v_px_s_.setZero();
 }
 
-ChannelEstimate StkfPredictor::predict(int channel, double t_s) const {
-  ChannelEstimate e = ChannelPredictor<2>::predict(channel, t_s);
-  const double dt = t_s - time();
-  if (dt > 0.0 && initialized(channel)) e.x(0) += dt * known_v_px_s_(channel);
+template <int N>
+ChannelEstimate StkfFilter<N>::predict(int channel, double t_s) const {
+  ChannelEstimate e = Base::predict(channel, t_s);
+  const double dt = t_s - this->time();
+  if (dt > 0.0 && this->initialized(channel)) e.x(0) += dt * known_v_px_s_(channel);
   return e;
 }
 
-double StkfPredictor::predictPosition(int channel, double t_s) const {
-  double p = ChannelPredictor<2>::predictPosition(channel, t_s);
-  const double dt = t_s - time();
-  if (dt > 0.0 && initialized(channel)) p += dt * known_v_px_s_(channel);
+template <int N>
+double StkfFilter<N>::predictPosition(int channel, double t_s) const {
+  double p = Base::predictPosition(channel, t_s);
+  const double dt = t_s - this->time();
+  if (dt > 0.0 && this->initialized(channel)) p += dt * known_v_px_s_(channel);
   return p;
 }
 
-void StkfPredictor::setKnownImageVelocity(const Eigen::VectorXd& v_px_s) {
-  if (v_px_s.size() != channels())
+template <int N>
+void StkfFilter<N>::setKnownImageVelocity(const Eigen::VectorXd& v_px_s) {
+  if (v_px_s.size() != this->channels())
     throw std::invalid_argument("stkf: known image velocity has " + std::to_string(v_px_s.size()) +
-                                " entries, expected " + std::to_string(channels()));
+                                " entries, expected " + std::to_string(this->channels()));
   known_v_px_s_ = v_px_s;
+}
+
+template class StkfFilter<2>;
+template class StkfFilter<3>;
+
+std::unique_ptr<Predictor> makeStkfPredictor(int channels, const Params& params) {
+  if (modelParam(params) == "ca") return std::make_unique<StkfCaPredictor>(channels, params);
+  return std::make_unique<StkfPredictor>(channels, params);
 }
 
 }  // namespace predvs

@@ -154,6 +154,11 @@ TEST_F(FitNoiseCli, TrackStudyPrintsWinsAgainstHold) {
   EXPECT_NE(r.out.find("within 10%"), std::string::npos) << r.out;  // imm against the best fixed KF
   EXPECT_EQ(apptest::csvRows(slurp(path("study") + "/study.csv")).size(), 4u);  // hold + 3
   expectError(run({"track-study", "--kinds", "spiral"}), "unknown track kind");
+  // A word for a predictor's key (stkf's model: ca) is passed on; the predictor rejects a bad one.
+  const CliRun ca = run({"track-study", "--kinds", "turns", "--rates", "30", "--noise", "1", "--seeds", "1",
+                         "--duration-s", "5", "--predictors", "stkf", "--param", "stkf.model=ca"});
+  EXPECT_EQ(ca.code, 0) << ca.err;
+  expectError(run({"track-study", "--predictors", "stkf", "--param", "stkf.model=cx"}), "'model' must be cv or ca");
 }
 
 }  // namespace

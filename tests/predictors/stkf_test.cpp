@@ -5,9 +5,14 @@
 #include <Eigen/QR>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace predvs {
 namespace {
@@ -162,6 +167,272 @@ TEST(Stkf, KnownImageVelocityShiftsTheNextPredictionOnly) {
   a.update(21 * T);
   b.update(21 * T);
   for (int c = 0; c < 2; ++c) EXPECT_NEAR(b.gaussian(c).x(0) - a.gaussian(c).x(0), T * v(c), kLinAlgTol);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The motion model (`model: cv | ca`, issue 11 item 3).
+
+Params modelParams(const std::string& model, const Params& more = {}) {
+  Params p = more;
+  p.setText("model", model);
+  return p;
+}
+
+/// Sum of the 2-frame predictions of both channels over a deterministic 300-frame, 15 Hz track
+/// (a sine and a bending ramp plus deterministic ripple; frames 44..49 of every 50 missing).
+double fingerprint(Predictor& f) {
+  const double T = 1.0 / 15.0;
+  double sum = 0.0;
+  for (int n = 0; n < 300; ++n) {
+    const double t = n * T;
+    Eigen::VectorXd z(2);
+    z << 100.0 + 80.0 * std::sin(1.3 * t) + 0.9 * std::sin(37.0 * n), 50.0 + 40.0 * t * t / (1.0 + t) + 0.7 * std::cos(23.0 * n);
+    if (n % 50 >= 44)
+      f.update(t);
+    else
+      f.update(t, z);
+    for (int c = 0; c < 2; ++c) sum += f.predictPosition(c, t + 2 * T);
+  }
+  return sum;
+}
+
+TEST(StkfModels, DefaultModelIsCvAndGivesTheSameNumbersAsBefore) {
+  // GIVEN stkf with its defaults, with `model: cv`, and with the paper's values
+  const Params paper{{"r", 5.0}, {"q_pos", 5.0}, {"q_vel", 20.0}, {"squared", 1.0}, {"coast_tau_s", 0.0}};
+  auto by_default = makePredictor("stkf", 2);
+  auto cv = makePredictor("stkf", 2, modelParams("cv"));
+  auto paper_filter = makePredictor("stkf", 2, paper);
+  // THEN the default is the 2-state filter
+  EXPECT_NE(dynamic_cast<StkfPredictor*>(by_default.get()), nullptr);
+  EXPECT_EQ(by_default->predict(0, 0.0).x.size(), 2);
+  // AND its predictions are bit for bit those of the CV filter before `model` existed (the sums
+  // were printed by the same loop linked against the stkf of commit b41f742)
+  EXPECT_EQ(fingerprint(*by_default), 0x1.30c2147f2c8cep+17);
+  EXPECT_EQ(fingerprint(*cv), 0x1.30c2147f2c8cep+17);
+  EXPECT_EQ(fingerprint(*paper_filter), 0x1.31350c4c1f62p+17);
+}
+
+TEST(StkfModels, ResidualMakerOfCaEqualsQuadraticFitResidualsByQr) {
+  // GIVEN a window of k samples and the CA residual maker (built on centred, scaled columns)
+  std::mt19937 rng(9);
+  std::normal_distribution<double> noise(0.0, 10.0);
+  for (int k : {4, 5, 15, 60}) {
+    const Eigen::MatrixXd T = StkfCaPredictor::makeResidualMaker(k);
+    Eigen::VectorXd Y(k);
+    for (int i = 0; i < k; ++i) Y(i) = 100.0 + 2.5 * i - 0.3 * i * i + noise(rng);
+    // WHEN y = a n^2 + b n + c is fitted on the raw design [n^2, n, 1] by Householder QR
+    Eigen::MatrixXd A(k, 3);
+    for (int i = 0; i < k; ++i) A.row(i) << (i + 1.0) * (i + 1.0), i + 1.0, 1.0;
+    const Eigen::VectorXd residual = Y - A * A.colPivHouseholderQr().solve(Y);
+    // THEN T_st Y are those residuals, and T_st is a symmetric projector
+    EXPECT_LT((T * Y - residual).cwiseAbs().maxCoeff(), 1e-8) << "k = " << k;
+    EXPECT_LT((T - T.transpose()).cwiseAbs().maxCoeff(), kLinAlgTol);
+    EXPECT_LT((T * T - T).cwiseAbs().maxCoeff(), kLinAlgTol);
+  }
+  EXPECT_THROW(StkfCaPredictor::makeResidualMaker(3), std::invalid_argument);
+}
+
+TEST(StkfModels, CaSelfTunesROnTheScatterAboutAQuadratic) {
+  // GIVEN a parabola (constant acceleration) sampled at 10 Hz
+  auto parabola = [](int n, double ripple) { return 20.0 + 4.0 * n + 0.5 * n * n + ripple * std::sin(2.1 * n); };
+  const int k = 8, frames = 30;
+  const Params common{{"r", 2.0}, {"window", k}};
+  StkfCaPredictor ca(1, modelParams("ca", common));
+  StkfPredictor cv(1, common);
+  for (int n = 0; n < frames; ++n) {
+    ca.update(0.1 * n, vec1(parabola(n, 0.0)));
+    cv.update(0.1 * n, vec1(parabola(n, 0.0)));
+  }
+  // THEN without noise the CA filter keeps R = R_0, while the line fit of the CV filter reads the
+  // curvature as scatter
+  EXPECT_NEAR(ca.currentR(0), 2.0, 1e-6);
+  EXPECT_GT(cv.currentR(0), 2.0 + 1.0);
+  // AND with a ripple, R = R_0 + the residual variance of the quadratic fit of the last k samples
+  StkfCaPredictor noisy(1, modelParams("ca", common));
+  for (int n = 0; n < frames; ++n) noisy.update(0.1 * n, vec1(parabola(n, 1.5)));
+  Eigen::VectorXd Y(k);
+  Eigen::MatrixXd A(k, 3);
+  for (int i = 0; i < k; ++i) {
+    Y(i) = parabola(frames - k + i, 1.5);
+    A.row(i) << (i + 1.0) * (i + 1.0), i + 1.0, 1.0;
+  }
+  const double var = (Y - A * A.colPivHouseholderQr().solve(Y)).squaredNorm() / (k - 1);
+  EXPECT_GT(var, 0.1);
+  EXPECT_NEAR(noisy.currentR(0), 2.0 + var, 1e-8);
+}
+
+TEST(StkfModels, CaWithoutSelfTuningIsKfCa) {
+  // GIVEN stkf model=ca with the self-tuning off, and kf-ca with the same q, r and P_0
+  const double r = 2.0, q = 5e4;
+  const Params kfca{{"r", r}, {"q", q}, {"p0_vel", 300.0}, {"p0_acc", 5e3}};
+  Params st = modelParams("ca", kfca);
+  st.set("window", 0);
+  st.set("p0_pos", r);  // kf-ca starts P(0,0) at R
+  auto a = makePredictor("stkf", 2, st);
+  auto b = makePredictor("kf-ca", 2, kfca);
+  // WHEN both track a manoeuvring target at 30 Hz with noise, dropped entries and 3-frame gaps
+  // (coasting included)
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 1.5);
+  const double T = 1.0 / 30.0;
+  double worst = 0.0;
+  for (int n = 0; n < 600; ++n) {
+    const double t = n * T;
+    Eigen::VectorXd z(2);
+    z << 200.0 * std::sin(0.8 * t) + noise(rng), (t < 8.0 ? 30.0 * t : 240.0) + noise(rng);
+    if (n % 17 == 5) z(1) = kNaN;
+    if (n % 97 >= 94) {
+      a->update(t);
+      b->update(t);
+    } else {
+      a->update(t, z);
+      b->update(t, z);
+    }
+    for (int c = 0; c < 2; ++c) {
+      const ChannelEstimate ea = a->predict(c, t + 2 * T), eb = b->predict(c, t + 2 * T);
+      ASSERT_EQ(ea.x.size(), 3);
+      worst = std::max(worst, (ea.x - eb.x).cwiseAbs().maxCoeff());
+      worst = std::max(worst, (ea.P - eb.P).cwiseAbs().maxCoeff() / std::max(1.0, eb.P.cwiseAbs().maxCoeff()));
+    }
+  }
+  // THEN state and covariance agree to round-off, and the 3-frame gaps never re-initialised it
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_EQ(dynamic_cast<StkfCaPredictor&>(*a).reinitialisations(), 0);
+}
+
+TEST(StkfModels, CaKeepsKnownImageVelocityAndPredictPositionBitForBit) {
+  // GIVEN two identical CA filters on an accelerating target
+  const double T = 0.1;
+  StkfCaPredictor a(2, modelParams("ca")), b(2, modelParams("ca"));
+  for (int n = 0; n < 20; ++n) {
+    Eigen::VectorXd z(2);
+    z << 10.0 + n + 0.2 * n * n, -3.0 * n;
+    a.update(T * n, z);
+    b.update(T * n, z);
+  }
+  Eigen::VectorXd v(2);
+  v << 40.0, -10.0;
+  b.setKnownImageVelocity(v);
+  for (int c = 0; c < 2; ++c) {
+    // THEN the query includes T v, and predictPosition() is predict().position() bit for bit
+    EXPECT_NEAR(b.predict(c, 20 * T).position() - a.predict(c, 20 * T).position(), T * v(c), kLinAlgTol);
+    EXPECT_EQ(b.predictPosition(c, 20.5 * T), b.predict(c, 20.5 * T).position());
+    EXPECT_EQ(a.predictPosition(c, 21 * T), a.predict(c, 21 * T).position());
+  }
+  // AND a predict-only update moves the state by T v more, once
+  a.update(20 * T);
+  b.update(20 * T);
+  a.update(21 * T);
+  b.update(21 * T);
+  for (int c = 0; c < 2; ++c) EXPECT_NEAR(b.gaussian(c).x(0) - a.gaussian(c).x(0), T * v(c), 1e-9);
+}
+
+TEST(StkfModels, CaReinitialisesOnItsPerDiagonalThresholds) {
+  const double T = 0.1;
+  auto track = [&](StkfCaPredictor& f, int& n) {
+    for (; n < 40; ++n) f.update(T * n, vec1(5.0 * n + 0.1 * n * n));
+  };
+  // GIVEN the default thresholds (position 4800 px^2; velocity and acceleration not compared)
+  StkfCaPredictor f(1, modelParams("ca", {{"r", 1.0}, {"coast_tau_s", 0.0}}));
+  int n = 0;
+  track(f, n);
+  // THEN measured frames never re-initialise although P(2,2) is far above 4800
+  EXPECT_EQ(f.reinitialisations(), 0);
+  EXPECT_GT(f.gaussian(0).P(2, 2), 4800.0);
+  // WHEN the target is hidden, THEN it re-initialises when P(0,0) passes 4800 and not before
+  int frames = 0;
+  while (!f.reinitPending(0) && frames < 1000) {
+    const double p00 = f.gaussian(0).P(0, 0);
+    EXPECT_LE(p00, 4800.0);
+    f.update(T * n++);
+    ++frames;
+  }
+  EXPECT_GT(f.gaussian(0).P(0, 0), 4800.0);
+  EXPECT_EQ(f.reinitialisations(), 1);
+  // AND the next measurement restarts it at [z, 0, 0], P = P_0 = diag(1, 1e4, 1e4)
+  f.update(T * n++, vec1(-7.0));
+  EXPECT_FALSE(f.reinitPending(0));
+  EXPECT_EQ(f.gaussian(0).x, Eigen::Vector3d(-7.0, 0.0, 0.0));
+  EXPECT_EQ(f.gaussian(0).P, Eigen::Vector3d(1.0, 1e4, 1e4).asDiagonal().toDenseMatrix());
+  // GIVEN a velocity threshold, WHEN hidden, THEN it fires on P(1,1) first
+  StkfCaPredictor g(1, modelParams("ca", {{"r", 1.0}, {"reinit_threshold_vel", 4800.0}}));
+  n = 0;
+  track(g, n);
+  while (!g.reinitPending(0) && n < 1000) g.update(T * n++);
+  EXPECT_GT(g.gaussian(0).P(1, 1), 4800.0);
+  EXPECT_LE(g.gaussian(0).P(0, 0), 4800.0);
+}
+
+TEST(StkfModels, StructuralVariantsAreCvAndCaAndEachRuns) {
+  for (const std::string& model : {"cv", "ca"}) {
+    // GIVEN the variants of either model's instance
+    const auto variants = makePredictor("stkf", 1, modelParams(model))->structuralVariants();
+    ASSERT_EQ(variants.size(), 2u);
+    EXPECT_EQ(variants[0].texts().at("model"), "cv");
+    EXPECT_EQ(variants[1].texts().at("model"), "ca");
+    EXPECT_TRUE(variants[0].values().empty());
+  }
+  const auto variants = makePredictor("stkf", 1)->structuralVariants();
+  for (size_t i = 0; i < variants.size(); ++i) {
+    // WHEN a predictor is built from the variant alone (plus r), THEN it runs with its defaults
+    Params p = variants[i];
+    p.set("r", 1.0);
+    auto f = makePredictor("stkf", 2, p);
+    const int n_state = i == 0 ? 2 : 3;
+    std::mt19937 rng(3);
+    std::normal_distribution<double> noise(0.0, 1.0);
+    for (int n = 0; n < 300; ++n) {
+      Eigen::VectorXd z(2);
+      z << 100.0 * std::sin(0.05 * n) + noise(rng), 2.0 * n + noise(rng);
+      f->update(n / 30.0, z);
+    }
+    for (int c = 0; c < 2; ++c) {
+      const ChannelEstimate e = f->predict(c, 10.0 + 2.0 / 30.0);
+      EXPECT_EQ(e.x.size(), n_state);
+      EXPECT_TRUE(e.x.allFinite());
+      EXPECT_LT(std::abs(e.position() - (c == 0 ? 100.0 * std::sin(0.05 * 302) : 2.0 * 302)), 5.0);
+    }
+    // AND its noise keys are the model's: cv r, q_pos, q_vel; ca r and the white-jerk density q
+    std::vector<std::string> keys;
+    for (const NoiseParameter& np : makePredictor("stkf", 1, variants[i])->noiseParameters()) keys.push_back(np.key);
+    EXPECT_EQ(keys, i == 0 ? std::vector<std::string>({"r", "q_pos", "q_vel"}) : std::vector<std::string>({"r", "q"}));
+  }
+  // AND the CA q is bounded as every white-jerk density, and defaults to kf-ca's
+  for (const NoiseParameter& np : makePredictor("stkf", 1, modelParams("ca"))->noiseParameters())
+    if (np.key == "q") {
+      EXPECT_EQ(np.value, kDefaultQStkfCa);
+      EXPECT_EQ(np.lo, jerkDensityParameter("q", 1.0).lo);
+      EXPECT_EQ(np.hi, jerkDensityParameter("q", 1.0).hi);
+    }
+}
+
+/// The message of the std::invalid_argument makePredictor throws for `params`.
+std::string errorOf(const Params& params) {
+  try {
+    makePredictor("stkf", 1, params);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(StkfModels, ABadModelIsAOneLineErrorNamingModel) {
+  const std::string bad_word = errorOf(modelParams("cx"));
+  EXPECT_NE(bad_word.find("'model'"), std::string::npos) << bad_word;
+  EXPECT_NE(bad_word.find("cv or ca"), std::string::npos) << bad_word;
+  EXPECT_NE(bad_word.find("'cx'"), std::string::npos) << bad_word;
+  EXPECT_EQ(bad_word.find('\n'), std::string::npos);
+  const std::string number = errorOf({{"model", 2.0}});
+  EXPECT_NE(number.find("'model'"), std::string::npos) << number;
+  EXPECT_EQ(number.find('\n'), std::string::npos);
+  // A key of the other model is unknown, and a CA window needs k >= 4
+  EXPECT_NE(errorOf(modelParams("ca", {{"q_vel", 3.0}})).find("'q_vel'"), std::string::npos);
+  EXPECT_NE(errorOf(modelParams("cv", {{"q", 3.0}})).find("'q'"), std::string::npos);
+  EXPECT_NE(errorOf(modelParams("ca", {{"window", 3.0}})).find("'window'"), std::string::npos);
+  EXPECT_EQ(errorOf(modelParams("cv", {{"window", 3.0}})), "");
+  // The class of one model refuses the other's word
+  EXPECT_THROW(StkfPredictor(1, modelParams("ca")), std::invalid_argument);
+  EXPECT_THROW(StkfCaPredictor(1, Params{}), std::invalid_argument);
 }
 
 // ---------------------------------------------------------------------------------------------
