@@ -84,6 +84,43 @@ TEST(NoiseFit, RecoversMeasurementNoiseOnAGeneratedManeuveringTrack) {
   }
 }
 
+TEST(NoiseFit, ChoosesTheStructureThatPredictsBestAndKeepsAPinnedOne) {
+  // GIVEN stkf, which offers structural variants (model cv, cv with a short window, ca), and two
+  // generated tracks at 30 Hz: a smooth one (kf-ca's kind) and one of stops (kf-cv's kind)
+  const auto track = [](ManeuverKind kind) {
+    ManeuverTrackConfig c;
+    c.kind = kind;
+    c.rate_hz = 30.0;
+    c.noise_px = 0.5;
+    c.duration_s = 10.0;
+    c.seed = 1;
+    const ManeuverTrack g = generateManeuverTrack(c);
+    return FitTrack{g.t_s, {g.u_px, g.v_px}};
+  };
+  NoiseFitOptions o;
+  o.objective = FitObjective::Prediction;
+  o.horizon_s = 2.0 / 30.0;
+  for (const auto& [kind, model] : {std::pair{ManeuverKind::Smooth, "ca"}, std::pair{ManeuverKind::Stops, "cv"}}) {
+    // WHEN it is fitted with no structure given
+    const NoiseFitResult f = fitNoise("stkf", {}, track(kind), o);
+    // THEN every variant was fitted, the kept one has the lowest h-step RMSE, its params carry its
+    // model, and the model is the one of the track's kind
+    ASSERT_EQ(f.variants.size(), 3u);
+    for (const auto& v : f.variants) EXPECT_LE(f.rmse_after_px, v.objective_after) << v.variant;
+    EXPECT_EQ(f.params.texts().at("model"), model) << maneuverKindName(kind) << ": kept " << f.variant;
+    EXPECT_EQ(f.variant.rfind(std::string("model=") + model, 0), 0u) << f.variant;
+  }
+  // WHEN the structure is pinned THEN only it is fitted
+  Params pinned;
+  pinned.setText("model", "cv");
+  const NoiseFitResult f = fitNoise("stkf", pinned, track(ManeuverKind::Smooth), o);
+  EXPECT_TRUE(f.variants.empty());
+  EXPECT_TRUE(f.variant.empty());
+  EXPECT_EQ(f.params.texts().at("model"), "cv");
+  // and a predictor without variants reports none
+  EXPECT_TRUE(fitNoise("kf-cv", {}, track(ManeuverKind::Smooth), o).variants.empty());
+}
+
 TEST(NoiseFit, KeepsFixedKeysAndRejectsHold) {
   const FitTrack t = cvModelTrack(400.0, 1.0, 30.0, 300, 4);
   Params base;

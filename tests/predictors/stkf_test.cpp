@@ -364,12 +364,14 @@ TEST(StkfModels, CaReinitialisesOnItsPerDiagonalThresholds) {
 }
 
 TEST(StkfModels, StructuralVariantsAreCvAndCaAndEachRuns) {
-  for (const std::string& model : {"cv", "ca"}) {
+  for (const char* model : {"cv", "ca"}) {
     // GIVEN the variants of either model's instance
     const auto variants = makePredictor("stkf", 1, modelParams(model))->structuralVariants();
-    ASSERT_EQ(variants.size(), 2u);
+    ASSERT_EQ(variants.size(), 3u);
     EXPECT_EQ(variants[0].texts().at("model"), "cv");
-    EXPECT_EQ(variants[1].texts().at("model"), "ca");
+    EXPECT_EQ(variants[1].texts().at("model"), "cv");
+    EXPECT_EQ(variants[1].values().at("window"), 3.0);
+    EXPECT_EQ(variants[2].texts().at("model"), "ca");
     EXPECT_TRUE(variants[0].values().empty());
   }
   const auto variants = makePredictor("stkf", 1)->structuralVariants();
@@ -378,7 +380,7 @@ TEST(StkfModels, StructuralVariantsAreCvAndCaAndEachRuns) {
     Params p = variants[i];
     p.set("r", 1.0);
     auto f = makePredictor("stkf", 2, p);
-    const int n_state = i == 0 ? 2 : 3;
+    const int n_state = variants[i].texts().at("model") == "cv" ? 2 : 3;
     std::mt19937 rng(3);
     std::normal_distribution<double> noise(0.0, 1.0);
     for (int n = 0; n < 300; ++n) {
@@ -395,7 +397,7 @@ TEST(StkfModels, StructuralVariantsAreCvAndCaAndEachRuns) {
     // AND its noise keys are the model's: cv r, q_pos, q_vel; ca r and the white-jerk density q
     std::vector<std::string> keys;
     for (const NoiseParameter& np : makePredictor("stkf", 1, variants[i])->noiseParameters()) keys.push_back(np.key);
-    EXPECT_EQ(keys, i == 0 ? std::vector<std::string>({"r", "q_pos", "q_vel"}) : std::vector<std::string>({"r", "q"}));
+    EXPECT_EQ(keys, variants[i].texts().at("model") == "cv" ? std::vector<std::string>({"r", "q_pos", "q_vel"}) : std::vector<std::string>({"r", "q"}));
   }
   // AND the CA q is bounded as every white-jerk density, and defaults to kf-ca's
   for (const NoiseParameter& np : makePredictor("stkf", 1, modelParams("ca"))->noiseParameters())
