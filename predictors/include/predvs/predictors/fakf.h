@@ -56,8 +56,9 @@ class InnovationWindow {
 
 /// Default white-jerk density of fakf-classic with `model: ca`, px^2/s^5: kf-ca's (kDefaultQCa),
 /// so that fakf-classic on CA is kf-ca plus the fuzzy R adaptation, as on CV it is kf-cv plus it.
-/// Measured against hold on the generated tracks in docs/PERFORMANCE.md "Defaults that hold",
-/// subsection "st-akf and fakf-classic on either model".
+/// It beats hold on 208/216 generated tracks (kf-ca: 214; q 1e5: 173, 5e5: 208, 1e6: 206; it loses
+/// on bursts and zigzag at 3 px); docs/PERFORMANCE.md "Defaults that hold", subsection "st-akf,
+/// st-akf-pm and fakf-classic on either motion model".
 inline constexpr double kDefaultQFakfClassicCa = 3e5;
 
 /// `fakf-classic`: the traditional fuzzy adaptive KF of Escamilla-Ambrosio & Mort, the baseline
