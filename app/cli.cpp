@@ -29,6 +29,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -185,7 +186,9 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
     if (eq == std::string::npos || eq == 0)
       throw std::invalid_argument("--param: expected [PREDICTOR.]KEY=VALUE, got '" + kv + "'");
     std::string key = kv.substr(0, eq);
-    const double value = parseNumberArg("--param " + key, kv.substr(eq + 1));
+    const std::string text = kv.substr(eq + 1);
+    const bool word = !text.empty() && std::isalpha(static_cast<unsigned char>(text[0]));  // model=cv
+    const double value = word ? 0.0 : parseNumberArg("--param " + key, text);
     std::string scope;
     const auto dot = key.find('.');
     if (dot != std::string::npos) {
@@ -199,7 +202,10 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
     bool applied = false;
     for (auto& s : specs)
       if (scope.empty() || s.name == scope) {
-        s.params.set(key, value);
+        if (word)
+          s.params.setText(key, text);
+        else
+          s.params.set(key, value);
         applied = true;
       }
     if (!applied)

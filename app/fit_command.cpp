@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -96,11 +97,13 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
     const std::string text = kv.substr(eq + 1);
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
-    if (text.empty()) throw std::invalid_argument("--param " + kv.substr(0, eq) + ": expected a value");
-    if (*end == '\0' && std::isfinite(v))
-      base.set(kv.substr(0, eq), v);
-    else
-      base.setText(kv.substr(0, eq), text);  // a word (model: ca, r: auto); the predictor checks it
+    if (!text.empty() && *end != '\0' && std::isalpha(static_cast<unsigned char>(text[0]))) {
+      base.setText(kv.substr(0, eq), text);  // a word (model: cv): the predictor checks it below
+      continue;
+    }
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+      throw std::invalid_argument("--param " + kv.substr(0, eq) + ": expected a number or a word, got '" + text + "'");
+    base.set(kv.substr(0, eq), v);
   }
   try {
     makePredictor(a.predictor, 2, base);

@@ -177,7 +177,7 @@ std::vector<ScenarioPredictor> readPredictors(YamlSection& root, int channels) {
       YamlSection s(item, file, "predictors[" + std::to_string(i) + "]");
       p.name = s.requiredString("name");
       if (s.node("type").IsDefined()) p.type = s.requiredString("type");
-      p.params = readParams(s.node("params"), file, s.qualified("params"), &lines);
+      p.params = readParams(s.node("params"), file, s.qualified("params"), &lines, {}, true);  // words: model: cv
       s.finish();
     }
     if (p.type.empty()) p.type = p.name;

@@ -6,6 +6,7 @@
 #include "predvs/servo/run_metrics.h"
 #include "predvs/servo/servo_loop.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <set>
@@ -124,10 +125,14 @@ PredictorChoice parsePredictorChoice(const std::string& text, const std::string&
     const std::string key = kv.substr(0, e), value = kv.substr(e + 1);
     char* end = nullptr;
     const double x = std::strtod(value.c_str(), &end);
-    if (end == value.c_str() || *end != '\0' || !std::isfinite(x))
-      throw std::invalid_argument(where + "parameter '" + key + "': expected a number, got '" + value + "'");
+    const bool word = end == value.c_str() && std::isalpha(static_cast<unsigned char>(value[0]));  // model=cv
+    if (!word && (end == value.c_str() || *end != '\0' || !std::isfinite(x)))
+      throw std::invalid_argument(where + "parameter '" + key + "': expected a number or a word, got '" + value + "'");
     if (c.params.has(key)) throw std::invalid_argument(where + "parameter '" + key + "' given twice");
-    c.params.set(key, x);
+    if (word)
+      c.params.setText(key, value);
+    else
+      c.params.set(key, x);
   }
   return c;
 }
@@ -165,6 +170,7 @@ void choosePredictors(Scenario& sc, const std::vector<std::string>& chosen, cons
       p.line = base->line;
     }
     for (const auto& kv : c.params.values()) p.params.set(kv.first, kv.second);
+    for (const auto& kv : c.params.texts()) p.params.setText(kv.first, kv.second);
     try {
       makePredictor(p.type, sc.channels, p.params);
     } catch (const std::invalid_argument& e) {

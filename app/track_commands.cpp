@@ -10,6 +10,7 @@
 #include "predvs/servo/maneuver_tracks.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -101,11 +102,12 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     if (!isPredictor(name)) throw std::invalid_argument("--param " + kv + ": unknown predictor '" + name + "'");
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
-    if (text.empty()) throw std::invalid_argument("--param " + kv + ": expected a number or a word");
-    if (*end != '\0' || !std::isfinite(v)) {
-      fixed[name].setText(key, text);  // a word (r: auto, q: auto, model: ca): the predictor checks it below
+    if (!text.empty() && *end != '\0' && std::isalpha(static_cast<unsigned char>(text[0]))) {
+      fixed[name].setText(key, text);  // a word: r: auto, q: auto, model: cv (the predictor checks it)
       continue;
     }
+    if (text.empty() || *end != '\0' || !std::isfinite(v))
+      throw std::invalid_argument("--param " + kv + ": expected a number or a word (auto, cv, ...)");
     fixed[name].set(key, v);
   }
   for (const auto& [name, p] : fixed) {

@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
@@ -48,10 +49,11 @@ std::vector<ParamFileEntry> readParamFile(const std::string& path) {
         const double v = std::strtod(text.c_str(), &end);
         if (!text.empty() && end && *end == '\0' && std::isfinite(v))
           s.params.set(key, v);
-        else if (text == "auto")
-          s.params.setText(key, text);
+        else if (!text.empty() && std::isalpha(static_cast<unsigned char>(text[0])))
+          s.params.setText(key, text);  // a word (r: auto, model: cv): the predictor checks it below
         else
-          throw std::invalid_argument(at(kv.second) + "parameter '" + key + "' of " + s.name + ": expected a number");
+          throw std::invalid_argument(at(kv.second) + "parameter '" + key + "' of " + s.name +
+                                      ": expected a number or a word");
       }
     }
     try {

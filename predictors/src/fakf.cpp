@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace predvs {
 
@@ -63,46 +64,77 @@ fuzzy::DomSystemConfig domConfig(const Params& p) {
   return c;
 }
 
+/// The state size of the motion model named by `model` (cv: 2, ca: 3; absent: cv, the paper's).
+int fakfClassicModelStates(const Params& params) {
+  const std::string word = params.text("model", "cv");
+  if (word == "cv") return 2;
+  if (word == "ca") return 3;
+  throw std::invalid_argument("predictor 'fakf-classic': parameter 'model' must be cv or ca, got '" + word + "'");
+}
+
 }  // namespace
 
-FakfClassicPredictor::FakfClassicPredictor(int channels, const Params& params)
-    : ChannelPredictor<2>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12), 0.0),
-      q_(processNoiseParam(params, "q", kDefaultQCv, 0.0, 1e12)),
-      r_min_(params.get("r_min", 0.01 * r0_, 1e-12, 1e12)),
-      r_max_(params.get("r_max", 100.0 * r0_, 1e-12, 1e12)),
+template <int N>
+FakfClassicPredictor<N>::FakfClassicPredictor(int channels, const Params& params)
+    : Base(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12),
+           params.get("p0_acc", 1e4, 0.0, 1e12)),  // read on cv too, unused there (header)
+      q_(processNoiseParam(params, "q", N == 2 ? kDefaultQCv : kDefaultQFakfClassicCa, 0.0, N == 2 ? 1e12 : 1e15)),
+      r_min_(params.get("r_min", 0.01 * this->r0_, 1e-12, 1e12)),
+      r_max_(params.get("r_max", 100.0 * this->r0_, 1e-12, 1e12)),
       window_length_(static_cast<int>(params.get("window", 10.0, 2.0, 1000.0))),
       dom_(fuzzy::makeFakfDomSystem(domConfig(params))) {
-  readCoastParam(params);
-  if (isAutoProcessNoise(params, "q")) enableAutoProcessNoise();
-  if (!(r_min_ <= r0_ && r0_ <= r_max_))
+  // Built directly (tests) the template argument is the model; a `model` given must agree with it.
+  if (params.has("model") && fakfClassicModelStates(params) != N)
+    throw std::invalid_argument("fakf-classic: parameter 'model' does not match the state size of the filter built");
+  this->readCoastParam(params);
+  if (isAutoProcessNoise(params, "q")) this->enableAutoProcessNoise();
+  if (!(r_min_ <= this->r0_ && this->r0_ <= r_max_))
     throw std::invalid_argument("fakf-classic: need r_min <= r <= r_max");
   relative_bounds_ = !params.has("r_min") && !params.has("r_max");
-  if (isAutoMeasurementNoise(params)) enableAutoNoise();
+  if (isAutoMeasurementNoise(params)) this->enableAutoNoise();
   resetAdaptation();
 }
 
-void FakfClassicPredictor::resetAdaptation() {
-  r_.assign(static_cast<size_t>(channels()), r0_);
-  window_.assign(static_cast<size_t>(channels()), InnovationWindow(window_length_));
+template <int N>
+std::vector<Params> FakfClassicPredictor<N>::structuralVariants() const {
+  Params cv, ca;
+  cv.setText("model", "cv");
+  ca.setText("model", "ca");
+  return {cv, ca};
 }
 
-void FakfClassicPredictor::step(int c, double dt, double z) {
-  ChannelState& s = state_[static_cast<size_t>(c)];
+template <int N>
+void FakfClassicPredictor<N>::resetAdaptation() {
+  r_.assign(static_cast<size_t>(this->channels()), this->r0_);
+  window_.assign(static_cast<size_t>(this->channels()), InnovationWindow(window_length_));
+}
+
+template <int N>
+void FakfClassicPredictor<N>::step(int c, double dt, double z) {
+  typename Base::ChannelState& s = this->state_[static_cast<size_t>(c)];
   timeUpdate(s.g, transition(c, dt), processNoise(c, dt));
   if (!isMeasured(z)) return;
   double& R = r_[static_cast<size_t>(c)];
   InnovationWindow& win = window_[static_cast<size_t>(c)];
   const double eps = z - s.g.x(0);
-  if (!nominalNoiseFinal(c)) R = nominalNoise(c);  // start-up estimate: adapt from it once frozen
+  if (!this->nominalNoiseFinal(c)) R = this->nominalNoise(c);  // start-up estimate: adapt from it once frozen
   const double S = s.g.P(0, 0) + R;  // theoretical innovation power with R(k-1)
   win.push(eps);
-  if (win.full() && nominalNoiseFinal(c)) {
+  if (win.full() && this->nominalNoiseFinal(c)) {
     const double dom = win.meanSquare() - S;
-    const double lo = autoNoise() && relative_bounds_ ? 0.01 * nominalNoise(c) : r_min_;
-    const double hi = autoNoise() && relative_bounds_ ? 100.0 * nominalNoise(c) : r_max_;
+    const double lo = this->autoNoise() && relative_bounds_ ? 0.01 * this->nominalNoise(c) : r_min_;
+    const double hi = this->autoNoise() && relative_bounds_ ? 100.0 * this->nominalNoise(c) : r_max_;
     R = std::clamp(R + dom_.evaluate(dom), lo, hi);
   }
   s.innovation = measurementUpdate(s.g, z, R);
+}
+
+template class FakfClassicPredictor<2>;
+template class FakfClassicPredictor<3>;
+
+std::unique_ptr<Predictor> makeFakfClassicPredictor(int channels, const Params& params) {
+  if (fakfClassicModelStates(params) == 2) return std::make_unique<FakfClassicPredictor<2>>(channels, params);
+  return std::make_unique<FakfClassicPredictor<3>>(channels, params);
 }
 
 

@@ -34,9 +34,9 @@ const std::vector<Entry>& entries() {
       {{"cs-akf", "current-statistical-model KF: Singer Q, Rayleigh variance with fixed a_max"}, factory<CsAkfPredictor>()},
       {{"cs-akf-adaptive", "CS-model KF, variance adapted from successive acceleration estimates"}, factory<CsAkfAdaptivePredictor>()},
       {{"stkf", "self-tuning KF: CV model (model: ca for CA), R from line (quadratic) fit residuals of the last k frames"}, makeStkfPredictor},
-      {{"st-akf", "strong-tracking adaptive KF: CA model with fading factors"}, factory<StAkfPredictor>()},
-      {{"st-akf-pm", "st-akf re-initialised by the predictive discontinuity monitor"}, factory<StAkfPmPredictor>()},
-      {{"fakf-classic", "fuzzy adaptive KF (Escamilla-Ambrosio & Mort): CV model, R += fuzzy(C - S)"}, factory<FakfClassicPredictor>()},
+      {{"st-akf", "strong-tracking adaptive KF: CA (or model: cv) Kalman filter with fading factors"}, makeStAkfPredictor},
+      {{"st-akf-pm", "st-akf re-initialised by the predictive discontinuity monitor"}, makeStAkfPmPredictor},
+      {{"fakf-classic", "fuzzy adaptive KF (Escamilla-Ambrosio & Mort): CV (or model: ca), R += fuzzy(C - S)"}, makeFakfClassicPredictor},
       {{"fakf", "improved fuzzy adaptive KF (paper 000): adaptive CS model, R *= fuzzy(E', C - S), fuzzy P inflation"}, factory<FakfPredictor>()},
       {{"imm", "interacting multiple model: CP + CV + CA Kalman filters mixed by mode probabilities"}, factory<ImmPredictor>()},
   };

@@ -7,52 +7,86 @@
 
 namespace predvs {
 
-StAkfPredictor::StAkfPredictor(int channels, const Params& params)
-    : ChannelPredictor<3>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12),
-                          params.get("p0_acc", 1e4, 0.0, 1e12)),
-      q_(processNoiseParam(params, "q", kDefaultQStAkf, 0.0, 1e15)),
+namespace {
+
+/// The state size of the motion model named by `model` (cv: 2, ca: 3; absent: `fallback`).
+int motionModelStates(const Params& params, const std::string& fallback, const std::string& who) {
+  const std::string word = params.text("model", fallback);
+  if (word == "cv") return 2;
+  if (word == "ca") return 3;
+  throw std::invalid_argument("predictor '" + who + "': parameter 'model' must be cv or ca, got '" + word + "'");
+}
+
+constexpr const char* kDefaultModel = "ca";  // paper 004's filter
+
+}  // namespace
+
+template <int N>
+StAkfPredictor<N>::StAkfPredictor(int channels, const Params& params)
+    : Base(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12),
+           params.get("p0_acc", 1e4, 0.0, 1e12)),
+      q_(processNoiseParam(params, "q", N == 2 ? kDefaultQStAkfCv : kDefaultQStAkf, 0.0, N == 2 ? 1e12 : 1e15)),
       rho_(params.get("rho", 0.95, 0.0, 1.0)),
       beta_(params.get("beta", 5.0, 1.0, 1e6)),
       ext_(static_cast<size_t>(channels)) {
-  readCoastParam(params);
-  if (isAutoProcessNoise(params, "q")) enableAutoProcessNoise();
-  a_ << params.get("a1", 1.0, 1.0, 1e6), params.get("a2", 1.0, 1.0, 1e6), params.get("a3", 1.0, 1.0, 1e6);
-  if (isAutoMeasurementNoise(params)) enableAutoNoise();
+  // Built directly (tests) the template argument is the model; a `model` given must agree with it.
+  if (params.has("model") && motionModelStates(params, kDefaultModel, "st-akf") != N)
+    throw std::invalid_argument("st-akf: parameter 'model' does not match the state size of the filter built");
+  this->readCoastParam(params);
+  if (isAutoProcessNoise(params, "q")) this->enableAutoProcessNoise();
+  const double a1 = params.get("a1", 1.0, 1.0, 1e6), a2 = params.get("a2", 1.0, 1.0, 1e6);
+  const double a3 = params.get("a3", 1.0, 1.0, 1e6);  // read on cv too, unused there (header)
+  if constexpr (N == 2)
+    a_ << a1, a2;
+  else
+    a_ << a1, a2, a3;
+  if (isAutoMeasurementNoise(params)) this->enableAutoNoise();
 }
 
-void StAkfPredictor::resetAdaptation() {
+template <int N>
+std::vector<Params> StAkfPredictor<N>::structuralVariants() const {
+  Params cv, ca;
+  cv.setText("model", "cv");
+  ca.setText("model", "ca");
+  return {cv, ca};
+}
+
+template <int N>
+void StAkfPredictor<N>::resetAdaptation() {
   for (auto& e : ext_) e = Extra{};
 }
 
-void StAkfPredictor::restartChannel(int c, double z) {
-  initialize(c, z);
+template <int N>
+void StAkfPredictor<N>::restartChannel(int c, double z) {
+  this->initialize(c, z);
   ext_[static_cast<size_t>(c)] = Extra{};
 }
 
-void StAkfPredictor::step(int c, double dt, double z) {
-  ChannelState& s = state_[static_cast<size_t>(c)];
+template <int N>
+void StAkfPredictor<N>::step(int c, double dt, double z) {
+  typename Base::ChannelState& s = this->state_[static_cast<size_t>(c)];
   Extra& ex = ext_[static_cast<size_t>(c)];
-  const Mat<3> F = transition(c, dt);
-  const Mat<3> Q = processNoise(c, dt);
+  const Mat<N> F = transition(c, dt);
+  const Mat<N> Q = processNoise(c, dt);
   if (!isMeasured(z)) {  // predict only: no innovation, so no fading information
     timeUpdate(s.g, F, Q);
     return;
   }
-  const double R = measurementNoise(c);
-  const Vec<3> x_pred = F * s.g.x;
-  const Mat<3> FPFt = F * s.g.P * F.transpose();
+  const double R = this->measurementNoise(c);
+  const Vec<N> x_pred = F * s.g.x;
+  const Mat<N> FPFt = F * s.g.P * F.transpose();
   const double gamma = z - x_pred(0);
   ex.V0 = ex.has_V0 ? (rho_ * ex.V0 + gamma * gamma) / (1.0 + rho_) : gamma * gamma;
   ex.has_V0 = true;
-  const double N = ex.V0 - Q(0, 0) - beta_ * R;
+  const double Nv = ex.V0 - Q(0, 0) - beta_ * R;
   const double M = a_(0) * FPFt(0, 0);
   // No fading while R is still the start-up estimate (r: auto, its first ~53 frames): an innovation
   // power above the filter's then only says that the prior R was too small, not that the target
   // manoeuvres, and fading on it sets the gain to ~1 and the acceleration to the noise.
-  const double cf = M > 0.0 && nominalNoiseFinal(c) ? N / M : 0.0;
-  for (int i = 0; i < 3; ++i) ex.lambda(i) = std::max(1.0, a_(i) * cf);
+  const double cf = M > 0.0 && this->nominalNoiseFinal(c) ? Nv / M : 0.0;
+  for (int i = 0; i < N; ++i) ex.lambda(i) = std::max(1.0, a_(i) * cf);
   ex.s_unfaded = FPFt(0, 0) + Q(0, 0) + R;
-  const Vec<3> sqrt_l = ex.lambda.cwiseSqrt();
+  const Vec<N> sqrt_l = ex.lambda.cwiseSqrt();
   s.g.x = x_pred;
   s.g.P = sqrt_l.asDiagonal() * FPFt * sqrt_l.asDiagonal();
   s.g.P += Q;
@@ -60,14 +94,21 @@ void StAkfPredictor::step(int c, double dt, double z) {
   s.innovation = measurementUpdate(s.g, z, R);  // Joseph form
 }
 
-SteadyStateCa steadyStateCa(double q, double r, double dt) {
-  const Mat<3> F = caTransition(dt);
-  const Mat<3> Q = caProcessNoise(q, dt);
-  Gaussian<3> g;
+template <int N>
+SteadyStateKf<N> steadyStateKf(double q, double r, double dt) {
+  Mat<N> F, Q;
+  if constexpr (N == 2) {
+    F = cvTransition(dt);
+    Q = cvProcessNoise(q, dt);
+  } else {
+    F = caTransition(dt);
+    Q = caProcessNoise(q, dt);
+  }
+  Gaussian<N> g;
   g.P.setZero();
-  SteadyStateCa out;
+  SteadyStateKf<N> out;
   for (out.iterations = 1; out.iterations <= 100000; ++out.iterations) {
-    const Mat<3> P_prev = g.P;
+    const Mat<N> P_prev = g.P;
     timeUpdate(g, F, Q);
     out.K = g.P.col(0) / (g.P(0, 0) + r);
     measurementUpdate(g, 0.0, r);
@@ -76,6 +117,9 @@ SteadyStateCa steadyStateCa(double q, double r, double dt) {
   out.P_post = g.P;
   return out;
 }
+
+template SteadyStateKf<2> steadyStateKf<2>(double, double, double);
+template SteadyStateKf<3> steadyStateKf<3>(double, double, double);
 
 // ---------------------------------------------------------------------------------------------
 
@@ -97,56 +141,62 @@ MonitorConfig monitorConfig(const Params& params) {
 
 }  // namespace
 
-StAkfPmPredictor::StAkfPmPredictor(int channels, const Params& params)
-    : StAkfPredictor(channels, params),
+template <int N>
+StAkfPmPredictor<N>::StAkfPmPredictor(int channels, const Params& params)
+    : Base(channels, params),
       on_alarm_steady_(params.get("pm_on_alarm", 0.0, 0.0, 1.0) != 0.0),
       ss_frames_(static_cast<int>(params.get("pm_ss_frames", 25.0, 1.0, 1e6))),
       monitors_(static_cast<size_t>(channels), DiscontinuityMonitor(monitorConfig(params))),
       history_(static_cast<size_t>(channels)),
       ss_left_(static_cast<size_t>(channels), 0) {}
 
-const SteadyStateCa& StAkfPmPredictor::steadyState(double dt) {
+template <int N>
+const SteadyStateKf<N>& StAkfPmPredictor<N>::steadyState(double dt) {
   if (!(std::abs(dt - ss_dt_) <= 1e-9 * dt)) {  // same period up to round-off: reuse
-    ss_ = steadyStateCa(q(), measurementNoise(0), dt);
+    ss_ = steadyStateKf<N>(this->q(), this->measurementNoise(0), dt);
     ss_dt_ = dt;
   }
   return ss_;
 }
 
-int StAkfPmPredictor::monitorAlarms() const {
+template <int N>
+int StAkfPmPredictor<N>::monitorAlarms() const {
   int n = 0;
   for (const auto& m : monitors_) n += m.alarms();
   return n;
 }
 
-void StAkfPmPredictor::resetAdaptation() {
-  StAkfPredictor::resetAdaptation();
+template <int N>
+void StAkfPmPredictor<N>::resetAdaptation() {
+  Base::resetAdaptation();
   for (auto& m : monitors_) m.reset();
   for (auto& h : history_) h = History{};
   for (auto& n : ss_left_) n = 0;
 }
 
-void StAkfPmPredictor::initialize(int c, double z) {
-  StAkfPredictor::initialize(c, z);
+template <int N>
+void StAkfPmPredictor<N>::initialize(int c, double z) {
+  Base::initialize(c, z);
   History& h = history_[static_cast<size_t>(c)];
   h = History{};
-  h.push(state_[static_cast<size_t>(c)].g, time());
+  h.push(this->state_[static_cast<size_t>(c)].g, this->time());
 }
 
-void StAkfPmPredictor::step(int c, double dt, double z) {
+template <int N>
+void StAkfPmPredictor<N>::step(int c, double dt, double z) {
   const size_t i = static_cast<size_t>(c);
   History& h = history_[i];
   DiscontinuityMonitor& mon = monitors_[i];
-  const double t_now = time();  // the clock was advanced before step()
+  const double t_now = this->time();  // the clock was advanced before step()
   if (ss_left_[i] > 0) {
     // Steady-state phase after an alarm: fixed gain, no fading, no monitoring.
-    const SteadyStateCa& ss = steadyState(dt);
-    ChannelState& s = state_[i];
-    s.g.x = transition(c, dt) * s.g.x;
+    const SteadyStateKf<N>& ss = steadyState(dt);
+    auto& s = this->state_[i];
+    s.g.x = this->transition(c, dt) * s.g.x;
     if (isMeasured(z)) {
       const double eps = z - s.g.x(0);
       s.g.x += ss.K * eps;
-      s.innovation = Innovation{eps, measurementNoise(c) / (1.0 - ss.K(0)), true};  // S = r / (1 - K_0)
+      s.innovation = Innovation{eps, this->measurementNoise(c) / (1.0 - ss.K(0)), true};  // S = r / (1 - K_0)
       --ss_left_[i];
     }
     s.g.P = ss.P_post;
@@ -158,25 +208,41 @@ void StAkfPmPredictor::step(int c, double dt, double z) {
   if (isMeasured(z) && h.count == 2) {
     // Two-step prediction x(k|k-2) from the estimate kept two updates ago.
     const Past& p = h.past[0];
-    dxp = z - (transition(c, t_now - p.t_s) * p.g.x)(0);
+    dxp = z - (this->transition(c, t_now - p.t_s) * p.g.x)(0);
   }
-  StAkfPredictor::step(c, dt, z);
+  Base::step(c, dt, z);
   if (isMeasured(z)) {
-    const Innovation& in = state_[i].innovation;
+    const Innovation& in = this->state_[i].innovation;
     const bool alarm = mon.config().statistic == MonitorConfig::Statistic::kChiSquare
-                           ? mon.observe(t_now, in.eps, unfadedS(c))
+                           ? mon.observe(t_now, in.eps, this->unfadedS(c))
                            : mon.observe(t_now, dxp);
     if (alarm) {
-      restartChannel(c, z);  // calls initialize(): history restarts at this measurement
+      this->restartChannel(c, z);  // calls initialize(): history restarts at this measurement
       mon.restart();
       if (on_alarm_steady_) {
         ss_left_[i] = ss_frames_;
-        state_[i].g.P = steadyState(dt).P_post;
+        this->state_[i].g.P = steadyState(dt).P_post;
       }
       return;
     }
   }
-  h.push(state_[i].g, t_now);
+  h.push(this->state_[i].g, t_now);
+}
+
+template class StAkfPredictor<2>;
+template class StAkfPredictor<3>;
+template class StAkfPmPredictor<2>;
+template class StAkfPmPredictor<3>;
+
+std::unique_ptr<Predictor> makeStAkfPredictor(int channels, const Params& params) {
+  if (motionModelStates(params, kDefaultModel, "st-akf") == 2) return std::make_unique<StAkfPredictor<2>>(channels, params);
+  return std::make_unique<StAkfPredictor<3>>(channels, params);
+}
+
+std::unique_ptr<Predictor> makeStAkfPmPredictor(int channels, const Params& params) {
+  if (motionModelStates(params, kDefaultModel, "st-akf-pm") == 2)
+    return std::make_unique<StAkfPmPredictor<2>>(channels, params);
+  return std::make_unique<StAkfPmPredictor<3>>(channels, params);
 }
 
 }  // namespace predvs

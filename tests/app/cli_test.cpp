@@ -148,7 +148,8 @@ TEST_F(CliTest, PredictRejectsBadParams) {
                 "--no-plots", "--param", param});
   };
   expectError(with("kf-cv", "q"), "--param: expected [PREDICTOR.]KEY=VALUE, got 'q'", out);
-  expectError(with("kf-cv", "q=abc"), "--param q: expected a number, got 'abc'", out);
+  expectError(with("kf-cv", "q=abc"), "--param: parameter 'q' expects a number or 'auto', got 'abc'", out);
+  expectError(with("kf-cv", "q=1x"), "--param q: expected a number, got '1x'", out);
   expectError(with("kf-cv", "zz=1"), "unknown parameter 'zz'", out);
   expectError(with("kf-cv", "q=-5"), "'q'", out);
   expectError(with("all", "q=5"), "with --predictor all or several predictors, scope each parameter", out);

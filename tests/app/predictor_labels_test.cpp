@@ -95,10 +95,12 @@ TEST(PredictorChoice, ParsesLabelTypeAndParameters) {
   const auto unlabelled = parsePredictorChoice("st-akf-pm:pm_band=4", "--predictors");
   EXPECT_EQ(unlabelled.label, "st-akf-pm");
   EXPECT_EQ(unlabelled.params.values().at("pm_band"), 4.0);
+  // A word is kept as a word (the predictor checks it when the scenario is built: model=cv).
+  EXPECT_EQ(parsePredictorChoice("st-akf:model=cv", "--predictors").params.texts().at("model"), "cv");
 
   // Every malformed element is an error naming the option and the element.
   for (const char* bad : {"", "x=", "=kf-cv", "x=kf-cw", "kf-cw:r=1", "a.b", "a.b=kf-cv", "kf-cv:r", "kf-cv:r=", "kf-cv:=1",
-                          "kf-cv:r=five", "kf-cv:r=1:r=2", "kf-cv:r=inf"}) {
+                          "kf-cv:r=5x", "kf-cv:r=1:r=2", "kf-cv:r=inf"}) {
     try {
       parsePredictorChoice(bad, "--predictors");
       ADD_FAILURE() << "no exception for '" << bad << "'";
@@ -180,7 +182,7 @@ TEST_F(PredictorLabelsTest, CommandLineErrorsFollowTheFailureContract) {
   expectError(run({"compare", "--scenarios", file, "--predictors", "kf-cv,kf-cv:r=5", "--out", path("o1"), "--no-plots"}),
               "'kf-cv' listed twice", path("o1"));
   expectError(run({"compare", "--scenarios", file, "--predictors", "x=kf-cv:r=oops", "--out", path("o2"), "--no-plots"}),
-              "expected a number", path("o2"));
+              "parameter 'r' expects a number", path("o2"));
   expectError(run({"compare", "--scenarios", file, "--predictors", "x=kf-cv:nokey=1", "--out", path("o3"), "--no-plots"}),
               "nokey", path("o3"));
   expectError(run({"servo", "--scenario", file, "--predictors", "y=nope", "--out", path("o4"), "--no-plots"}),

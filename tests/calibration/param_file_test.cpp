@@ -53,7 +53,9 @@ TEST(ParamFile, ErrorsNameTheFileAndLine) {
   const auto key = writeTemp("key.yaml", "predictors:\n  - {name: kf-cv, params: {q: 1}}\n  - {name: kf-cv, params: {qq: 2}}\n");
   EXPECT_EQ(errorOf(key), key + ":3: unknown parameter 'qq' for predictor 'kf-cv'");
   const auto word = writeTemp("word.yaml", "predictors:\n  - {name: kf-cv, params: {q: fast}}\n");
-  EXPECT_EQ(errorOf(word), word + ":2: parameter 'q' of kf-cv: expected a number");
+  EXPECT_EQ(errorOf(word), word + ":2: parameter 'q' expects a number or 'auto', got 'fast'");  // kf-cv's own word check
+  const auto notword = writeTemp("notword.yaml", "predictors:\n  - {name: kf-cv, params: {q: 1x}}\n");
+  EXPECT_EQ(errorOf(notword), notword + ":2: parameter 'q' of kf-cv: expected a number or a word");
   const auto name = writeTemp("name.yaml", "predictors:\n  - {name: kf-xx}\n");
   EXPECT_EQ(errorOf(name), name + ":2: unknown predictor 'kf-xx'");
   const auto empty = writeTemp("empty.yaml", "predictors: []\n");

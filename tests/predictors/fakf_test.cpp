@@ -46,7 +46,7 @@ void expectRClampedUnderOutliers(P& f, int frames, double r_min, double r_max) {
 
 TEST(FakfClassic, RaisesRWhenTheNoiseIsLargerThanAssumed) {
   // GIVEN an assumed R = 1 px^2 and a real noise variance of 9 px^2
-  FakfClassicPredictor f(1, {{"r", 1.0}});
+  FakfClassicPredictor<2> f(1, {{"r", 1.0}});
   // WHEN it filters 30 s of a noisy ramp
   runRamp(f, 3.0, 300, 11);
   // THEN R has grown well above its initial value (it wanders around the true 9 px^2; 3 is a
@@ -56,7 +56,7 @@ TEST(FakfClassic, RaisesRWhenTheNoiseIsLargerThanAssumed) {
 
 TEST(FakfClassic, LowersRWhenTheNoiseIsSmallerThanAssumed) {
   // GIVEN an assumed R = 1 px^2 and a real noise variance of 0.09 px^2
-  FakfClassicPredictor f(1, {{"r", 1.0}});
+  FakfClassicPredictor<2> f(1, {{"r", 1.0}});
   // WHEN it filters 30 s of a noisy ramp
   runRamp(f, 0.3, 300, 12);
   // THEN R has come down by more than half (dR is bounded per frame, so it descends slowly)
@@ -65,13 +65,13 @@ TEST(FakfClassic, LowersRWhenTheNoiseIsSmallerThanAssumed) {
 
 TEST(FakfClassic, RStaysInsideItsClampUnderOutliers) {
   // GIVEN tight bounds on R and a sequence of wild measurements (1e6 px jumps)
-  FakfClassicPredictor f(1, {{"r", 1.0}, {"r_min", 0.5}, {"r_max", 2.0}, {"dr_max", 100.0}});
+  FakfClassicPredictor<2> f(1, {{"r", 1.0}, {"r_min", 0.5}, {"r_max", 2.0}, {"dr_max", 100.0}});
   // WHEN it filters 200 frames THEN R stays inside [r_min, r_max] and the state stays finite
   expectRClampedUnderOutliers(f, 200, 0.5, 2.0);
 }
 
 TEST(FakfClassic, ResetRestoresTheInitialR) {
-  FakfClassicPredictor f(1, {{"r", 1.0}});
+  FakfClassicPredictor<2> f(1, {{"r", 1.0}});
   runRamp(f, 3.0, 100, 13);
   ASSERT_NE(f.adaptedR(0), 1.0);
   f.reset();

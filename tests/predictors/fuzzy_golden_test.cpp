@@ -114,7 +114,7 @@ TEST(FuzzyGolden, FakfEndsAtThePinnedState) {
 
 TEST(FuzzyGolden, FakfClassicEndsAtThePinnedState) {
   // GIVEN fakf-classic with its defaults before issue 11 (the pinned state was computed with them)
-  FakfClassicPredictor f(2, {{"q", 100.0}, {"r", 1.0}});
+  FakfClassicPredictor<2> f(2, {{"q", 100.0}, {"r", 1.0}});
   // WHEN it filters the golden scenario
   runGoldenScenario(f);
   // THEN position, velocity, position variance and adapted R match the reference

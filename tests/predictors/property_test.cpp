@@ -1,5 +1,6 @@
 // One property suite for every registered predictor: a predictor added to the registry is covered
-// by these tests without editing this file (the suite is instantiated over predictorRegistry()).
+// by these tests without editing this file (the suite is instantiated over predictorRegistry(),
+// and again over each predictor's structural variants, e.g. st-akf on `model: cv`).
 #include "predictors/eigen_test_utils.h"
 #include "predvs/predictors/predictor.h"
 
@@ -9,9 +10,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <iomanip>
 #include <limits>
 #include <memory>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -102,7 +106,25 @@ bool same(double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == 
 
 class PredictorProperty : public ::testing::TestWithParam<std::string> {
  protected:
-  std::unique_ptr<Predictor> make(int channels) const { return makePredictor(GetParam(), channels, Params{}); }
+  /// GetParam() is a registered name, optionally followed by the KEY=VALUE pairs of one of its
+  /// structural variants ("st-akf model=cv", registeredNames()).
+  std::unique_ptr<Predictor> make(int channels) const {
+    std::istringstream words(GetParam());
+    std::string name, kv;
+    words >> name;
+    Params params;
+    while (words >> kv) {
+      const auto eq = kv.find('=');
+      const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
+      char* end = nullptr;
+      const double x = std::strtod(value.c_str(), &end);
+      if (end != value.c_str() && *end == '\0')
+        params.set(key, x);
+      else
+        params.setText(key, value);
+    }
+    return makePredictor(name, channels, params);
+  }
 };
 
 TEST_P(PredictorProperty, CovarianceStaysSymmetricPsdAndFiniteOverAMillionSteps) {
@@ -260,9 +282,20 @@ TEST_P(PredictorProperty, NonIncreasingTimeThrows) {
   EXPECT_THROW(p->update(1.2, Eigen::VectorXd::Constant(3, 1.0)), std::invalid_argument);
 }
 
+/// Every registered predictor with its defaults, then each of its structural variants
+/// (Predictor::structuralVariants(), e.g. "st-akf model=cv"), so that a filter's other motion
+/// model is held to the same properties.
 std::vector<std::string> registeredNames() {
   std::vector<std::string> out;
   for (const auto& info : predictorRegistry()) out.push_back(info.name);
+  for (const auto& info : predictorRegistry())
+    for (const Params& variant : makePredictor(info.name, 1)->structuralVariants()) {
+      std::ostringstream s;
+      s << info.name;
+      for (const auto& kv : variant.texts()) s << " " << kv.first << "=" << kv.second;
+      for (const auto& kv : variant.values()) s << " " << kv.first << "=" << std::setprecision(17) << kv.second;
+      out.push_back(s.str());
+    }
   return out;
 }
 

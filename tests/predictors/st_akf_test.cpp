@@ -2,6 +2,7 @@
 #include "predvs/predictors/monitor.h"
 #include "predvs/predictors/st_akf.h"
 
+#include "predictors/model_switch_scenario.h"
 #include "predictors/paper_trajectories.h"
 
 #include <gtest/gtest.h>
@@ -20,7 +21,7 @@ Eigen::VectorXd vec1(double v) { return Eigen::VectorXd::Constant(1, v); }
 TEST(StAkf, NoFadingOnAModelMatchedSignalFadingAfterAManoeuvre) {
   // GIVEN a noise-free constant-acceleration signal, exactly the filter's model
   const double T = 0.04;
-  StAkfPredictor f(1, {{"q", 1.0}, {"r", 1.0}});
+  StAkfPredictor<3> f(1, {{"q", 1.0}, {"r", 1.0}});
   int n = 0;
   double max_lambda_smooth = 0.0;
   for (; n < 200; ++n) {
@@ -42,7 +43,7 @@ TEST(StAkf, NoFadingOnAModelMatchedSignalFadingAfterAManoeuvre) {
 TEST(StAkf, MultipleFactorsFollowThePresetRatios) {
   // GIVEN preset ratios a = (1, 2, 4) and a manoeuvre that makes the filter fade
   // (r given: with `r: auto` there is no fading until the estimate is frozen, after 53 frames)
-  StAkfPredictor f(1, {{"q", 1.0}, {"r", 1.0}, {"a1", 1.0}, {"a2", 2.0}, {"a3", 4.0}});
+  StAkfPredictor<3> f(1, {{"q", 1.0}, {"r", 1.0}, {"a1", 1.0}, {"a2", 2.0}, {"a3", 4.0}});
   for (int n = 0; n < 50; ++n) f.update(0.04 * n, vec1(0.0));
   f.update(50 * 0.04, vec1(100.0));
   // THEN lambda_i = a_i c once a_1 c > 1
@@ -145,6 +146,154 @@ Params pmParams(int monitor, int on_alarm = 0) {
           {"p0_acc", 1e3},   {"monitor", monitor},     {"pm_on_alarm", on_alarm}};
 }
 
+// ---------------------------------------------------------------------------------------------
+// The motion model (`model: cv | ca`, issue 11 item 3).
+
+using namespace model_switch;
+
+TEST(StAkfModel, DefaultModelGivesTheNumbersOfBeforeTheModelKey) {
+  // GIVEN st-akf and st-akf-pm with their defaults, with and without `model: ca` spelt out
+  // (reference: the same scenario through main at b41f742, before `model` existed, %.17g)
+  const struct {
+    const char* name;
+    Pinned channel[2];
+    int alarms;
+  } expected[] = {
+      {"st-akf",
+       {{275.08929370236802, 7.6253739840617358, 3.3789935209516258},
+        {3224.2296337247371, 580.2118858778997, 4.6072319863853908}},
+       0},
+      {"st-akf-pm",
+       {{275.08929370236814, 7.6253739840625574, 3.3789935209516258},
+        {3222.7857681269315, 563.58304590767057, 32.436529592276912}},
+       2},
+  };
+  for (const auto& e : expected) {
+    for (bool spelt : {false, true}) {
+      SCOPED_TRACE(std::string(e.name) + (spelt ? " model: ca" : " default"));
+      Params params;
+      if (spelt) params.setText("model", "ca");
+      auto f = makePredictor(e.name, 2, params);
+      // WHEN they filter the scenario THEN the 2-frame predictions and the alarms are the pinned ones
+      expectPinned(*f, e.channel, 3);
+      EXPECT_EQ(f->monitorAlarms(), e.alarms);
+    }
+  }
+}
+
+TEST(StAkfModel, WithoutFadingEachModelIsThePlainKalmanFilterOfThatModel) {
+  // GIVEN st-akf and st-akf-pm whose fading never fires (beta = 1e6: N = V0 - q - 1e6 R < 0 on this
+  // 2 px noise and 40 px jump) and whose monitor never alarms (band of 1e6 sigma), on each model,
+  // and kf-cv / kf-ca with the same q, r and P_0
+  for (const char* model : {"cv", "ca"}) {
+    const bool cv = std::string(model) == "cv";
+    const double q = cv ? 2e3 : 5e4;
+    for (const char* name : {"st-akf", "st-akf-pm"}) {
+      Params params{{"q", q}, {"r", 1.5}, {"p0_vel", 300.0}, {"p0_acc", 700.0}, {"beta", 1e6}};
+      params.setText("model", model);
+      if (std::string(name) == "st-akf-pm") params.set("pm_band", 1e6);
+      auto st = makePredictor(name, 2, params);
+      Params kf_params{{"q", q}, {"r", 1.5}, {"p0_vel", 300.0}};
+      if (!cv) kf_params.set("p0_acc", 700.0);
+      auto kf = makePredictor(cv ? "kf-cv" : "kf-ca", 2, kf_params);
+      // WHEN both filter the same scenario THEN they agree: the model is wired right
+      SCOPED_TRACE(std::string(name) + " model " + model);
+      expectSameFilter(*st, *kf);
+      EXPECT_EQ(st->monitorAlarms(), 0);
+    }
+  }
+}
+
+TEST(StAkfModel, CvFadingFollowsThePresetRatiosOnTwoFactors) {
+  // GIVEN the CV filter with ratios a = (1, 3) (a3 accepted and unused on cv) and a manoeuvre
+  StAkfPredictor<2> f(1, {{"q", 1.0}, {"r", 1.0}, {"a1", 1.0}, {"a2", 3.0}, {"a3", 4.0}});
+  for (int n = 0; n < 50; ++n) f.update(0.04 * n, vec1(0.0));
+  f.update(50 * 0.04, vec1(100.0));
+  // THEN lambda_p = c > 1 and lambda_v = 3 c, and P stays symmetric
+  const Vec<2> l = f.fadingFactors(0);
+  ASSERT_GT(l(0), 1.0);
+  EXPECT_NEAR(l(1), 3.0 * l(0), 1e-9 * l(1));
+  const Mat<2>& P = f.gaussian(0).P;
+  EXPECT_LT(std::abs(P(0, 1) - P(1, 0)), 1e-12 * P.cwiseAbs().maxCoeff());
+}
+
+TEST(StAkfModel, StructuralVariantsAreCvAndCaAndEachBuildsAndRuns) {
+  for (const char* name : {"st-akf", "st-akf-pm"}) {
+    SCOPED_TRACE(name);
+    // GIVEN the variants of the default predictor
+    const auto variants = makePredictor(name, 1, {})->structuralVariants();
+    ASSERT_EQ(variants.size(), 2u);
+    EXPECT_EQ(variants[0].text("model", ""), "cv");
+    EXPECT_EQ(variants[1].text("model", ""), "ca");
+    for (const Params& v : variants) {
+      // WHEN a predictor is built from the variant alone (plus r) and runs
+      Params p = v;
+      p.set("r", 2.0);
+      auto f = makePredictor(name, 2, p);
+      const bool cv = v.text("model", "") == "cv";
+      const double t = runScenario(*f);
+      // THEN it has that model's state and noise keys, its default q, and a finite forecast
+      EXPECT_EQ(f->predict(0, t + 0.1).x.size(), cv ? 2 : 3);
+      EXPECT_TRUE(std::isfinite(f->predictPosition(1, t + 0.1)));
+      const auto noise = f->noiseParameters();
+      ASSERT_EQ(noise.size(), 2u);
+      EXPECT_EQ(noise[0].key, "q");
+      EXPECT_EQ(noise[0].value, cv ? kDefaultQStAkfCv : kDefaultQStAkf);
+      EXPECT_EQ(noise[0].hi, cv ? accelerationDensityParameter("q", 1.0).hi : jerkDensityParameter("q", 1.0).hi);
+      EXPECT_EQ(noise[1].key, "r");
+      EXPECT_EQ(f->structuralVariants().size(), 2u);
+    }
+  }
+}
+
+TEST(StAkfModel, ABadModelIsAOneLineErrorNamingTheKey) {
+  for (const char* name : {"st-akf", "st-akf-pm"}) expectBadModelRejected(name);
+}
+
+TEST(StAkfModel, SteadyStateCvIsTheLimitOfTheCvKalmanFilter) {
+  // GIVEN the steady-state CV filter and kf-cv with the same q, r, dt
+  const double q = 50.0, r = 0.5, dt = 0.04;
+  const SteadyStateKf<2> ss = steadyStateKf<2>(q, r, dt);
+  KfCvPredictor kf(1, {{"q", q}, {"r", r}, {"p0_vel", 100.0}});
+  for (int n = 0; n < 2000; ++n) kf.update(n * dt, vec1(0.0));
+  // THEN kf-cv's covariance converges to P_post (relative: the Riccati recursion converged)
+  const Mat<2>& P = kf.gaussian(0).P;
+  EXPECT_LT((P - ss.P_post).cwiseAbs().maxCoeff(), 1e-9 * ss.P_post.cwiseAbs().maxCoeff());
+}
+
+TEST(StAkfModel, MonitorOnTheCvFilterDetectsAStepAndItsSteadyStatePhaseRuns) {
+  for (int on_alarm : {0, 1}) {
+    for (int monitor : {0, 1}) {
+      // GIVEN st-akf-pm on the CV model tracking a target at rest (1 mm noise, T = 0.04 s), with a
+      // white-acceleration density of 0.1 m^2/s^3 (pmParams' q = 10 is a jerk density: as an
+      // acceleration density it sets the gain near 1, the two-step errors then have a sigma of
+      // ~3 mm and a 2 cm step is inside the 6-sigma band)
+      Params p = pmParams(monitor, on_alarm);
+      p.setText("model", "cv");
+      p.set("q", 0.1);
+      auto f = makePredictor("st-akf-pm", 1, p);
+      std::mt19937 rng(5);
+      std::normal_distribution<double> noise(0.0, kNoiseM);
+      const double T = 0.04;
+      int n = 0;
+      for (; n < 50; ++n) f->update(n * T, vec1(noise(rng)));
+      ASSERT_EQ(f->monitorAlarms(), 0) << "monitor " << monitor;
+      // WHEN it steps by 2 cm (20 sigma)
+      const int step_frame = n;
+      int detected = -1;
+      for (; n < step_frame + 40; ++n) {
+        f->update(n * T, vec1(0.02 + noise(rng)));
+        if (detected < 0 && f->monitorAlarms() > 0) detected = n - step_frame;
+      }
+      // THEN the alarm comes within 2 frames, and after the steady-state phase (25 frames) the
+      // filter is back on the step
+      EXPECT_GE(detected, 0) << "monitor " << monitor << " on_alarm " << on_alarm;
+      EXPECT_LE(detected, 2) << "monitor " << monitor << " on_alarm " << on_alarm;
+      EXPECT_NEAR(f->predictPosition(0, n * T), 0.02, 5.0 * kNoiseM) << "monitor " << monitor << " on_alarm " << on_alarm;
+    }
+  }
+}
+
 struct SmoothRun {
   int alarms = 0;
   double minutes = 0.0;
@@ -152,7 +301,7 @@ struct SmoothRun {
 
 // Ten minutes of a smooth sinusoid (amplitude 0.5 m, period 6 s) with Gaussian noise, T = 0.04 s.
 SmoothRun smoothRun(int monitor, unsigned seed) {
-  StAkfPmPredictor f(1, pmParams(monitor));
+  StAkfPmPredictor<3> f(1, pmParams(monitor));
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, kNoiseM);
   const double T = 0.04;
@@ -183,7 +332,7 @@ TEST(StAkfPm, FewFalseAlarmsOnSmoothNoisyMotion) {
 TEST(StAkfPm, DetectsAPositionStepWithinAFewFrames) {
   for (int monitor : {0, 1}) {
     // GIVEN a target at rest with 1 mm noise, tracked for 2 s at T = 0.04 s
-    StAkfPmPredictor f(1, pmParams(monitor));
+    StAkfPmPredictor<3> f(1, pmParams(monitor));
     std::mt19937 rng(5);
     std::normal_distribution<double> noise(0.0, kNoiseM);
     const double T = 0.04;
@@ -223,7 +372,6 @@ E12Result runE12(const std::string& name, int monitor, double Th, unsigned seed,
   Params p = pmParams(monitor, on_alarm);
   if (name != "st-akf-pm") p = {{"q", 10.0}, {"r", kNoiseM * kNoiseM}, {"p0_vel", 100.0}, {"p0_acc", 1e3}};
   auto f = makePredictor(name, 1, p);
-  const auto* st = dynamic_cast<const StAkfPredictor*>(f.get());
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, kNoiseM);
   E12Result r;
@@ -231,7 +379,7 @@ E12Result runE12(const std::string& name, int monitor, double Th, unsigned seed,
   for (int n = 0; n <= frames; ++n) {
     const double t = n * Th;
     f->update(t, vec1(paper::e12Position(cfg, t) + noise(rng)));
-    const int alarms = st != nullptr ? st->monitorAlarms() : 0;
+    const int alarms = f->monitorAlarms();  // 0 for a filter without a monitor
     if (t < cfg.t_start_s) r.alarms_at_rest = alarms;
     if (t >= cfg.t_start_s) {
       if (r.delay_frames < 0 && alarms > r.alarms_at_rest)

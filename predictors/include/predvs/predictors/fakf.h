@@ -23,6 +23,7 @@
 #include "predvs/predictors/cs_akf.h"
 #include "predvs/predictors/fuzzy.h"
 
+#include <memory>
 #include <vector>
 
 namespace predvs {
@@ -53,32 +54,65 @@ class InnovationWindow {
   int count_ = 0;
 };
 
+/// Default white-jerk density of fakf-classic with `model: ca`, px^2/s^5: kf-ca's (kDefaultQCa),
+/// so that fakf-classic on CA is kf-ca plus the fuzzy R adaptation, as on CV it is kf-cv plus it.
+/// It beats hold on 208/216 generated tracks (kf-ca: 214; q 1e5: 173, 5e5: 208, 1e6: 206; it loses
+/// on bursts and zigzag at 3 px); docs/PERFORMANCE.md "Defaults that hold", subsection "st-akf,
+/// st-akf-pm and fakf-classic on either motion model".
+inline constexpr double kDefaultQFakfClassicCa = 3e5;
+
 /// `fakf-classic`: the traditional fuzzy adaptive KF of Escamilla-Ambrosio & Mort, the baseline
-/// paper 000 compares against (docs/MODELS.md §3). Constant-velocity state x = [p, v] per channel
-/// (same model and defaults as kf-cv), no CS model, no P inflation. Per frame, once the window is
-/// full:
+/// paper 000 compares against (docs/MODELS.md §3). Motion model (`model`, a word): `cv` (default,
+/// the paper's) x = [p, v] per channel with kf-cv's model and defaults (white-acceleration density
+/// q, px^2/s^3), or `ca`: x = [p, v, a] with kf-ca's model and defaults (white-jerk density q,
+/// px^2/s^5). A template on the state size N (2 = cv, 3 = ca); makeFakfClassicPredictor() reads
+/// `model`. No CS model, no P inflation. Per frame, once the window is full:
 ///   DoM(k) = C(k) - S(k)                  (actual minus theoretical innovation power)
 ///   dR(k)  = fuzzy(DoM): N -> decrease, ZE -> keep, P -> increase (fuzzy::makeFakfDomSystem)
 ///   R(k)   = clamp(R(k-1) + dR(k), r_min, r_max)
-/// Parameters: q (100 px^2/s^3), r (initial R, 1 px^2), p0_vel (1e4), window (N_w, 10),
-/// dom_range (DoM universe half-width, 10 px^2), dr_max (dR universe half-width, 0.5 px^2 per
+/// The adaptation only sees the innovation and S, so it is the same on both models.
+/// Parameters: model (cv | ca, default cv), q (cv: 1e4 px^2/s^3 = kDefaultQCv; ca: 3e5 px^2/s^5 =
+/// kDefaultQFakfClassicCa), r (initial R, px^2, default `auto`), p0_vel ((px/s)^2, 1e4),
+/// p0_acc ((px/s^2)^2, 1e4; choice: accepted and unused on cv, so that one configuration runs on
+/// either model, e.g. a noise fit's structural variants that change `model` alone), window (N_w,
+/// 10), dom_range (DoM universe half-width, 10 px^2), dr_max (dR universe half-width, 0.5 px^2 per
 /// frame; choice: the original paper's ranges are not in paper 000), r_min (r/100 px^2),
 /// r_max (100 r px^2), coast_tau_s (s, 0.2, channel_predictor.h); q also takes `auto`
-/// (process_noise_adapt.h). q and r default to kf-cv's, so the only difference is the adaptation.
-class FakfClassicPredictor : public ChannelPredictor<2> {
+/// (process_noise_adapt.h). q and r default to kf-cv's (kf-ca's on ca), so the only difference is
+/// the adaptation.
+template <int N>
+class FakfClassicPredictor : public ChannelPredictor<N> {
+  using Base = ChannelPredictor<N>;
+
  public:
   FakfClassicPredictor(int channels, const Params& params);
   std::string name() const override { return "fakf-classic"; }
+  /// q (white-acceleration density on cv, white-jerk density on ca) and r (the initial R).
   std::vector<NoiseParameter> noiseParameters() const override {
-    return {accelerationDensityParameter("q", q_), measurementNoiseParameter()};
+    if constexpr (N == 2)
+      return {accelerationDensityParameter("q", q_), this->measurementNoiseParameter()};
+    else
+      return {jerkDensityParameter("q", q_), this->measurementNoiseParameter()};
   }
+  /// {model: cv} and {model: ca}.
+  std::vector<Params> structuralVariants() const override;
 
   /// Current (adapted) measurement variance of channel c, px^2.
   double adaptedR(int c) const { return measurementNoise(c); }
 
  protected:
-  Mat<2> transition(int, double dt) const override { return cvTransition(dt); }
-  Mat<2> processNoise(int c, double dt) const override { return cvProcessNoise(q_ * processNoiseScale(c), dt); }
+  Mat<N> transition(int, double dt) const override {
+    if constexpr (N == 2)
+      return cvTransition(dt);
+    else
+      return caTransition(dt);
+  }
+  Mat<N> processNoise(int c, double dt) const override {
+    if constexpr (N == 2)
+      return cvProcessNoise(q_ * this->processNoiseScale(c), dt);
+    else
+      return caProcessNoise(q_ * this->processNoiseScale(c), dt);
+  }
   double measurementNoise(int c) const override { return r_.at(static_cast<size_t>(c)); }
   void resetAdaptation() override;
   void step(int c, double dt, double z) override;
@@ -92,6 +126,13 @@ class FakfClassicPredictor : public ChannelPredictor<2> {
   std::vector<double> r_;
   std::vector<InnovationWindow> window_;
 };
+
+extern template class FakfClassicPredictor<2>;
+extern template class FakfClassicPredictor<3>;
+
+/// The registry's factory: reads `model` (cv | ca, default cv) and builds FakfClassicPredictor<2>
+/// or <3>. Another word is a std::invalid_argument naming `model`.
+std::unique_ptr<Predictor> makeFakfClassicPredictor(int channels, const Params& params);
 
 
 /// `fakf`: the improved fuzzy adaptive KF of paper 000 §4 (docs/MODELS.md §3), built on the adaptive CS
