@@ -195,6 +195,15 @@ TEST(CsModel, ForecastExtrapolatesTheSignificantPartOfVelocityAndAcceleration) {
   EXPECT_NEAR(f.predictPosition(0, f.time() + h), expected, 1e-9);
   EXPECT_TRUE(matricesNear(Vec<3>(f.gaussian(0).x), g.x, 0.0));
   EXPECT_LT(w_a * w_v, 0.999);
+  // and cs-akf weighs the acceleration only (shrink_v_sigmas defaults to 0 there)
+  CsAkfPredictor cs(1, {});
+  for (int k = 0; k <= 10; ++k) {
+    z << 20.0 * 0.1 * k + 0.5 * 50.0 * std::pow(0.1 * k, 2);
+    cs.update(0.1 * k, z);
+  }
+  const Gaussian<3> gc = cs.gaussian(0);
+  const double w_c = significanceWeight(gc.x(2), gc.P(2, 2), kDefaultShrinkSigmasCsAkf);
+  EXPECT_NEAR(cs.predictPosition(0, cs.time() + h), gc.x(0) + gc.x(1) * h + 0.5 * w_c * gc.x(2) * h * h, 1e-9);
   // and with shrink_sigmas = 0 it is paper 000's CA mean
   CsAkfAdaptivePredictor paper(1, {{"shrink_sigmas", 0.0}});
   for (int k = 0; k <= 10; ++k) {

@@ -63,9 +63,10 @@ double rayleighVariance(double abar, double a_max, double a_neg_max, double sigm
 /// that the filter cannot tell from zero). Units: m and sqrt(var) in the same unit (px/s, px/s^2).
 double significanceWeight(double m, double var, double n_sigmas);
 
-/// Default `shrink_sigmas` of cs-akf (3: a velocity or acceleration 3 standard deviations from zero
-/// counts half) and of cs-akf-adaptive and fakf (2). docs/MODELS.md §15 and docs/PERFORMANCE.md
-/// "Defaults that hold" give the grids that chose them; 0 turns the weighting off (paper 000's CS).
+/// Default `shrink_sigmas` of cs-akf (3: an acceleration 3 standard deviations from zero counts
+/// half; its velocity is not weighted) and of cs-akf-adaptive and fakf (2, velocity too). See
+/// CsKalmanPredictor, docs/MODELS.md §15 and docs/PERFORMANCE.md "Defaults that hold" for the grids
+/// that chose them; 0 turns the weighting off (paper 000's CS filter).
 inline constexpr double kDefaultShrinkSigmasCsAkf = 3.0;
 inline constexpr double kDefaultShrinkSigmasAdaptive = 2.0;
 
@@ -95,28 +96,37 @@ inline constexpr double kDefaultShrinkSigmasAdaptive = 2.0;
 ///           paper 000's CS filter): significance weighting (issue 11, docs/MODELS.md §15). With
 ///           w(m, var) = m^2 / (m^2 + n^2 var) (significanceWeight):
 ///             forecast   the horizon query extrapolates x' = [p, w_v v, w_v w_a a] instead of
-///                        x(k|k), w_v = w(v, P_vv), w_a = w(a, P_aa): a velocity or acceleration
-///                        the filter cannot tell from zero (n standard deviations: weight 1/2) is
-///                        not extrapolated over the horizon; a well-determined one is, in full;
+///                        x(k|k), w_a = w(a, P_aa) with n = shrink_sigmas, w_v = w(v, P_vv) with
+///                        n = shrink_v_sigmas: a velocity or acceleration the filter cannot tell
+///                        from zero (n standard deviations: weight 1/2) is not extrapolated over the
+///                        horizon; a well-determined one is, in full;
 ///             time update  the CS mean abar is the significant part of the acceleration,
 ///                        a(k|k-1) = w_a a(k-1|k-1) (mean F_CA x with that a; P as before).
 ///           Stated in px and s through the filter's own P: the same n means "n standard deviations"
-///           at any frame rate and noise, and the weighting switches itself off where v and a are
-///           well determined (high rate, low noise) and towards `hold` where they are not (10 Hz,
+///           at any frame rate and noise; the weighting fades out where v and a are well determined
+///           (high rate, low noise) and moves the forecast towards `hold` where they are not (10 Hz,
 ///           3 px). Why: at 10-15 Hz and 3 px noise the CA extrapolation of a noisy acceleration
 ///           (and, on the slow `hand` sway, of a noisy velocity) over a 0.2 s horizon cost more than
-///           hold's lag, and an acceleration left in the state after a burst overshoots.
+///           hold's lag, and an acceleration left in the state after a burst overshot.
 ///           Measured (`predvs track-study`, 216 tracks, docs/PERFORMANCE.md "Defaults that hold"):
-///           cs-akf-adaptive beats hold on 211 -> 216 (geometric-mean ratio 0.552 -> 0.535), cs-akf
-///           214 -> 216 (0.607 -> 0.590), fakf 203 -> 216 (with r_band, fakf.h); n = 2 for cs-akf
-///           leaves hand 10 Hz 3 px #1 at x1.007, hence 3; the forecast alone (shrink_update_sigmas
-///           0) leaves 1-2 bursts at 30 Hz 3 px.
+///           beats hold on cs-akf 214 -> 216 (geometric-mean ratio 0.607 -> 0.581), cs-akf-adaptive
+///           211 -> 216 (0.552 -> 0.535), fakf 203 -> 216 (0.581 -> 0.539, with r_band, fakf.h), and
+///           on all tracks of both held-out grids. cs-akf with n = 2 leaves hand 10 Hz 3 px #1 at
+///           x1.007, hence 3; the forecast alone (shrink_update_sigmas 0) leaves 1-2 bursts at 30 Hz
+///           3 px for cs-akf-adaptive.
+///   shrink_v_sigmas (default: shrink_sigmas for cs-akf-adaptive and fakf, 0 for cs-akf): n of the
+///           velocity weight w_v. cs-akf-adaptive and fakf need it on one held-out track (hand 10 Hz
+///           3 px #101, where kf-cv only ties hold: x1.155 / x1.166 without it); cs-akf beats hold on
+///           every grid without it, and it costs the closed loop of ibvs-moving-target (slow image
+///           motion, a high-bandwidth filter: v is "not significant"): cs-akf's rmse there 3.63 px
+///           with 0, 8.96 with 2, 13.9 with 3 (2.37 px without any weighting; hold 36.5).
 ///   shrink_update_sigmas (default: shrink_sigmas): n of the time-update weighting alone (0: only
 ///           the forecast is weighted). Known cost: with a low process noise (a floor sigma_min_sq of
 ///           10 as in the papers' scenarios, or a small a_max) the gain on a is too small to rebuild an
 ///           acceleration the weighting removed, and a slow constant acceleration is followed like a
 ///           CV filter (fakf on E2, floor 10: final error 20 px instead of 1 px); use 0 there. The
-///           papers' scenarios (data/scenarios, data/params) pin shrink_sigmas: 0.
+///           papers' scenarios (data/scenarios, data/params) pin shrink_sigmas: 0, which also turns
+///           the other two off unless they are given.
 class CsKalmanPredictor : public ChannelPredictor<3> {
  public:
   /// Acceleration correlation rate (1/s).
@@ -132,8 +142,9 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
 
   /// Reads alpha, r, p0_vel, p0_acc from params (derived classes read their own keys).
   /// auto_r: whether an absent `r` means `auto` (noise_estimate.h) or the number 1 px^2.
-  /// default_shrink_sigmas: the default of `shrink_sigmas` for this filter.
-  CsKalmanPredictor(int channels, const Params& params, bool auto_r, double default_shrink_sigmas);
+  /// default_shrink_sigmas: the default of `shrink_sigmas` for this filter; weigh_velocity: whether
+  /// `shrink_v_sigmas` defaults to shrink_sigmas (true) or to 0.
+  CsKalmanPredictor(int channels, const Params& params, bool auto_r, double default_shrink_sigmas, bool weigh_velocity);
 
   Mat<3> transition(int, double dt) const override { return caTransition(dt); }
   Mat<3> processNoise(int c, double dt) const override;
@@ -157,11 +168,13 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
   /// The Gaussian the forecast extrapolates: x(k|k) with v and a weighted by their significance
   /// (shrink_sigmas, see the class comment).
   Gaussian<3> forecastStart(int c) const;
+  bool forecastWeighted() const { return shrink_sigmas_ > 0.0 || shrink_v_sigmas_ > 0.0; }
 
  private:
   double alpha_;
   double shrink_sigmas_;
   double shrink_update_sigmas_;
+  double shrink_v_sigmas_;
 };
 
 /// `cs-akf`: CS Kalman filter with the modified-Rayleigh variance and fixed limits:
