@@ -206,7 +206,8 @@ double rayleighVariance(double abar, double a_max, double a_neg_max, double sigm
 
 // ---------------------------------------------------------------------------------------------
 
-CsKalmanPredictor::CsKalmanPredictor(int channels, const Params& params, bool auto_r)
+CsKalmanPredictor::CsKalmanPredictor(int channels, const Params& params, bool auto_r, double default_shrink_sigmas,
+                                     bool weigh_velocity)
     : ChannelPredictor<3>(channels,
                           auto_r || params.texts().count("r") ? measurementNoiseParam(params, 1.0)
                                                               : params.get("r", 1.0, 1e-12, 1e12),
@@ -214,7 +215,40 @@ CsKalmanPredictor::CsKalmanPredictor(int channels, const Params& params, bool au
                           params.get("p0_acc", 1e4, 0.0, 1e12)),
       alpha_(params.get("alpha", 1.0, 1e-6, 1e3)) {
   readCoastParam(params);
+  shrink_sigmas_ = params.get("shrink_sigmas", default_shrink_sigmas, 0.0, 1e3);
+  shrink_update_sigmas_ = params.get("shrink_update_sigmas", shrink_sigmas_, 0.0, 1e3);
+  shrink_v_sigmas_ = params.get("shrink_v_sigmas", weigh_velocity ? shrink_sigmas_ : 0.0, 0.0, 1e3);
   if ((auto_r || params.texts().count("r")) && isAutoMeasurementNoise(params)) enableAutoNoise();
+}
+
+double significanceWeight(double m, double var, double n_sigmas) {
+  if (!(n_sigmas > 0.0)) return 1.0;
+  const double m2 = m * m;
+  const double d = m2 + n_sigmas * n_sigmas * std::max(var, 0.0);
+  return d > 0.0 ? m2 / d : 0.0;
+}
+
+Gaussian<3> CsKalmanPredictor::forecastStart(int c) const {
+  Gaussian<3> g = gaussian(c);
+  g.x(2) *= significanceWeight(g.x(2), g.P(2, 2), shrink_sigmas_);
+  const double w_v = significanceWeight(g.x(1), g.P(1, 1), shrink_v_sigmas_);
+  g.x(1) *= w_v;
+  g.x(2) *= w_v;
+  return g;
+}
+
+ChannelEstimate CsKalmanPredictor::predict(int c, double t_s) const {
+  if (!forecastWeighted() || !initialized(c) || !(t_s - time() > 0.0)) return ChannelPredictor<3>::predict(c, t_s);
+  const double dt = t_s - time();
+  Gaussian<3> g = forecastStart(c);
+  timeUpdate(g, transition(c, dt), processNoise(c, dt));
+  return toEstimate(g);
+}
+
+double CsKalmanPredictor::predictPosition(int c, double t_s) const {
+  if (!forecastWeighted() || !initialized(c) || !(t_s - time() > 0.0))
+    return ChannelPredictor<3>::predictPosition(c, t_s);
+  return predictedPosition(forecastStart(c), transition(c, t_s - time()));
 }
 
 Mat<3> CsKalmanPredictor::processNoise(int c, double dt) const {
@@ -231,6 +265,9 @@ void CsKalmanPredictor::step(int c, double dt, double z) {
 void CsKalmanPredictor::predictStep(int c, double dt) {
   // Q first: it depends on the acceleration before the prediction (abar = a(k-1|k-1)).
   const Mat<3> Q = processNoise(c, dt);
+  // The CS mean abar = the significant part of the acceleration estimate (shrink_sigmas).
+  Gaussian<3>& g = channelGaussian(c);
+  g.x(2) *= significanceWeight(g.x(2), g.P(2, 2), shrink_update_sigmas_);
   timeUpdate(channelGaussian(c), transition(c, dt), Q);
 }
 
@@ -242,7 +279,7 @@ void CsKalmanPredictor::correctStep(int c, double z) {
 // ---------------------------------------------------------------------------------------------
 
 CsAkfPredictor::CsAkfPredictor(int channels, const Params& params)
-    : CsKalmanPredictor(channels, params, /*auto_r=*/false),
+    : CsKalmanPredictor(channels, params, /*auto_r=*/false, kDefaultShrinkSigmasCsAkf, /*weigh_velocity=*/false),
       a_max_(params.get("a_max", 200.0, 1e-9, 1e9)),
       a_neg_max_(params.get("a_neg_max", 200.0, 1e-9, 1e9)),
       sigma0_sq_(params.get("sigma0_sq", 1.0, 0.0, 1e12)) {}
@@ -267,7 +304,7 @@ constexpr double kDefaultSigmaMinSq = 1e5;
 constexpr double kDefaultSigmaMaxSq = 1e6;
 
 CsAkfAdaptivePredictor::CsAkfAdaptivePredictor(int channels, const Params& params)
-    : CsKalmanPredictor(channels, params),
+    : CsKalmanPredictor(channels, params, /*auto_r=*/true, kDefaultShrinkSigmasAdaptive, /*weigh_velocity=*/true),
       sigma_max_sq_(params.get("sigma_max_sq", kDefaultSigmaMaxSq, 0.0, 1e12)),
       // a ceiling given below the default floor lowers the default floor with it
       sigma_min_sq_(params.get("sigma_min_sq", std::min(kDefaultSigmaMinSq, sigma_max_sq_), 0.0, 1e12)),

@@ -168,6 +168,7 @@ FakfPredictor::FakfPredictor(int channels, const Params& params)
       r_max_(params.get("r_max", 100.0 * r0_, 1e-12, 1e12)),
       de_min_(params.get("de_min", 2.0, 0.0, 1e9)),
       de_sigma_(params.get("de_sigma", 3.0, 0.0, 1e3)),
+      r_band_(params.get("r_band", kDefaultFakfRBand, 1.0, 1e6)),
       inflate_below_de_min_(params.get("inflate_below_de_min", 0.0, 0.0, 1.0) != 0.0),
       beta_(fuzzy::makeFakfBetaSystem(betaConfig(params))),
       gamma_(fuzzy::makeFakfGammaSystem(gammaConfig(params))) {
@@ -205,8 +206,8 @@ void FakfPredictor::inflatePrior(int c, double dt) {
   const InnovationWindow::Moments m = ch.window.moments();
   const double e_mean = m.mean;
   const double x[2] = {e_mean, m.mean_square - S};
-  const double lo = autoNoise() && relative_bounds_ ? 0.01 * nominalNoise(c) : r_min_;
-  const double hi = autoNoise() && relative_bounds_ ? 100.0 * nominalNoise(c) : r_max_;
+  const double lo = autoNoise() && relative_bounds_ ? nominalNoise(c) / r_band_ : r_min_;
+  const double hi = autoNoise() && relative_bounds_ ? r_band_ * nominalNoise(c) : r_max_;
   ch.r = std::clamp(beta_.evaluate(x) * ch.r, lo, hi);
 
   // P(k|k-1) <- gamma P(k|k-1), decided every inflation_period measured frames.

@@ -141,8 +141,8 @@ TEST(CsModel, MeanPredictionWithCurrentAccelerationIsConstantAcceleration) {
 }
 
 TEST(CsModel, FilterQueryUsesCaMeanAndSingerNoise) {
-  // GIVEN a cs-akf that has seen a few measurements
-  CsAkfPredictor f(1, {{"alpha", 0.7}, {"a_max", 50.0}, {"a_neg_max", 50.0}});
+  // GIVEN a cs-akf (paper 000's model: no significance weighting) that has seen a few measurements
+  CsAkfPredictor f(1, {{"alpha", 0.7}, {"a_max", 50.0}, {"a_neg_max", 50.0}, {"shrink_sigmas", 0.0}});
   Eigen::VectorXd z(1);
   for (int k = 0; k < 10; ++k) {
     z << 3.0 * k * 0.05 + 0.5 * 4.0 * std::pow(k * 0.05, 2);
@@ -158,6 +158,60 @@ TEST(CsModel, FilterQueryUsesCaMeanAndSingerNoise) {
   EXPECT_TRUE(matricesNear(Vec<3>(e.x), Vec<3>(F * g.x), 1e-12));
   EXPECT_TRUE(matricesNear(Mat<3>(e.P), P, 1e-12));
   EXPECT_NEAR(f.accelerationVariance(0), rayleighVariance(g.x(2), 50.0, 50.0, 1.0), 1e-12);
+}
+
+TEST(Significance, WeightIsHalfAtNSigmasAndOneWhenOff) {
+  // w = m^2 / (m^2 + n^2 var): 1/2 at |m| = n sigma, -> 1 far out, 0 at zero, 1 when n = 0
+  EXPECT_DOUBLE_EQ(significanceWeight(6.0, 9.0, 2.0), 0.5);
+  EXPECT_DOUBLE_EQ(significanceWeight(-6.0, 9.0, 2.0), 0.5);
+  EXPECT_DOUBLE_EQ(significanceWeight(0.0, 9.0, 2.0), 0.0);
+  EXPECT_DOUBLE_EQ(significanceWeight(0.0, 0.0, 2.0), 0.0);
+  EXPECT_DOUBLE_EQ(significanceWeight(5.0, 9.0, 0.0), 1.0);
+  EXPECT_GT(significanceWeight(60.0, 9.0, 2.0), 0.99);
+  EXPECT_LT(significanceWeight(0.6, 9.0, 2.0), 0.01);
+}
+
+TEST(CsModel, ForecastExtrapolatesTheSignificantPartOfVelocityAndAcceleration) {
+  // GIVEN cs-akf-adaptive with its defaults (shrink_sigmas = 2) after 1 s of a noisy accelerating
+  // target at 10 Hz
+  CsAkfAdaptivePredictor f(1, {});
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 3.0);
+  Eigen::VectorXd z(1);
+  for (int k = 0; k <= 10; ++k) {
+    const double t = 0.1 * k;
+    z << 20.0 * t + 0.5 * 50.0 * t * t + noise(rng);
+    f.update(t, z);
+  }
+  // WHEN the position is queried 0.2 s ahead
+  const double h = 0.2;
+  const Gaussian<3> g = f.gaussian(0);
+  const double w_a = significanceWeight(g.x(2), g.P(2, 2), kDefaultShrinkSigmasAdaptive);
+  const double w_v = significanceWeight(g.x(1), g.P(1, 1), kDefaultShrinkSigmasAdaptive);
+  const double expected = g.x(0) + w_v * g.x(1) * h + 0.5 * w_v * w_a * g.x(2) * h * h;
+  // THEN the forecast is the CA extrapolation of the weighted velocity and acceleration (both
+  // query paths), the filter's state is untouched, and the weights are really below 1 here
+  EXPECT_NEAR(f.predict(0, f.time() + h).x(0), expected, 1e-9);
+  EXPECT_NEAR(f.predictPosition(0, f.time() + h), expected, 1e-9);
+  EXPECT_TRUE(matricesNear(Vec<3>(f.gaussian(0).x), g.x, 0.0));
+  EXPECT_LT(w_a * w_v, 0.999);
+  // and cs-akf weighs the acceleration only (shrink_v_sigmas defaults to 0 there)
+  CsAkfPredictor cs(1, {});
+  for (int k = 0; k <= 10; ++k) {
+    z << 20.0 * 0.1 * k + 0.5 * 50.0 * std::pow(0.1 * k, 2);
+    cs.update(0.1 * k, z);
+  }
+  const Gaussian<3> gc = cs.gaussian(0);
+  const double w_c = significanceWeight(gc.x(2), gc.P(2, 2), kDefaultShrinkSigmasCsAkf);
+  EXPECT_NEAR(cs.predictPosition(0, cs.time() + h), gc.x(0) + gc.x(1) * h + 0.5 * w_c * gc.x(2) * h * h, 1e-9);
+  // and with shrink_sigmas = 0 it is paper 000's CA mean
+  CsAkfAdaptivePredictor paper(1, {{"shrink_sigmas", 0.0}});
+  for (int k = 0; k <= 10; ++k) {
+    z << 20.0 * 0.1 * k;
+    paper.update(0.1 * k, z);
+  }
+  const Gaussian<3> gp = paper.gaussian(0);
+  EXPECT_NEAR(paper.predictPosition(0, paper.time() + h), (caTransition(h) * gp.x)(0), 1e-9);
 }
 
 TEST(CsModel, RayleighVariance) {
@@ -269,7 +323,7 @@ TEST(CsAdaptive, FloorDecidesSmoothMotionError) {
   // GIVEN the 200 px circle at 0.15 rad/s, error over [10, 60] s, for floors 1e-3 .. 100
   std::vector<double> rmse;
   for (double floor : {1e-3, 1e-2, 1e-1, 1.0, 10.0, 100.0}) {
-    CsAkfAdaptivePredictor f(2, {{"sigma_min_sq", floor}});
+    CsAkfAdaptivePredictor f(2, {{"sigma_min_sq", floor}, {"shrink_sigmas", 0.0}});
     rmse.push_back(predictionRmse(f, circle200, 60.0, 10.0, 60.0, 3));
     std::printf("  circle r=200: sigma_min_sq=%-6g rmse=%.3f px\n", floor, rmse.back());
   }
@@ -282,7 +336,7 @@ TEST(CsAdaptive, FloorDecidesSmoothMotionError) {
 TEST(CsAdaptive, LowPassedReferenceSoftensATooLowFloor) {
   // GIVEN the 200 px circle and the lowest floor of the sweep (1e-3, which over-smooths)
   auto rmse = [](double tau_s) {
-    CsAkfAdaptivePredictor f(2, {{"sigma_min_sq", 1e-3}, {"adapt_tau_s", tau_s}});
+    CsAkfAdaptivePredictor f(2, {{"sigma_min_sq", 1e-3}, {"adapt_tau_s", tau_s}, {"shrink_sigmas", 0.0}});
     return predictionRmse(f, circle200, 60.0, 10.0, 60.0, 3);
   };
   const double one_step = rmse(0.0), low_passed = rmse(3.0);

@@ -100,7 +100,7 @@ void expectPinnedState(const F& f, const GoldenChannel (&expected)[2]) {
 
 TEST(FuzzyGolden, FakfEndsAtThePinnedState) {
   // GIVEN fakf with its defaults before issue 11 (the pinned state was computed with them)
-  FakfPredictor f(2, {{"sigma_min_sq", 10.0}, {"sigma_max_sq", 1000.0}, {"r", 1.0}, {"de_sigma", 0.0}});
+  FakfPredictor f(2, {{"sigma_min_sq", 10.0}, {"sigma_max_sq", 1000.0}, {"r", 1.0}, {"de_sigma", 0.0}, {"shrink_sigmas", 0.0}});
   // WHEN it filters the golden scenario
   runGoldenScenario(f);
   // THEN position, velocity, position variance and adapted R match the reference, and the P

@@ -24,7 +24,8 @@ namespace {
 Params preIssue11(const std::string& name) {
   if (name == "kf-cv" || name == "fakf-classic") return {{"q", 100.0}, {"r", 1.0}};
   if (name == "kf-ca") return {{"q", 1000.0}, {"r", 1.0}};
-  if (name == "cs-akf-adaptive" || name == "fakf") return {{"sigma_min_sq", 10.0}, {"sigma_max_sq", 1000.0}, {"r", 1.0}};
+  if (name == "cs-akf-adaptive" || name == "fakf")
+    return {{"sigma_min_sq", 10.0}, {"sigma_max_sq", 1000.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}};
   return {};
 }
 

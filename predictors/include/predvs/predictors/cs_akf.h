@@ -56,6 +56,20 @@ Mat<3> singerProcessNoise(double alpha, double sigma2, double dt);
 /// -a_neg_max < abar < a_max; outside, the formula is applied as written (the variance grows again).
 double rayleighVariance(double abar, double a_max, double a_neg_max, double sigma0_sq);
 
+/// Significance weight of an estimate m with variance var (issue 11, "Defaults that hold"):
+///   w = m^2 / (m^2 + n^2 var),   n = n_sigmas;   w = 1 when n_sigmas = 0 (no weighting).
+/// w -> 1 for an estimate many standard deviations away from zero, w = 1/2 at exactly n standard
+/// deviations, w -> 0 for an estimate buried in its own uncertainty (a velocity or an acceleration
+/// that the filter cannot tell from zero). Units: m and sqrt(var) in the same unit (px/s, px/s^2).
+double significanceWeight(double m, double var, double n_sigmas);
+
+/// Default `shrink_sigmas` of cs-akf (3: an acceleration 3 standard deviations from zero counts
+/// half; its velocity is not weighted) and of cs-akf-adaptive and fakf (2, velocity too). See
+/// CsKalmanPredictor, docs/MODELS.md §15 and docs/PERFORMANCE.md "Defaults that hold" for the grids
+/// that chose them; 0 turns the weighting off (paper 000's CS filter).
+inline constexpr double kDefaultShrinkSigmasCsAkf = 3.0;
+inline constexpr double kDefaultShrinkSigmasAdaptive = 2.0;
+
 /// Common part of the CS filters: F_CA mean prediction, F_CA / Singer-Q covariance propagation,
 /// Joseph-form scalar position update, and the hooks an adaptive variant overrides. Derived classes
 /// only say which acceleration variance sigma^2 drives Q (accelerationVariance()).
@@ -78,10 +92,47 @@ double rayleighVariance(double abar, double a_max, double a_neg_max, double sigm
 ///   p0_vel  ((px/s)^2, default 1e4): initial velocity variance (100 px/s std covers 10..100 px/s).
 ///   p0_acc  ((px/s^2)^2, default 1e4): initial acceleration variance (as kf-ca).
 ///   coast_tau_s (s, default 0.2): velocity decay on frames without a measurement (channel_predictor.h).
+///   shrink_sigmas (dimensionless n, default 3 for cs-akf, 2 for cs-akf-adaptive and fakf; 0 = off,
+///           paper 000's CS filter): significance weighting (issue 11, docs/MODELS.md §15). With
+///           w(m, var) = m^2 / (m^2 + n^2 var) (significanceWeight):
+///             forecast   the horizon query extrapolates x' = [p, w_v v, w_v w_a a] instead of
+///                        x(k|k), w_a = w(a, P_aa) with n = shrink_sigmas, w_v = w(v, P_vv) with
+///                        n = shrink_v_sigmas: a velocity or acceleration the filter cannot tell
+///                        from zero (n standard deviations: weight 1/2) is not extrapolated over the
+///                        horizon; a well-determined one is, in full;
+///             time update  the CS mean abar is the significant part of the acceleration,
+///                        a(k|k-1) = w_a a(k-1|k-1) (mean F_CA x with that a; P as before).
+///           Stated in px and s through the filter's own P: the same n means "n standard deviations"
+///           at any frame rate and noise; the weighting fades out where v and a are well determined
+///           (high rate, low noise) and moves the forecast towards `hold` where they are not (10 Hz,
+///           3 px). Why: at 10-15 Hz and 3 px noise the CA extrapolation of a noisy acceleration
+///           (and, on the slow `hand` sway, of a noisy velocity) over a 0.2 s horizon cost more than
+///           hold's lag, and an acceleration left in the state after a burst overshot.
+///           Measured (`predvs track-study`, 216 tracks, docs/PERFORMANCE.md "Defaults that hold"):
+///           beats hold on cs-akf 214 -> 216 (geometric-mean ratio 0.607 -> 0.581), cs-akf-adaptive
+///           211 -> 216 (0.552 -> 0.535), fakf 203 -> 216 (0.581 -> 0.539, with r_band, fakf.h), and
+///           on all tracks of both held-out grids. cs-akf with n = 2 leaves hand 10 Hz 3 px #1 at
+///           x1.007, hence 3; the forecast alone (shrink_update_sigmas 0) leaves 1-2 bursts at 30 Hz
+///           3 px for cs-akf-adaptive.
+///   shrink_v_sigmas (default: shrink_sigmas for cs-akf-adaptive and fakf, 0 for cs-akf): n of the
+///           velocity weight w_v. cs-akf-adaptive and fakf need it on one held-out track (hand 10 Hz
+///           3 px #101, where kf-cv only ties hold: x1.155 / x1.166 without it); cs-akf beats hold on
+///           every grid without it, and it costs the closed loop of ibvs-moving-target (slow image
+///           motion, a high-bandwidth filter: v is "not significant"): cs-akf's rmse there 3.63 px
+///           with 0, 8.96 with 2, 13.9 with 3 (2.37 px without any weighting; hold 36.5).
+///   shrink_update_sigmas (default: shrink_sigmas): n of the time-update weighting alone (0: only
+///           the forecast is weighted). Known cost: with a low process noise (a floor sigma_min_sq of
+///           10 as in the papers' scenarios, or a small a_max) the gain on a is too small to rebuild an
+///           acceleration the weighting removed, and a slow constant acceleration is followed like a
+///           CV filter (fakf on E2, floor 10: final error 20 px instead of 1 px); use 0 there. The
+///           papers' scenarios (data/scenarios, data/params) pin shrink_sigmas: 0, which also turns
+///           the other two off unless they are given.
 class CsKalmanPredictor : public ChannelPredictor<3> {
  public:
   /// Acceleration correlation rate (1/s).
   double alpha() const { return alpha_; }
+  ChannelEstimate predict(int channel, double t_s) const override;
+  double predictPosition(int channel, double t_s) const override;
   /// sigma^2 ((px/s^2)^2) that drives Q for the next time update of channel c.
   virtual double accelerationVariance(int c) const = 0;
 
@@ -91,7 +142,9 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
 
   /// Reads alpha, r, p0_vel, p0_acc from params (derived classes read their own keys).
   /// auto_r: whether an absent `r` means `auto` (noise_estimate.h) or the number 1 px^2.
-  CsKalmanPredictor(int channels, const Params& params, bool auto_r = true);
+  /// default_shrink_sigmas: the default of `shrink_sigmas` for this filter; weigh_velocity: whether
+  /// `shrink_v_sigmas` defaults to shrink_sigmas (true) or to 0.
+  CsKalmanPredictor(int channels, const Params& params, bool auto_r, double default_shrink_sigmas, bool weigh_velocity);
 
   Mat<3> transition(int, double dt) const override { return caTransition(dt); }
   Mat<3> processNoise(int c, double dt) const override;
@@ -112,8 +165,16 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
   /// Mutable Gaussian of channel c (x(k|k) after a step, x(k|k-1) inside inflatePrior).
   Gaussian<3>& channelGaussian(int c) { return state_[static_cast<size_t>(c)].g; }
 
+  /// The Gaussian the forecast extrapolates: x(k|k) with v and a weighted by their significance
+  /// (shrink_sigmas, see the class comment).
+  Gaussian<3> forecastStart(int c) const;
+  bool forecastWeighted() const { return shrink_sigmas_ > 0.0 || shrink_v_sigmas_ > 0.0; }
+
  private:
   double alpha_;
+  double shrink_sigmas_;
+  double shrink_update_sigmas_;
+  double shrink_v_sigmas_;
 };
 
 /// `cs-akf`: CS Kalman filter with the modified-Rayleigh variance and fixed limits:
