@@ -132,10 +132,18 @@ class ImmPredictor : public Predictor {
   bool r_auto_;
   std::vector<Mode> modes_;
   ModeMatrix rates_;
-  // chain(dt) of the last dt asked (every frame of a uniform track asks the same one): the same
-  // matrix, computed once. Mutable cache of a const function; an instance is used by one thread.
-  mutable double chain_dt_ = -1.0;
-  mutable ModeMatrix chain_;
+  // chain(dt) of the last kChainCacheSize distinct dt asked, replaced in turn: the frame period
+  // of a recorded track takes a handful of values (times written with 10 significant digits give
+  // differences that vary in their last bits, 54 distinct ones on the 2-million-row track of
+  // docs/PERFORMANCE.md, a few at a time), so one entry is too few. Each entry is the matrix
+  // computeChain(dt) returns, so the results are the same bits. Mutable cache of a const
+  // function; an instance is used by one thread at a time.
+  static constexpr int kChainCacheSize = 8;
+  ModeMatrix computeChain(double dt) const;
+  const ModeMatrix& cachedChain(double dt) const;
+  mutable std::array<double, kChainCacheSize> chain_dt_;
+  mutable std::array<ModeMatrix, kChainCacheSize> chain_;
+  mutable int chain_next_ = 0;
   std::vector<Channel> chan_;
 };
 
