@@ -124,8 +124,11 @@ class ImmPredictor : public Predictor {
   };
   Mat<3> transition(int j, double dt) const;
   Mat<3> processNoise(int j, double dt) const;
-  static Gaussian<3> embed(const Gaussian<3>& from, int dim_from, const Gaussian<3>& into, int dim_into);
   Gaussian<3> combine(const std::array<Gaussian<3>, kMaxModes>& g, const std::array<double, kMaxModes>& w) const;
+  /// The mixed prior of mode j from the posteriors g with weights w (mixing, above), on the states
+  /// mode j has (the others 0): combine() of the posteriors as mode j sees them, the same bits there.
+  void mixInto(const std::array<Gaussian<3>, kMaxModes>& g, const std::array<double, kMaxModes>& w, int j,
+               Gaussian<3>& out) const;
 
   double q_cp_, q_cv_, q_ca_, alpha_, r_, p0_vel_, p0_acc_;
   double coast_tau_s_;  ///< s; 0 = no coasting
