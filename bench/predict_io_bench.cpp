@@ -1,8 +1,8 @@
 // predvs bench — throughput of `predvs predict` (issue 11 item 8, docs/PERFORMANCE.md "predict
 // throughput"): reading a track CSV (readFeatureTrack) and running every registered predictor
-// along it (predictTrack, on 1 and 2 threads; and each predictor alone, BM_PredictTrack/<name>), and writing predictions.csv + summary.json
-// (writePredictionOutputs without the plot, 1 and 2 threads), separately, so that the predictors' own
-// share of a run is measured.
+// along it (predictTrack, on 1 and 2 threads; and each predictor alone, BM_PredictTrack/<name>),
+// and writing predictions.csv + summary.json (writePredictionOutputs without the plot, 1 and 2
+// threads), separately, so that the predictors' own share of a run is measured.
 //
 // The track: PREDVS_BENCH_TRACK=FILE if set (e.g. the 2-million-row `predvs make-track` file of
 // docs/PERFORMANCE.md), else a generated one-point track of 200,000 rows at 30 Hz (t,u,v,u_true,

@@ -209,8 +209,9 @@ namespace {
 
 /// mixInto on D states (a template so that the loops over the states unroll).
 template <int D>
-void mixStates(const std::array<Gaussian<3>, ImmPredictor::kMaxModes>& g, const std::array<double, ImmPredictor::kMaxModes>& w,
-               const std::array<int, ImmPredictor::kMaxModes>& dims, int m, int j, Gaussian<3>& out) {
+void mixStates(const std::array<Gaussian<3>, ImmPredictor::kMaxModes>& g,
+               const std::array<double, ImmPredictor::kMaxModes>& w, const std::array<int, ImmPredictor::kMaxModes>& dims,
+               int m, int j, Gaussian<3>& out) {
   const Gaussian<3>& own = g[static_cast<size_t>(j)];
   double sx[ImmPredictor::kMaxModes][D];
   double x[D];
