@@ -222,6 +222,9 @@ void mixStates(const std::array<Gaussian<3>, ImmPredictor::kMaxModes>& g,
   }
   for (int i = 0; i < m; ++i)
     for (int r = 0; r < D; ++r) x[r] += w[static_cast<size_t>(i)] * sx[i][r];
+  // The upper triangle only, mirrored: every P_i is exactly symmetric (each update ends with
+  // symmetrize() or sets both entries alike) and d(r) d(c) = d(c) d(r), so entry (c, r) would be the
+  // same bits as (r, c), and symmetrize() of the full matrix would leave both unchanged.
   double P[D][D];
   for (int r = 0; r < D; ++r)
     for (int c = 0; c < D; ++c) P[r][c] = 0.0;
@@ -232,6 +235,7 @@ void mixStates(const std::array<Gaussian<3>, ImmPredictor::kMaxModes>& g,
     for (int r = 0; r < D; ++r) dd[r] = sx[i][r] - x[r];
     for (int c = 0; c < D; ++c)
       for (int r = 0; r < D; ++r) {
+        if (r > c) continue;  // (loops of constant trip count: unrolled, the test folds away)
         // A state the source has keeps its covariance, one it lacks takes mode j's,
         // uncorrelated with the rest.
         const double s = (r < di) != (c < di) ? 0.0 : (r < di ? g[ii].P(r, c) : own.P(r, c));
@@ -242,9 +246,8 @@ void mixStates(const std::array<Gaussian<3>, ImmPredictor::kMaxModes>& g,
   out.P.setZero();
   for (int r = 0; r < D; ++r) {
     out.x(r) = x[r];
-    for (int c = 0; c < D; ++c) out.P(r, c) = P[r][c];
+    for (int c = 0; c < D; ++c) out.P(r, c) = r <= c ? P[r][c] : P[c][r];
   }
-  symmetrize(out.P);
 }
 
 }  // namespace
@@ -410,10 +413,15 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
   if (!ch.initialized) return std::numeric_limits<double>::quiet_NaN();
   const double dt = t_s - time();
   if (!(dt > 0.0)) return predict(channel, t_s).position();
+  // Each mode's (F x)(0): for CP and CV written out (their states beyond d are 0, so the sum has
+  // one or two non-zero terms: the same bits), for CA the generic product.
   double p = 0.0;
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);
-    p += ch.mu[jj] * predictedPosition(ch.g[jj], transition(j, dt));
+    const Gaussian<3>& g = ch.g[jj];
+    const int d = modes_[jj].dim;
+    const double pj = d == 1 ? g.x(0) : d == 2 ? g.x(0) + dt * g.x(1) : predictedPosition(g, transition(j, dt));
+    p += ch.mu[jj] * pj;
   }
   return p;
 }
