@@ -1,8 +1,8 @@
 // predvs bench — throughput of `predvs predict` (issue 11 item 8, docs/PERFORMANCE.md "predict
 // throughput"): reading a track CSV (readFeatureTrack) and running every registered predictor
-// along it (predictTrack, on 1 and 2 threads), and writing predictions.csv + summary.json
-// (writePredictionOutputs without the plot, 1 and 2 threads), separately, so that the predictors' own
-// share of a run is measured.
+// along it (predictTrack, on 1 and 2 threads; and each predictor alone, BM_PredictTrack/<name>),
+// and writing predictions.csv + summary.json (writePredictionOutputs without the plot, 1 and 2
+// threads), separately, so that the predictors' own share of a run is measured.
 //
 // The track: PREDVS_BENCH_TRACK=FILE if set (e.g. the 2-million-row `predvs make-track` file of
 // docs/PERFORMANCE.md), else a generated one-point track of 200,000 rows at 30 Hz (t,u,v,u_true,
@@ -82,6 +82,26 @@ void BM_PredictTrackAll(benchmark::State& state) {
 }
 BENCHMARK(BM_PredictTrackAll)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PredictTrackAll)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+/// One predictor along the track on one thread (predictTrack with that predictor only): each
+/// predictor's own share of BM_PredictTrackAll/1. Registered for every predictor of the registry
+/// as BM_PredictTrack/<name>.
+void predictTrackOne(benchmark::State& state, const std::string& name) {
+  const predvs::FeatureTrack& track = benchTrack();
+  const std::vector<predvs::PredictorSpec> specs{{name, {}}};
+  const double horizon_s = 2 * predvs::medianPeriod(track.t_s);
+  for (auto _ : state) {
+    const predvs::PredictionReport report = predvs::predictTrack(track, specs, horizon_s, 1);
+    benchmark::DoNotOptimize(report.runs.data());
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * track.size()));
+}
+const bool kPredictTrackOneRegistered = [] {
+  for (const auto& p : predvs::predictorRegistry())
+    benchmark::RegisterBenchmark(("BM_PredictTrack/" + p.name).c_str(), predictTrackOne, p.name)
+        ->Unit(benchmark::kMillisecond);
+  return true;
+}();
 
 /// predictions.csv and summary.json of every predictor (no plot) on state.range(0) threads, into a
 /// temporary directory: formatting and writing only.

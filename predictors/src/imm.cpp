@@ -16,6 +16,68 @@ constexpr double kLog2Pi = 1.8378770664093453;
 /// dominated by the others (renormalised afterwards).
 constexpr double kMuFloor = 1e-6;
 
+// The mode-matched filters of the CP and CV modes on their own states. Their state is the common
+// [p, v, a] with the states the model lacks at zero (mixInto leaves them 0, their F zeroes them),
+// and these are timeUpdate<3> / measurementUpdate<3> (kalman_math.h) written out for that pattern:
+// every product or sum they skip has a zero factor or term, and every sum they keep has at most two
+// non-zero terms, so the order of Eigen's sums does not matter and the results are the same bits
+// (up to the sign of a zero). The CA mode uses the generic ones.
+
+/// CP: F = diag(1, 0, 0), Q = diag(q, 0, 0): x unchanged, P(0, 0) += q.
+inline void timeUpdateCp(Gaussian<3>& g, const Mat<3>& Q) { g.P(0, 0) = g.P(0, 0) + Q(0, 0); }
+
+/// CV: F = [[1, T, 0], [0, 1, 0], [0, 0, 0]]:  x0 += T x1;  P <- F P F' + Q on the 2x2 block.
+inline void timeUpdateCv(Gaussian<3>& g, const Mat<3>& F, const Mat<3>& Q) {
+  const double T = F(0, 1);
+  g.x(0) = g.x(0) + T * g.x(1);
+  const double p00 = g.P(0, 0), p01 = g.P(0, 1), p10 = g.P(1, 0), p11 = g.P(1, 1);
+  const double fp00 = p00 + T * p10, fp01 = p01 + T * p11;  // row 0 of F P; row 1 is (p10, p11)
+  const double n00 = fp00 + fp01 * T + Q(0, 0);
+  const double n01 = fp01 + Q(0, 1);            // (F P F')(0, 1) = fp00 * 0 + fp01 * 1
+  const double n10 = p10 + p11 * T + Q(1, 0);   // (F P F')(1, 0) = p10 * 1 + p11 * T
+  const double n11 = p11 + Q(1, 1);
+  g.P(0, 0) = n00;
+  g.P(0, 1) = g.P(1, 0) = 0.5 * (n01 + n10);
+  g.P(1, 1) = n11;
+}
+
+/// CP: the scalar Joseph update of p: K = P00 / S.
+inline Innovation measurementUpdateCp(Gaussian<3>& g, double z, double R) {
+  Innovation in;
+  in.eps = z - g.x(0);
+  in.S = g.P(0, 0) + R;
+  in.valid = true;
+  const double k0 = g.P(0, 0) / in.S;
+  g.x(0) += k0 * in.eps;
+  const double a = 1.0 - k0;
+  g.P(0, 0) = (a * g.P(0, 0)) * a + (R * k0) * k0;
+  return in;
+}
+
+/// CV: the Joseph update on the 2x2 block, I - K H = [[1 - k0, 0], [-k1, 1]]:
+///   P <- A P A' + (R K) K', then (0, 1) and (1, 0) averaged (symmetrize).
+inline Innovation measurementUpdateCv(Gaussian<3>& g, double z, double R) {
+  Innovation in;
+  in.eps = z - g.x(0);
+  in.S = g.P(0, 0) + R;
+  in.valid = true;
+  const double p00 = g.P(0, 0), p01 = g.P(0, 1), p10 = g.P(1, 0), p11 = g.P(1, 1);
+  const double k0 = p00 / in.S, k1 = p10 / in.S;
+  g.x(0) += k0 * in.eps;
+  g.x(1) += k1 * in.eps;
+  const double a00 = 1.0 - k0, a10 = -k1;
+  const double ap00 = a00 * p00, ap01 = a00 * p01;              // row 0 of A P
+  const double ap10 = a10 * p00 + p10, ap11 = a10 * p01 + p11;  // row 1 of A P
+  const double n00 = ap00 * a00 + (R * k0) * k0;
+  const double n01 = (ap00 * a10 + ap01) + (R * k0) * k1;
+  const double n10 = ap10 * a00 + (R * k1) * k0;
+  const double n11 = (ap10 * a10 + ap11) + (R * k1) * k1;
+  g.P(0, 0) = n00;
+  g.P(0, 1) = g.P(1, 0) = 0.5 * (n01 + n10);
+  g.P(1, 1) = n11;
+  return in;
+}
+
 }  // namespace
 
 const char* immModeName(ImmMode m) {
@@ -53,6 +115,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
     for (int j = 0; j < m; ++j)
       rates_(i, j) = i == j ? -1.0 / modes_[static_cast<size_t>(i)].tau_s
                             : 1.0 / (modes_[static_cast<size_t>(i)].tau_s * (m - 1));
+  chain_dt_.fill(std::numeric_limits<double>::quiet_NaN());  // equal to no dt: every entry empty
   reset();
 }
 
@@ -108,8 +171,19 @@ Mat<3> ImmPredictor::processNoise(int j, double dt) const {
   return Q;
 }
 
-ImmPredictor::ModeMatrix ImmPredictor::chain(double dt) const {
-  if (dt == chain_dt_) return chain_;
+ImmPredictor::ModeMatrix ImmPredictor::chain(double dt) const { return cachedChain(dt); }
+
+const ImmPredictor::ModeMatrix& ImmPredictor::cachedChain(double dt) const {
+  for (int k = 0; k < kChainCacheSize; ++k)
+    if (chain_dt_[static_cast<size_t>(k)] == dt) return chain_[static_cast<size_t>(k)];
+  const auto slot = static_cast<size_t>(chain_next_);
+  chain_next_ = (chain_next_ + 1) % kChainCacheSize;
+  chain_[slot] = computeChain(dt);
+  chain_dt_[slot] = dt;
+  return chain_[slot];
+}
+
+ImmPredictor::ModeMatrix ImmPredictor::computeChain(double dt) const {
   // exp(Lambda dt) by scaling and squaring: halve until the norm is below 1/2, Taylor to order 12
   // (truncation < 0.5^13 / 13! relative), square back. Rows of the result sum to one.
   const int m = modeCount();
@@ -128,23 +202,69 @@ ImmPredictor::ModeMatrix ImmPredictor::chain(double dt) const {
   }
   for (int s = 0; s < squarings; ++s) E = (E * E).eval();
   for (int i = 0; i < m; ++i) E.row(i) /= E.row(i).sum();
-  chain_dt_ = dt;
-  chain_ = E;
   return E;
 }
 
-Gaussian<3> ImmPredictor::embed(const Gaussian<3>& from, int dim_from, const Gaussian<3>& into, int dim_into) {
-  if (dim_from >= dim_into) return from;
-  Gaussian<3> g = from;
-  for (int k = dim_from; k < 3; ++k) {
-    g.P.row(k).setZero();
-    g.P.col(k).setZero();
+namespace {
+
+/// mixInto on D states (a template so that the loops over the states unroll).
+template <int D>
+void mixStates(const std::array<Gaussian<3>, ImmPredictor::kMaxModes>& g,
+               const std::array<double, ImmPredictor::kMaxModes>& w, const std::array<int, ImmPredictor::kMaxModes>& dims,
+               int m, int j, Gaussian<3>& out) {
+  const Gaussian<3>& own = g[static_cast<size_t>(j)];
+  double sx[ImmPredictor::kMaxModes][D];
+  double x[D];
+  for (int r = 0; r < D; ++r) x[r] = 0.0;
+  for (int i = 0; i < m; ++i) {
+    const auto ii = static_cast<size_t>(i);
+    for (int r = 0; r < D; ++r) sx[i][r] = r < dims[ii] ? g[ii].x(r) : own.x(r);
   }
-  for (int k = dim_from; k < dim_into; ++k) {
-    g.x(k) = into.x(k);
-    for (int l = dim_from; l < dim_into; ++l) g.P(k, l) = into.P(k, l);
+  for (int i = 0; i < m; ++i)
+    for (int r = 0; r < D; ++r) x[r] += w[static_cast<size_t>(i)] * sx[i][r];
+  // The upper triangle only, mirrored: every P_i is exactly symmetric (each update ends with
+  // symmetrize() or sets both entries alike) and d(r) d(c) = d(c) d(r), so entry (c, r) would be the
+  // same bits as (r, c), and symmetrize() of the full matrix would leave both unchanged.
+  double P[D][D];
+  for (int r = 0; r < D; ++r)
+    for (int c = 0; c < D; ++c) P[r][c] = 0.0;
+  for (int i = 0; i < m; ++i) {
+    const auto ii = static_cast<size_t>(i);
+    const int di = dims[ii];
+    double dd[D];
+    for (int r = 0; r < D; ++r) dd[r] = sx[i][r] - x[r];
+    for (int c = 0; c < D; ++c)
+      for (int r = 0; r < D; ++r) {
+        if (r > c) continue;  // (loops of constant trip count: unrolled, the test folds away)
+        // A state the source has keeps its covariance, one it lacks takes mode j's,
+        // uncorrelated with the rest.
+        const double s = (r < di) != (c < di) ? 0.0 : (r < di ? g[ii].P(r, c) : own.P(r, c));
+        P[r][c] += w[ii] * (s + dd[r] * dd[c]);
+      }
   }
-  return g;
+  out.x.setZero();
+  out.P.setZero();
+  for (int r = 0; r < D; ++r) {
+    out.x(r) = x[r];
+    for (int c = 0; c < D; ++c) out.P(r, c) = r <= c ? P[r][c] : P[c][r];
+  }
+}
+
+}  // namespace
+
+void ImmPredictor::mixInto(const std::array<Gaussian<3>, kMaxModes>& g, const std::array<double, kMaxModes>& w, int j,
+                           Gaussian<3>& out) const {
+  // combine() of the sources as mode j sees them (the mixing rule of imm.h: a state source i
+  // lacks is mode j's own estimate, uncorrelated with the rest), entry by entry in its order (so
+  // the same bits), on the d_j states mode j has only: the others are left 0, as mode j's F zeroes
+  // them in the time update that follows (coasting scales them only).
+  std::array<int, kMaxModes> dims{};
+  for (int i = 0; i < modeCount(); ++i) dims[static_cast<size_t>(i)] = modes_[static_cast<size_t>(i)].dim;
+  switch (modes_[static_cast<size_t>(j)].dim) {
+    case 1: mixStates<1>(g, w, dims, modeCount(), j, out); break;
+    case 2: mixStates<2>(g, w, dims, modeCount(), j, out); break;
+    default: mixStates<3>(g, w, dims, modeCount(), j, out);
+  }
 }
 
 void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) {
@@ -153,7 +273,13 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
                                 std::to_string(channels()));
   const double dt = advanceClock(t_s);
   const int m = modeCount();
-  const ModeMatrix Pi = chain(dt);
+  const ModeMatrix& Pi = cachedChain(dt);
+  // Each mode's F and Q over dt, the same for every channel.
+  std::array<Mat<3>, kMaxModes> F, Q;
+  for (int j = 0; j < m; ++j) {
+    F[static_cast<size_t>(j)] = transition(j, dt);
+    Q[static_cast<size_t>(j)] = processNoise(j, dt);
+  }
   for (int c = 0; c < channels(); ++c) {
     Channel& ch = chan_[static_cast<size_t>(c)];
     ch.innovation = Innovation{};
@@ -179,20 +305,25 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     for (int j = 0; j < m; ++j) {
       const auto jj = static_cast<size_t>(j);
       for (int i = 0; i < m; ++i) cbar[jj] += Pi(i, j) * ch.mu[static_cast<size_t>(i)];
-      std::array<Gaussian<3>, kMaxModes> src;
       std::array<double, kMaxModes> w{};
       for (int i = 0; i < m; ++i) {
         const auto ii = static_cast<size_t>(i);
         w[ii] = cbar[jj] > 0.0 ? Pi(i, j) * ch.mu[ii] / cbar[jj] : (i == j ? 1.0 : 0.0);
-        src[ii] = embed(ch.g[ii], modes_[ii].dim, ch.g[jj], modes_[jj].dim);
       }
-      mixed[jj] = combine(src, w);
+      mixInto(ch.g, w, j, mixed[jj]);
     }
     // Coasting on an unmeasured frame (channel_predictor.h): velocity and acceleration decay.
     if (coast_tau_s_ > 0.0 && !isMeasured(z(c)))
       for (int j = 0; j < m; ++j) coast(mixed[static_cast<size_t>(j)].x, dt, coast_tau_s_);
     // Mode-matched filters (each zeroes the states its model does not have).
-    for (int j = 0; j < m; ++j) timeUpdate(mixed[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));
+    for (int j = 0; j < m; ++j) {
+      const auto jj = static_cast<size_t>(j);
+      switch (modes_[jj].dim) {
+        case 1: timeUpdateCp(mixed[jj], Q[jj]); break;
+        case 2: timeUpdateCv(mixed[jj], F[jj], Q[jj]); break;
+        default: timeUpdate(mixed[jj], F[jj], Q[jj]);
+      }
+    }
     if (isMeasured(z(c))) {
       double xbar = 0.0;
       for (int j = 0; j < m; ++j) xbar += cbar[static_cast<size_t>(j)] * mixed[static_cast<size_t>(j)].x(0);
@@ -202,7 +333,10 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         const auto jj = static_cast<size_t>(j);
         const double d = mixed[jj].x(0) - xbar;
         S += cbar[jj] * (mixed[jj].P(0, 0) + R + d * d);
-        const Innovation in = measurementUpdate(mixed[jj], z(c), R);
+        const int dim = modes_[jj].dim;
+        const Innovation in = dim == 1   ? measurementUpdateCp(mixed[jj], z(c), R)
+                              : dim == 2 ? measurementUpdateCv(mixed[jj], z(c), R)
+                                         : measurementUpdate(mixed[jj], z(c), R);
         loglik[jj] = -0.5 * (kLog2Pi + std::log(in.S) + in.eps * in.eps / in.S);
         maxll = std::max(maxll, loglik[jj]);
       }
@@ -233,14 +367,27 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
 }
 
 Gaussian<3> ImmPredictor::combine(const std::array<Gaussian<3>, kMaxModes>& g, const std::array<double, kMaxModes>& w) const {
+  // Written out on scalars, entry by entry, with the operations of the Eigen expressions
+  //   x = 0; x += w_j x_j (each j);  P = 0; P += w_j (P_j + d_j d_j') (each j), d_j = x_j - x
+  // in the same order (so the same bits): an outer product's entry is d(r) d(c), a sum of
+  // matrices is entrywise.
+  const int m = modeCount();
   Gaussian<3> out;
-  out.x.setZero();
-  out.P.setZero();
-  for (int j = 0; j < modeCount(); ++j) out.x += w[static_cast<size_t>(j)] * g[static_cast<size_t>(j)].x;
-  for (int j = 0; j < modeCount(); ++j) {
+  double x[3] = {0.0, 0.0, 0.0};
+  for (int j = 0; j < m; ++j) {
     const auto jj = static_cast<size_t>(j);
-    const Vec<3> d = g[jj].x - out.x;
-    out.P += w[jj] * (g[jj].P + d * d.transpose());
+    for (int r = 0; r < 3; ++r) x[r] += w[jj] * g[jj].x(r);
+  }
+  double P[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+  for (int j = 0; j < m; ++j) {
+    const auto jj = static_cast<size_t>(j);
+    const double d[3] = {g[jj].x(0) - x[0], g[jj].x(1) - x[1], g[jj].x(2) - x[2]};
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) P[r][c] += w[jj] * (g[jj].P(r, c) + d[r] * d[c]);
+  }
+  for (int r = 0; r < 3; ++r) {
+    out.x(r) = x[r];
+    for (int c = 0; c < 3; ++c) out.P(r, c) = P[r][c];
   }
   symmetrize(out.P);
   return out;
@@ -266,10 +413,15 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
   if (!ch.initialized) return std::numeric_limits<double>::quiet_NaN();
   const double dt = t_s - time();
   if (!(dt > 0.0)) return predict(channel, t_s).position();
+  // Each mode's (F x)(0): for CP and CV written out (their states beyond d are 0, so the sum has
+  // one or two non-zero terms: the same bits), for CA the generic product.
   double p = 0.0;
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);
-    p += ch.mu[jj] * predictedPosition(ch.g[jj], transition(j, dt));
+    const Gaussian<3>& g = ch.g[jj];
+    const int d = modes_[jj].dim;
+    const double pj = d == 1 ? g.x(0) : d == 2 ? g.x(0) + dt * g.x(1) : predictedPosition(g, transition(j, dt));
+    p += ch.mu[jj] * pj;
   }
   return p;
 }

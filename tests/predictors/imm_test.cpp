@@ -132,6 +132,25 @@ TEST(Imm, ModeChainIsStatedPerSecond) {
   EXPECT_NEAR(L(2, 2), 2.0 / 26.0, 1e-6);
 }
 
+TEST(Imm, ModeChainCacheGivesTheComputedMatrixInAnyOrder) {
+  // GIVEN more distinct steps than the cache holds (a recorded track's frame period varies in its
+  // last bits), asked in a scrambled order, several times each;
+  // THEN every answer is, bit for bit, what a fresh instance computes for that step.
+  ImmPredictor used(1, Params{});
+  std::vector<double> steps;
+  for (int k = 0; k < 20; ++k) steps.push_back(1.0 / 30.0 + k * 1e-9);
+  std::mt19937_64 rng(5);
+  for (int round = 0; round < 3; ++round) {
+    std::shuffle(steps.begin(), steps.end(), rng);
+    for (double dt : steps) {
+      const ImmPredictor::ModeMatrix cached = used.chain(dt), fresh = ImmPredictor(1, Params{}).chain(dt);
+      ASSERT_EQ(cached.rows(), fresh.rows());
+      for (int i = 0; i < cached.rows(); ++i)
+        for (int j = 0; j < cached.cols(); ++j) EXPECT_EQ(cached(i, j), fresh(i, j)) << "dt " << dt;
+    }
+  }
+}
+
 TEST(Imm, PredictionIsConstAndBetweenItsModes) {
   // GIVEN a channel accelerating at 20 px/s^2 (and one moving uniformly); THEN a prediction does
   // not change the filter and, with all modes extrapolated from their posteriors, it lies between

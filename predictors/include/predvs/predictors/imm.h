@@ -124,18 +124,29 @@ class ImmPredictor : public Predictor {
   };
   Mat<3> transition(int j, double dt) const;
   Mat<3> processNoise(int j, double dt) const;
-  static Gaussian<3> embed(const Gaussian<3>& from, int dim_from, const Gaussian<3>& into, int dim_into);
   Gaussian<3> combine(const std::array<Gaussian<3>, kMaxModes>& g, const std::array<double, kMaxModes>& w) const;
+  /// The mixed prior of mode j from the posteriors g with weights w (mixing, above), on the states
+  /// mode j has (the others 0): combine() of the posteriors as mode j sees them, the same bits there.
+  void mixInto(const std::array<Gaussian<3>, kMaxModes>& g, const std::array<double, kMaxModes>& w, int j,
+               Gaussian<3>& out) const;
 
   double q_cp_, q_cv_, q_ca_, alpha_, r_, p0_vel_, p0_acc_;
   double coast_tau_s_;  ///< s; 0 = no coasting
   bool r_auto_;
   std::vector<Mode> modes_;
   ModeMatrix rates_;
-  // chain(dt) of the last dt asked (every frame of a uniform track asks the same one): the same
-  // matrix, computed once. Mutable cache of a const function; an instance is used by one thread.
-  mutable double chain_dt_ = -1.0;
-  mutable ModeMatrix chain_;
+  // chain(dt) of the last kChainCacheSize distinct dt asked, replaced in turn: the frame period
+  // of a recorded track takes a handful of values (times written with 10 significant digits give
+  // differences that vary in their last bits, 54 distinct ones on the 2-million-row track of
+  // docs/PERFORMANCE.md, a few at a time), so one entry is too few. Each entry is the matrix
+  // computeChain(dt) returns, so the results are the same bits. Mutable cache of a const
+  // function; an instance is used by one thread at a time.
+  static constexpr int kChainCacheSize = 8;
+  ModeMatrix computeChain(double dt) const;
+  const ModeMatrix& cachedChain(double dt) const;
+  mutable std::array<double, kChainCacheSize> chain_dt_;
+  mutable std::array<ModeMatrix, kChainCacheSize> chain_;
+  mutable int chain_next_ = 0;
   std::vector<Channel> chan_;
 };
 
