@@ -215,6 +215,10 @@ CsKalmanPredictor::CsKalmanPredictor(int channels, const Params& params, bool au
                           params.get("p0_acc", 1e4, 0.0, 1e12)),
       alpha_(params.get("alpha", 1.0, 1e-6, 1e3)) {
   readCoastParam(params);
+  const std::string mean = params.text("mean", "current");
+  if (mean != "current" && mean != "zero")
+    throw std::invalid_argument("predictor parameter 'mean' must be current or zero, got '" + mean + "'");
+  zero_mean_ = mean == "zero";
   shrink_sigmas_ = params.get("shrink_sigmas", default_shrink_sigmas, 0.0, 1e3);
   shrink_update_sigmas_ = params.get("shrink_update_sigmas", shrink_sigmas_, 0.0, 1e3);
   shrink_v_sigmas_ = params.get("shrink_v_sigmas", weigh_velocity ? shrink_sigmas_ : 0.0, 0.0, 1e3);
@@ -323,6 +327,15 @@ void CsAkfAdaptivePredictor::afterStep(int c, double dt, double z) {
   sigma2_[i] = std::clamp(kRayleigh * d * d, sigma_min_sq_, sigma_max_sq_);
   const double w = adapt_tau_s_ > 0.0 ? -std::expm1(-dt / adapt_tau_s_) : 1.0;
   a_prev_[i] += w * d;
+}
+
+std::vector<Params> CsAkfAdaptivePredictor::structuralVariants() const {
+  Params current, current_unweighted, zero;
+  current.setText("mean", "current");
+  current_unweighted.setText("mean", "current");
+  current_unweighted.set("shrink_sigmas", 0.0);
+  zero.setText("mean", "zero");
+  return {current, current_unweighted, zero};
 }
 
 void CsAkfAdaptivePredictor::resetAdaptation() {

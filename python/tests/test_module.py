@@ -29,7 +29,7 @@ def test_bad_parameter_raises_value_error_naming_it():
         predvs.make("kf-cv", 2, params={"q": -1.0})
     with pytest.raises(ValueError, match=r"parameter 'q' of kf-cv: expected a number"):
         predvs.make("kf-cv", 2, params={"q": [1.0]})
-    with pytest.raises(ValueError, match=r"parameter 'q' of kf-cv: expected a number or 'auto'"):
+    with pytest.raises(ValueError, match=r"parameter 'q' expects a number or 'auto', got 'fast'"):
         predvs.make("kf-cv", 2, params={"q": "fast"})
     with pytest.raises(ValueError, match="at least one channel"):
         predvs.make("kf-cv", 0)

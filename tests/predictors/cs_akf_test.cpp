@@ -349,3 +349,77 @@ TEST(CsAdaptive, LowPassedReferenceSoftensATooLowFloor) {
 
 }  // namespace
 }  // namespace predvs
+
+namespace predvs {
+namespace {
+
+/// cs-akf-adaptive fed 40 frames of a parabola at 30 Hz (no noise), with `mean` and alpha given and
+/// the significance weighting off, so the forecast extrapolates x(k|k) itself.
+std::unique_ptr<Predictor> csOnParabola(const std::string& mean, double alpha) {
+  Params p;
+  p.setText("mean", mean);
+  p.set("alpha", alpha);
+  p.set("shrink_sigmas", 0.0);
+  p.set("r", 1.0);
+  auto f = makePredictor("cs-akf-adaptive", 1, p);
+  for (int k = 0; k < 40; ++k) {
+    const double t = k / 30.0;
+    Eigen::VectorXd z(1);
+    z << 100.0 + 20.0 * t + 0.5 * 80.0 * t * t;
+    f->update(t, z);
+  }
+  return f;
+}
+
+TEST(CsModel, ZeroMeanIsSingersModelTheAccelerationDecaysOverTheHorizon) {
+  // GIVEN the same filter with the CS mean and with Singer's zero mean, alpha = 2/s
+  for (const char* mean : {"current", "zero"}) {
+    const auto f = csOnParabola(mean, 2.0);
+    const double t = f->time();
+    const ChannelEstimate now = f->predict(0, t);
+    const ChannelEstimate ahead = f->predict(0, t + 0.5);
+    // WHEN it forecasts 0.5 s ahead THEN the CS mean keeps the acceleration (F_CA), Singer's decays
+    // it by exp(-alpha h) = exp(-1), and the position moves with the matching transition
+    ASSERT_GT(std::abs(now.x(2)), 10.0) << mean;
+    if (std::string(mean) == "current") {
+      EXPECT_NEAR(ahead.x(2), now.x(2), 1e-9);
+      EXPECT_NEAR(ahead.x(0), (caTransition(0.5) * now.x)(0), 1e-9);
+    } else {
+      EXPECT_NEAR(ahead.x(2), std::exp(-1.0) * now.x(2), 1e-9);
+      EXPECT_NEAR(ahead.x(0), (singerTransition(2.0, 0.5) * now.x)(0), 1e-9);
+    }
+  }
+}
+
+TEST(CsModel, AdaptiveFiltersOfferTheCsAndSingerMeansAsStructuresAndRejectABadWord) {
+  for (const char* name : {"cs-akf-adaptive", "fakf"}) {
+    // GIVEN the structural variants of the adaptive CS filters
+    const auto variants = makePredictor(name, 1)->structuralVariants();
+    ASSERT_EQ(variants.size(), 3u) << name;
+    EXPECT_EQ(variants[0].texts().at("mean"), "current");
+    EXPECT_EQ(variants[1].texts().at("mean"), "current");
+    EXPECT_EQ(variants[1].values().at("shrink_sigmas"), 0.0);
+    EXPECT_EQ(variants[2].texts().at("mean"), "zero");
+    // WHEN each is built and run THEN it predicts a finite position
+    for (const auto& v : variants) {
+      auto f = makePredictor(name, 1, v);
+      for (int k = 0; k < 20; ++k) {
+        Eigen::VectorXd z(1);
+        z << 10.0 * k;
+        f->update(k / 30.0, z);
+      }
+      EXPECT_TRUE(std::isfinite(f->predictPosition(0, 1.0))) << name;
+    }
+  }
+  Params bad;
+  bad.setText("mean", "singer");
+  try {
+    makePredictor("cs-akf-adaptive", 1, bad);
+    FAIL() << "a bad mean word must throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'mean'"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace predvs

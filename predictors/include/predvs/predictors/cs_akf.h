@@ -92,6 +92,15 @@ inline constexpr double kDefaultShrinkSigmasAdaptive = 2.0;
 ///   p0_vel  ((px/s)^2, default 1e4): initial velocity variance (100 px/s std covers 10..100 px/s).
 ///   p0_acc  ((px/s^2)^2, default 1e4): initial acceleration variance (as kf-ca).
 ///   coast_tau_s (s, default 0.2): velocity decay on frames without a measurement (channel_predictor.h).
+///   mean    (word, default `current`): the acceleration's mean. `current` is the CS model (paper 000:
+///           abar = the current estimate a(k-1|k-1), so the mean moves with F_CA); `zero` is Singer's
+///           model it grew from (abar = 0: the acceleration decays as e^(-alpha dt) and the mean and
+///           the covariance both move with the Singer F, the exact discretisation of that model).
+///           With a large alpha the Singer filter tends to a constant-velocity one (the acceleration
+///           forgets itself within a frame, Q ~ white acceleration of density 2 sigma^2 / alpha), with
+///           a small one to constant acceleration: one structure spans both, with alpha fitted. This is
+///           the structural variant the noise fit tries for the adaptive CS filters (cs-akf-adaptive,
+///           fakf: structuralVariants()); the adaptation of sigma^2 is the same under either mean.
 ///   shrink_sigmas (dimensionless n, default 3 for cs-akf, 2 for cs-akf-adaptive and fakf; 0 = off,
 ///           paper 000's CS filter): significance weighting (issue 11, docs/MODELS.md §15). With
 ///           w(m, var) = m^2 / (m^2 + n^2 var) (significanceWeight):
@@ -146,8 +155,11 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
   /// `shrink_v_sigmas` defaults to shrink_sigmas (true) or to 0.
   CsKalmanPredictor(int channels, const Params& params, bool auto_r, double default_shrink_sigmas, bool weigh_velocity);
 
-  Mat<3> transition(int, double dt) const override { return caTransition(dt); }
+  /// The mean's transition: F_CA for the CS mean (abar = a(k-1|k-1)), the Singer F for `mean: zero`.
+  Mat<3> transition(int, double dt) const override { return zero_mean_ ? singerTransition(alpha_, dt) : caTransition(dt); }
   Mat<3> processNoise(int c, double dt) const override;
+  /// Whether the acceleration has the zero mean of Singer's model (`mean: zero`) instead of the CS mean.
+  bool zeroMean() const { return zero_mean_; }
 
   /// predictStep; inflatePrior; correctStep if z is measured; afterStep. Not meant to be overridden
   /// (override the hooks instead), but left virtual for filters that restructure the cycle.
@@ -172,6 +184,7 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
 
  private:
   double alpha_;
+  bool zero_mean_ = false;
   double shrink_sigmas_;
   double shrink_update_sigmas_;
   double shrink_v_sigmas_;
@@ -256,6 +269,9 @@ class CsAkfAdaptivePredictor : public CsKalmanPredictor {
     return {alphaParameter(), sigmaMinSqParameter(), {"sigma_max_sq", 1e-1, 1e10, sigma_max_sq_},
             measurementNoiseParameter()};
   }
+  /// {mean: current} (the CS model) and {mean: zero} (Singer's; see CsKalmanPredictor): a fit keeps
+  /// whichever predicts the track better (fakf inherits both).
+  std::vector<Params> structuralVariants() const override;
 
  protected:
   /// The `sigma_min_sq` entry of noiseParameters() ((px/s^2)^2, bounds 1e-3..1e8).
