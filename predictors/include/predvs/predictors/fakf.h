@@ -62,6 +62,11 @@ class InnovationWindow {
 /// st-akf-pm and fakf-classic on either motion model".
 inline constexpr double kDefaultQFakfClassicCa = 3e5;
 
+/// Default `shrink_sigmas` of fakf-classic (cv, ca; shrink_v_sigmas defaults to it):
+/// channel_predictor.h, significance-weighted forecast; docs/MODELS.md §15.
+inline constexpr double kDefaultShrinkSigmasFakfClassic = 0.5;
+inline constexpr double kDefaultShrinkSigmasFakfClassicCa = 3.0;
+
 /// `fakf-classic`: the traditional fuzzy adaptive KF of Escamilla-Ambrosio & Mort, the baseline
 /// paper 000 compares against (docs/MODELS.md §3). Motion model (`model`, a word): `cv` (default,
 /// the paper's) x = [p, v] per channel with kf-cv's model and defaults (white-acceleration density

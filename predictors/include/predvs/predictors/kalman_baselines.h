@@ -14,6 +14,11 @@ namespace predvs {
 /// slow E1-E4 scenarios (10 px/s), and lost to `hold` on faster targets.
 inline constexpr double kDefaultQCv = 1e4;
 inline constexpr double kDefaultQCa = 3e5;
+/// Default `shrink_sigmas` of kf-cv and kf-ca, and whether kf-ca weighs its velocity too
+/// (channel_predictor.h, significance-weighted forecast; docs/MODELS.md §15).
+inline constexpr double kDefaultShrinkSigmasKfCv = 0.0;
+inline constexpr double kDefaultShrinkSigmasKfCa = 2.0;
+inline constexpr bool kDefaultShrinkVelocityKfCa = true;
 
 /// `hold`: the no-prediction baseline. The estimate at any time is the last measurement
 /// (zero velocity), which is what a servo loop without a predictor acts on.

@@ -27,6 +27,11 @@ inline constexpr double kDefaultQStAkf = 1e5;
 /// mean ratio 0.512 (q 3e3: 0.515, 3e4: 0.535, 1e3 and 1e5 lose 4-5 tracks); docs/PERFORMANCE.md
 /// "Defaults that hold", subsection "st-akf, st-akf-pm and fakf-classic on either motion model".
 inline constexpr double kDefaultQStAkfCv = 1e4;
+/// Default `shrink_sigmas` of st-akf and st-akf-pm (ca, cv), and whether shrink_v_sigmas defaults to
+/// it (channel_predictor.h, significance-weighted forecast; docs/MODELS.md §15).
+inline constexpr double kDefaultShrinkSigmasStAkf = 1.5;
+inline constexpr double kDefaultShrinkSigmasStAkfCv = 0.5;
+inline constexpr bool kDefaultShrinkVelocityStAkf = true;
 
 /// `st-akf`: Kalman filter with fading factors (strong tracking), on either motion model.
 ///

@@ -85,6 +85,12 @@ namespace predvs {
 /// they lost to hold on 128 of 144 generated maneuvering tracks (the squared variance of a line
 /// fit through a manoeuvre makes R huge, and q_vel = 20 cannot follow a turn), so they are now
 /// given explicitly by the paper-001 scenarios (data/scenarios/e6-*, e7-*, e8-*).
+/// Default `shrink_sigmas` of stkf (cv, ca), and whether shrink_v_sigmas defaults to it
+/// (channel_predictor.h, significance-weighted forecast; docs/MODELS.md §15).
+inline constexpr double kDefaultShrinkSigmasStkf = 0.0;
+inline constexpr double kDefaultShrinkSigmasStkfCa = 3.0;
+inline constexpr bool kDefaultShrinkVelocityStkf = true;
+
 template <int N>
 class StkfFilter : public ChannelPredictor<N> {
   using Base = ChannelPredictor<N>;
