@@ -225,13 +225,6 @@ CsKalmanPredictor::CsKalmanPredictor(int channels, const Params& params, bool au
   if ((auto_r || params.texts().count("r")) && isAutoMeasurementNoise(params)) enableAutoNoise();
 }
 
-double significanceWeight(double m, double var, double n_sigmas) {
-  if (!(n_sigmas > 0.0)) return 1.0;
-  const double m2 = m * m;
-  const double d = m2 + n_sigmas * n_sigmas * std::max(var, 0.0);
-  return d > 0.0 ? m2 / d : 0.0;
-}
-
 Gaussian<3> CsKalmanPredictor::forecastStart(int c) const {
   Gaussian<3> g = gaussian(c);
   g.x(2) *= significanceWeight(g.x(2), g.P(2, 2), shrink_sigmas_);

@@ -87,6 +87,7 @@ FakfClassicPredictor<N>::FakfClassicPredictor(int channels, const Params& params
   if (params.has("model") && fakfClassicModelStates(params) != N)
     throw std::invalid_argument("fakf-classic: parameter 'model' does not match the state size of the filter built");
   this->readCoastParam(params);
+  this->readShrinkParams(params, N == 2 ? kDefaultShrinkSigmasFakfClassic : kDefaultShrinkSigmasFakfClassicCa, true);
   if (isAutoProcessNoise(params, "q")) this->enableAutoProcessNoise();
   if (!(r_min_ <= this->r0_ && this->r0_ <= r_max_))
     throw std::invalid_argument("fakf-classic: need r_min <= r <= r_max");

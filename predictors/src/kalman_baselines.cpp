@@ -16,6 +16,7 @@ KfCvPredictor::KfCvPredictor(int channels, const Params& params)
     : ChannelPredictor<2>(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", 1e4, 0.0, 1e12), 0.0),
       q_(processNoiseParam(params, "q", kDefaultQCv, 0.0, 1e12)) {
   readCoastParam(params);
+  readShrinkParams(params, kDefaultShrinkSigmasKfCv, /*weigh_velocity=*/true);
   if (isAutoProcessNoise(params, "q")) enableAutoProcessNoise();
   if (isAutoMeasurementNoise(params)) enableAutoNoise();
 }
@@ -25,6 +26,7 @@ KfCaPredictor::KfCaPredictor(int channels, const Params& params)
                           params.get("p0_acc", 1e4, 0.0, 1e12)),
       q_(processNoiseParam(params, "q", kDefaultQCa, 0.0, 1e15)) {
   readCoastParam(params);
+  readShrinkParams(params, kDefaultShrinkSigmasKfCa, kDefaultShrinkVelocityKfCa);
   if (isAutoProcessNoise(params, "q")) enableAutoProcessNoise();
   if (isAutoMeasurementNoise(params)) enableAutoNoise();
 }

@@ -33,6 +33,7 @@ StAkfPredictor<N>::StAkfPredictor(int channels, const Params& params)
   if (params.has("model") && motionModelStates(params, kDefaultModel, "st-akf") != N)
     throw std::invalid_argument("st-akf: parameter 'model' does not match the state size of the filter built");
   this->readCoastParam(params);
+  this->readShrinkParams(params, N == 2 ? kDefaultShrinkSigmasStAkfCv : kDefaultShrinkSigmasStAkf, kDefaultShrinkVelocityStAkf);
   if (isAutoProcessNoise(params, "q")) this->enableAutoProcessNoise();
   const double a1 = params.get("a1", 1.0, 1.0, 1e6), a2 = params.get("a2", 1.0, 1.0, 1e6);
   const double a3 = params.get("a3", 1.0, 1.0, 1e6);  // read on cv too, unused there (header)

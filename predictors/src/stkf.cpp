@@ -86,6 +86,7 @@ StkfFilter<N>::StkfFilter(int channels, const Params& params)
   }
   if (window_ > 0) T_st_ = makeResidualMaker(window_);
   this->readCoastParam(params);
+  this->readShrinkParams(params, N == 2 ? kDefaultShrinkSigmasStkf : kDefaultShrinkSigmasStkfCa, kDefaultShrinkVelocityStkf);
   if (isAutoMeasurementNoise(params)) this->enableAutoNoise();
 }
 

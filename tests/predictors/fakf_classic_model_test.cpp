@@ -21,12 +21,13 @@ using namespace model_switch;
 
 TEST(FakfClassicModel, DefaultModelGivesTheNumbersOfBeforeTheModelKey) {
   // GIVEN fakf-classic with its defaults, with and without `model: cv` spelt out (reference: the
-  // same scenario through main at b41f742, before `model` existed, printed with %.17g)
+  // same scenario through main at b41f742, before `model` existed, printed with %.17g; without the
+  // significance-weighted forecast, which came later: shrink_sigmas 0, channel_predictor.h)
   const Pinned expected[2] = {{275.65671514078326, 19.259969196438178, 5.3110343284514707},
                               {3221.7393093856708, 546.09810957252671, 5.8619042444128189}};
   for (bool spelt : {false, true}) {
     SCOPED_TRACE(spelt ? "model: cv" : "default");
-    Params params;
+    Params params{{"shrink_sigmas", 0.0}};
     if (spelt) params.setText("model", "cv");
     auto f = makePredictor("fakf-classic", 2, params);
     // WHEN it filters the scenario THEN the 2-frame predictions are the pinned ones
@@ -36,15 +37,15 @@ TEST(FakfClassicModel, DefaultModelGivesTheNumbersOfBeforeTheModelKey) {
 
 TEST(FakfClassicModel, WithRHeldEachModelIsThePlainKalmanFilterOfThatModel) {
   // GIVEN fakf-classic with r_min = r = r_max (the fuzzy adaptation runs but R cannot move) on each
-  // model, and kf-cv / kf-ca with the same q, r and P_0
+  // model, and kf-cv / kf-ca with the same q, r, P_0 and forecast weighting (shrink_sigmas 1)
   for (const char* model : {"cv", "ca"}) {
     SCOPED_TRACE(model);
     const bool cv = std::string(model) == "cv";
     const double q = cv ? 2e3 : 5e4;
-    Params params{{"q", q}, {"r", 1.5}, {"r_min", 1.5}, {"r_max", 1.5}, {"p0_vel", 300.0}, {"p0_acc", 700.0}};
+    Params params{{"q", q}, {"r", 1.5}, {"r_min", 1.5}, {"r_max", 1.5}, {"p0_vel", 300.0}, {"p0_acc", 700.0}, {"shrink_sigmas", 1.0}};
     params.setText("model", model);
     auto fakf = makePredictor("fakf-classic", 2, params);
-    Params kf_params{{"q", q}, {"r", 1.5}, {"p0_vel", 300.0}};
+    Params kf_params{{"q", q}, {"r", 1.5}, {"p0_vel", 300.0}, {"shrink_sigmas", 1.0}};
     if (!cv) kf_params.set("p0_acc", 700.0);
     auto kf = makePredictor(cv ? "kf-cv" : "kf-ca", 2, kf_params);
     // WHEN both filter the same scenario THEN they agree: the model is wired right

@@ -171,7 +171,7 @@ TEST(StAkfModel, DefaultModelGivesTheNumbersOfBeforeTheModelKey) {
   for (const auto& e : expected) {
     for (bool spelt : {false, true}) {
       SCOPED_TRACE(std::string(e.name) + (spelt ? " model: ca" : " default"));
-      Params params;
+      Params params{{"shrink_sigmas", 0.0}};  // pinned before the weighted forecast (channel_predictor.h)
       if (spelt) params.setText("model", "ca");
       auto f = makePredictor(e.name, 2, params);
       // WHEN they filter the scenario THEN the 2-frame predictions and the alarms are the pinned ones
@@ -184,16 +184,16 @@ TEST(StAkfModel, DefaultModelGivesTheNumbersOfBeforeTheModelKey) {
 TEST(StAkfModel, WithoutFadingEachModelIsThePlainKalmanFilterOfThatModel) {
   // GIVEN st-akf and st-akf-pm whose fading never fires (beta = 1e6: N = V0 - q - 1e6 R < 0 on this
   // 2 px noise and 40 px jump) and whose monitor never alarms (band of 1e6 sigma), on each model,
-  // and kf-cv / kf-ca with the same q, r and P_0
+  // and kf-cv / kf-ca with the same q, r, P_0 and forecast weighting (shrink_sigmas 1)
   for (const char* model : {"cv", "ca"}) {
     const bool cv = std::string(model) == "cv";
     const double q = cv ? 2e3 : 5e4;
     for (const char* name : {"st-akf", "st-akf-pm"}) {
-      Params params{{"q", q}, {"r", 1.5}, {"p0_vel", 300.0}, {"p0_acc", 700.0}, {"beta", 1e6}};
+      Params params{{"q", q}, {"r", 1.5}, {"p0_vel", 300.0}, {"p0_acc", 700.0}, {"beta", 1e6}, {"shrink_sigmas", 1.0}};
       params.setText("model", model);
       if (std::string(name) == "st-akf-pm") params.set("pm_band", 1e6);
       auto st = makePredictor(name, 2, params);
-      Params kf_params{{"q", q}, {"r", 1.5}, {"p0_vel", 300.0}};
+      Params kf_params{{"q", q}, {"r", 1.5}, {"p0_vel", 300.0}, {"shrink_sigmas", 1.0}};
       if (!cv) kf_params.set("p0_acc", 700.0);
       auto kf = makePredictor(cv ? "kf-cv" : "kf-ca", 2, kf_params);
       // WHEN both filter the same scenario THEN they agree: the model is wired right

@@ -262,9 +262,10 @@ TEST(StkfModels, CaSelfTunesROnTheScatterAboutAQuadratic) {
 }
 
 TEST(StkfModels, CaWithoutSelfTuningIsKfCa) {
-  // GIVEN stkf model=ca with the self-tuning off, and kf-ca with the same q, r and P_0
+  // GIVEN stkf model=ca with the self-tuning off, and kf-ca with the same q, r, P_0 and forecast
+  // weighting (shrink_sigmas 2)
   const double r = 2.0, q = 5e4;
-  const Params kfca{{"r", r}, {"q", q}, {"p0_vel", 300.0}, {"p0_acc", 5e3}};
+  const Params kfca{{"r", r}, {"q", q}, {"p0_vel", 300.0}, {"p0_acc", 5e3}, {"shrink_sigmas", 2.0}};
   Params st = modelParams("ca", kfca);
   st.set("window", 0);
   st.set("p0_pos", r);  // kf-ca starts P(0,0) at R

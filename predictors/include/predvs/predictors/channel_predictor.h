@@ -14,6 +14,17 @@
 // claims no extra certainty). tau = 0 switches coasting off (the model's own extrapolation, as
 // before). Every predictor with a motion state reads the key `coast_tau_s` (s, default
 // kDefaultCoastTauS) through readCoastParam(); `hold` has no velocity to decay.
+//
+// Significance-weighted forecast (issue 11 item 3, docs/MODELS.md §15): a derived filter that calls
+// readShrinkParams() extrapolates the prediction horizon from
+//   [p, w_v v(, w_v w_a a)],   w_a = w(a, P_aa; shrink_sigmas),  w_v = w(v, P_vv; shrink_v_sigmas),
+// with w(m, var; n) = m^2 / (m^2 + n^2 var) (significanceWeight(), kalman_math.h) and P = P(k|k), the
+// filter's own covariance: a velocity or an acceleration the filter cannot tell from zero (10 Hz,
+// 3 px) is damped towards hold, a well determined one (60 Hz, 0.5 px) is left as it is. Only the
+// forecast is weighted: the filter's own time update (step()) is unchanged, and the covariance of the
+// forecast is the model's propagation of P(k|k). n = 0 switches a weight off, and with both 0
+// predict() and predictPosition() are the unweighted ones bit for bit. The CS filters (cs_akf.h)
+// have their own weighting, which also acts on their time update.
 #pragma once
 
 #include "predvs/predictors/kalman_math.h"
@@ -94,7 +105,7 @@ class ChannelPredictor : public Predictor {
     }
     const double dt = t_s - time();
     if (!(dt > 0.0)) return toEstimate(s.g);
-    Gaussian<N> g = s.g;
+    Gaussian<N> g = forecastWeightingOn() ? weightedForecastStart(channel) : s.g;
     timeUpdate(g, transition(channel, dt), processNoise(channel, dt));
     return toEstimate(g);
   }
@@ -105,6 +116,7 @@ class ChannelPredictor : public Predictor {
     if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
     const double dt = t_s - time();
     if (!(dt > 0.0)) return s.g.x(0);
+    if (forecastWeightingOn()) return predictedPosition(weightedForecastStart(channel), transition(channel, dt));
     return predictedPosition(s.g, transition(channel, dt));
   }
 
@@ -140,6 +152,30 @@ class ChannelPredictor : public Predictor {
   /// whose state has a velocity.
   void readCoastParam(const Params& params) { coast_tau_s_ = coastTauParam(params); }
   double coastTauS() const { return coast_tau_s_; }
+  /// Reads `shrink_sigmas` (n of the acceleration weight w_a, dimensionless >= 0, default
+  /// default_sigmas; with N = 2 there is no acceleration and it only sets the default of the next
+  /// key) and `shrink_v_sigmas` (n of the velocity weight w_v, default: shrink_sigmas when
+  /// weigh_velocity, else 0); see the file comment. Called by the derived constructors whose
+  /// forecast is weighted; without the call the forecast is unweighted.
+  void readShrinkParams(const Params& params, double default_sigmas, bool weigh_velocity) {
+    shrink_a_sigmas_ = params.get("shrink_sigmas", default_sigmas, 0.0, 1e3);
+    shrink_v_sigmas_ = params.get("shrink_v_sigmas", weigh_velocity ? shrink_a_sigmas_ : 0.0, 0.0, 1e3);
+    if constexpr (N == 2) shrink_a_sigmas_ = 0.0;
+  }
+  /// True when the forecast is weighted (a shrink key > 0).
+  bool forecastWeightingOn() const { return shrink_a_sigmas_ > 0.0 || shrink_v_sigmas_ > 0.0; }
+  /// The Gaussian the forecast of channel c extrapolates: x(k|k) with a weighted by w_a w_v and v by
+  /// w_v (file comment), P(k|k) unchanged.
+  Gaussian<N> weightedForecastStart(int c) const {
+    Gaussian<N> g = state_[static_cast<size_t>(c)].g;
+    const double w_v = significanceWeight(g.x(1), g.P(1, 1), shrink_v_sigmas_);
+    g.x(1) *= w_v;
+    if constexpr (N == 3) {
+      g.x(2) *= significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_);
+      g.x(2) *= w_v;
+    }
+    return g;
+  }
   /// Makes the process noise of every channel adapted by covariance matching (`q: auto`,
   /// process_noise_adapt.h); called by a derived constructor when its `q` is absent or `auto`.
   void enableAutoProcessNoise() { q_auto_.assign(state_.size(), ProcessNoiseMatcher()); }
@@ -182,6 +218,8 @@ class ChannelPredictor : public Predictor {
   double p0_vel_;
   double p0_acc_;
   double coast_tau_s_ = 0.0;  ///< 0 until readCoastParam(): hold never coasts
+  double shrink_a_sigmas_ = 0.0;  ///< 0 until readShrinkParams(): unweighted forecast
+  double shrink_v_sigmas_ = 0.0;
 };
 
 }  // namespace predvs

@@ -56,12 +56,8 @@ Mat<3> singerProcessNoise(double alpha, double sigma2, double dt);
 /// -a_neg_max < abar < a_max; outside, the formula is applied as written (the variance grows again).
 double rayleighVariance(double abar, double a_max, double a_neg_max, double sigma0_sq);
 
-/// Significance weight of an estimate m with variance var (issue 11, "Defaults that hold"):
-///   w = m^2 / (m^2 + n^2 var),   n = n_sigmas;   w = 1 when n_sigmas = 0 (no weighting).
-/// w -> 1 for an estimate many standard deviations away from zero, w = 1/2 at exactly n standard
-/// deviations, w -> 0 for an estimate buried in its own uncertainty (a velocity or an acceleration
-/// that the filter cannot tell from zero). Units: m and sqrt(var) in the same unit (px/s, px/s^2).
-double significanceWeight(double m, double var, double n_sigmas);
+/// significanceWeight() (the weight of shrink_sigmas below) is in kalman_math.h, shared with the
+/// per-channel filters (channel_predictor.h).
 
 /// Default `shrink_sigmas` of cs-akf (3: an acceleration 3 standard deviations from zero counts
 /// half; its velocity is not weighted) and of cs-akf-adaptive and fakf (2, velocity too). See

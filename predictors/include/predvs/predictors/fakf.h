@@ -62,6 +62,13 @@ class InnovationWindow {
 /// st-akf-pm and fakf-classic on either motion model".
 inline constexpr double kDefaultQFakfClassicCa = 3e5;
 
+/// Default `shrink_sigmas` of fakf-classic (cv, ca; shrink_v_sigmas defaults to it):
+/// channel_predictor.h, significance-weighted forecast; docs/MODELS.md §15. cv: 0.5, the smallest
+/// n that beats hold on the 216 tracks of `predvs track-study` and both held-out grids (0 and 0.25
+/// lose hand 10 Hz 3 px #101, x1.023 / x1.009; mean ratio 0.542 -> 0.543); ca: 3 (2: 214 / 215).
+inline constexpr double kDefaultShrinkSigmasFakfClassic = 0.5;
+inline constexpr double kDefaultShrinkSigmasFakfClassicCa = 3.0;
+
 /// `fakf-classic`: the traditional fuzzy adaptive KF of Escamilla-Ambrosio & Mort, the baseline
 /// paper 000 compares against (docs/MODELS.md §3). Motion model (`model`, a word): `cv` (default,
 /// the paper's) x = [p, v] per channel with kf-cv's model and defaults (white-acceleration density
@@ -78,9 +85,11 @@ inline constexpr double kDefaultQFakfClassicCa = 3e5;
 /// either model, e.g. a noise fit's structural variants that change `model` alone), window (N_w,
 /// 10), dom_range (DoM universe half-width, 10 px^2), dr_max (dR universe half-width, 0.5 px^2 per
 /// frame; choice: the original paper's ranges are not in paper 000), r_min (r/100 px^2),
-/// r_max (100 r px^2), coast_tau_s (s, 0.2, channel_predictor.h); q also takes `auto`
-/// (process_noise_adapt.h). q and r default to kf-cv's (kf-ca's on ca), so the only difference is
-/// the adaptation.
+/// r_max (100 r px^2), coast_tau_s (s, 0.2, channel_predictor.h), shrink_sigmas (significance
+/// weight of the forecast, default kDefaultShrinkSigmasFakfClassic = 0.5 on cv, 3 on ca; 0 = the
+/// unweighted filter) and shrink_v_sigmas (velocity, default shrink_sigmas), channel_predictor.h;
+/// q also takes `auto` (process_noise_adapt.h). q and r default to kf-cv's (kf-ca's on ca), so
+/// with equal shrink_sigmas the only difference is the adaptation.
 template <int N>
 class FakfClassicPredictor : public ChannelPredictor<N> {
   using Base = ChannelPredictor<N>;

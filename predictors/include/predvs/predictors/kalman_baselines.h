@@ -14,6 +14,15 @@ namespace predvs {
 /// slow E1-E4 scenarios (10 px/s), and lost to `hold` on faster targets.
 inline constexpr double kDefaultQCv = 1e4;
 inline constexpr double kDefaultQCa = 3e5;
+/// Default `shrink_sigmas` of kf-cv and kf-ca, and whether kf-ca's shrink_v_sigmas defaults to it
+/// (channel_predictor.h, significance-weighted forecast; docs/MODELS.md §15). kf-ca: 2, the
+/// smallest n (0.5 steps) that beats hold on the 216 tracks of `predvs track-study` and both
+/// held-out grids (1.5 loses bursts 10 Hz 3 px #101 by x1.03); mean ratio 0.560 -> 0.531. kf-cv:
+/// 0 (0.25 would win its one held-out loss, x1.003, but kf-cv is the servo tests' and goldens'
+/// reference; docs/MODELS.md §15).
+inline constexpr double kDefaultShrinkSigmasKfCv = 0.0;
+inline constexpr double kDefaultShrinkSigmasKfCa = 2.0;
+inline constexpr bool kDefaultShrinkVelocityKfCa = true;
 
 /// `hold`: the no-prediction baseline. The estimate at any time is the last measurement
 /// (zero velocity), which is what a servo loop without a predictor acts on.
@@ -35,7 +44,9 @@ class HoldPredictor : public ChannelPredictor<2> {
 /// covariance matching, predictors/process_noise_adapt.h, opt-in), r (measurement variance px^2;
 /// default `auto`: estimated from the first frames of each channel, predictors/noise_estimate.h; a
 /// number fixes it), p0_vel ((px/s)^2, default 1e4), coast_tau_s (s, default 0.2: the velocity
-/// decays with this time constant on frames without a measurement, channel_predictor.h).
+/// decays with this time constant on frames without a measurement, channel_predictor.h),
+/// shrink_sigmas (default 0 = off) / shrink_v_sigmas (default shrink_sigmas): significance weight
+/// of the forecast velocity (channel_predictor.h).
 class KfCvPredictor : public ChannelPredictor<2> {
  public:
   KfCvPredictor(int channels, const Params& params);
@@ -56,7 +67,9 @@ class KfCvPredictor : public ChannelPredictor<2> {
 /// F = [[1, T, T^2/2], [0, 1, T], [0, 0, 1]], white-jerk Q of density q (px^2/s^5).
 /// Parameters: q (px^2/s^5, default kDefaultQCa = 3e5; or `auto` as kf-cv), r (px^2, default
 /// `auto` as kf-cv), p0_vel ((px/s)^2, 1e4), p0_acc ((px/s^2)^2, 1e4), coast_tau_s (s, 0.2, as
-/// kf-cv; the acceleration decays twice as fast).
+/// kf-cv; the acceleration decays twice as fast), shrink_sigmas (n of the acceleration weight of
+/// the forecast, default kDefaultShrinkSigmasKfCa = 2; 0 = the unweighted filter),
+/// shrink_v_sigmas (n of the velocity weight, default shrink_sigmas; channel_predictor.h).
 class KfCaPredictor : public ChannelPredictor<3> {
  public:
   KfCaPredictor(int channels, const Params& params);

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
 
 namespace predvs {
@@ -29,6 +30,18 @@ template <int N>
 inline void symmetrize(Mat<N>& P) {
   for (int i = 0; i < N; ++i)
     for (int j = i + 1; j < N; ++j) P(i, j) = P(j, i) = 0.5 * (P(i, j) + P(j, i));
+}
+
+/// Significance weight of an estimate m with variance var (issue 11, "Defaults that hold"):
+///   w = m^2 / (m^2 + n^2 var),   n = n_sigmas;   w = 1 when n_sigmas = 0 (no weighting).
+/// w -> 1 for an estimate many standard deviations away from zero, w = 1/2 at exactly n standard
+/// deviations, w -> 0 for an estimate buried in its own uncertainty (a velocity or an acceleration
+/// that the filter cannot tell from zero). Units: m and sqrt(var) in the same unit (px/s, px/s^2).
+inline double significanceWeight(double m, double var, double n_sigmas) {
+  if (!(n_sigmas > 0.0)) return 1.0;
+  const double m2 = m * m;
+  const double d = m2 + n_sigmas * n_sigmas * std::max(var, 0.0);
+  return d > 0.0 ? m2 / d : 0.0;
 }
 
 /// Time update: x <- F x, P <- F P F' + Q (kept symmetric).

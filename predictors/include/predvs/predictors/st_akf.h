@@ -27,6 +27,14 @@ inline constexpr double kDefaultQStAkf = 1e5;
 /// mean ratio 0.512 (q 3e3: 0.515, 3e4: 0.535, 1e3 and 1e5 lose 4-5 tracks); docs/PERFORMANCE.md
 /// "Defaults that hold", subsection "st-akf, st-akf-pm and fakf-classic on either motion model".
 inline constexpr double kDefaultQStAkfCv = 1e4;
+/// Default `shrink_sigmas` of st-akf and st-akf-pm (ca, cv), and whether shrink_v_sigmas defaults to
+/// it (channel_predictor.h, significance-weighted forecast; docs/MODELS.md §15). CA: 1.5, the
+/// smallest n (0.25 steps near it) that beats hold on the 216 tracks of `predvs track-study` and
+/// both held-out grids (1.25 loses zigzag 10 Hz 3 px #101 by x1.02; mean ratio 0.533 -> 0.509);
+/// CV: 0.5 (0 loses hand 10 Hz 3 px #101 by x1.016).
+inline constexpr double kDefaultShrinkSigmasStAkf = 1.5;
+inline constexpr double kDefaultShrinkSigmasStAkfCv = 0.5;
+inline constexpr bool kDefaultShrinkVelocityStAkf = true;
 
 /// `st-akf`: Kalman filter with fading factors (strong tracking), on either motion model.
 ///
@@ -58,7 +66,9 @@ inline constexpr double kDefaultQStAkfCv = 1e4;
 /// process_noise_adapt.h), r (px^2, default `auto`: predictors/noise_estimate.h),
 /// p0_vel ((px/s)^2, 1e4), p0_acc ((px/s^2)^2, 1e4), rho (0.95), beta (default 5 since issue 11,
 /// 1 before), a1, a2, a3 (1: preset ratios of the fading factors of p, v, a; each >= 1),
-/// coast_tau_s (s, 0.2, channel_predictor.h).
+/// coast_tau_s (s, 0.2, channel_predictor.h), shrink_sigmas (significance weight of the forecast
+/// acceleration, default 1.5 on ca, 0.5 on cv; 0 = the unweighted filter) and shrink_v_sigmas
+/// (velocity, default shrink_sigmas): channel_predictor.h.
 /// Choice: with `model: cv` the keys of the acceleration state, p0_acc and a3, are accepted (range
 /// checked) and unused, so that one configuration runs on either model (a noise fit's structural
 /// variants change `model` alone); every other key means the same on both models.

@@ -73,6 +73,9 @@ namespace predvs {
 /// i.e. a white acceleration of 3e4 px^2/s^3), q_period_s (T_0 = 0.1 s).
 /// ca only: q (px^2/s^5, default kDefaultQStkfCa = 3e5, kf-ca's), p0_acc ((px/s^2)^2, default 1e4),
 /// reinit_threshold_vel ((px/s)^2, +inf), reinit_threshold_acc ((px/s^2)^2, +inf).
+/// Both models: shrink_sigmas (significance weight of the forecast acceleration, default 0 on cv,
+/// 3 on ca; 0 = the unweighted filter), shrink_v_sigmas (velocity, default shrink_sigmas):
+/// channel_predictor.h. The paper-001 scenarios pin shrink_sigmas 0.
 /// The ca defaults were chosen with `predvs track-study --predictors hold,stkf --param
 /// stkf.model=ca` (docs/PERFORMANCE.md "stkf on either motion model"): on the 216 generated
 /// tracks the self-tuned R costs at every window (k = 0, i.e. kf-ca: 214 beat hold, mean ratio
@@ -85,6 +88,16 @@ namespace predvs {
 /// they lost to hold on 128 of 144 generated maneuvering tracks (the squared variance of a line
 /// fit through a manoeuvre makes R huge, and q_vel = 20 cannot follow a turn), so they are now
 /// given explicitly by the paper-001 scenarios (data/scenarios/e6-*, e7-*, e8-*).
+/// Default `shrink_sigmas` of stkf (cv, ca), and whether shrink_v_sigmas defaults to it
+/// (channel_predictor.h, significance-weighted forecast; docs/MODELS.md §15). ca: 3, the smallest
+/// n that beats hold on the 216 tracks of `predvs track-study` and both held-out grids (2: 215 /
+/// 214 / 108; mean ratio 0.564 -> 0.552). cv: 0, since no n does (0.5..3: 213-214 / 211-214 /
+/// 104-106, the mean ratio growing from 0.616 to 0.62-0.77): cv's losses are lag, not an
+/// insignificant velocity.
+inline constexpr double kDefaultShrinkSigmasStkf = 0.0;
+inline constexpr double kDefaultShrinkSigmasStkfCa = 3.0;
+inline constexpr bool kDefaultShrinkVelocityStkf = true;
+
 template <int N>
 class StkfFilter : public ChannelPredictor<N> {
   using Base = ChannelPredictor<N>;
