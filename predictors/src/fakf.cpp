@@ -98,10 +98,7 @@ FakfClassicPredictor<N>::FakfClassicPredictor(int channels, const Params& params
 
 template <int N>
 std::vector<Params> FakfClassicPredictor<N>::structuralVariants() const {
-  Params cv, ca;
-  cv.setText("model", "cv");
-  ca.setText("model", "ca");
-  return {cv, ca};
+  return motionModelVariants();
 }
 
 template <int N>

@@ -46,10 +46,7 @@ StAkfPredictor<N>::StAkfPredictor(int channels, const Params& params)
 
 template <int N>
 std::vector<Params> StAkfPredictor<N>::structuralVariants() const {
-  Params cv, ca;
-  cv.setText("model", "cv");
-  ca.setText("model", "ca");
-  return {cv, ca};
+  return motionModelVariants();
 }
 
 template <int N>

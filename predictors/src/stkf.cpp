@@ -115,10 +115,7 @@ std::vector<Params> StkfFilter<N>::structuralVariants() const {
 
 template <int N>
 Mat<N> StkfFilter<N>::transition(int, double dt) const {
-  if constexpr (N == 2)
-    return cvTransition(dt);
-  else
-    return caTransition(dt);
+  return motionTransition<N>(dt);
 }
 
 template <int N>

@@ -99,10 +99,7 @@ class FakfClassicPredictor : public ChannelPredictor<N> {
   std::string name() const override { return "fakf-classic"; }
   /// q (white-acceleration density on cv, white-jerk density on ca) and r (the initial R).
   std::vector<NoiseParameter> noiseParameters() const override {
-    if constexpr (N == 2)
-      return {accelerationDensityParameter("q", q_), this->measurementNoiseParameter()};
-    else
-      return {jerkDensityParameter("q", q_), this->measurementNoiseParameter()};
+    return {motionDensityParameter<N>("q", q_), this->measurementNoiseParameter()};
   }
   /// {model: cv} and {model: ca}.
   std::vector<Params> structuralVariants() const override;
@@ -111,17 +108,9 @@ class FakfClassicPredictor : public ChannelPredictor<N> {
   double adaptedR(int c) const { return measurementNoise(c); }
 
  protected:
-  Mat<N> transition(int, double dt) const override {
-    if constexpr (N == 2)
-      return cvTransition(dt);
-    else
-      return caTransition(dt);
-  }
+  Mat<N> transition(int, double dt) const override { return motionTransition<N>(dt); }
   Mat<N> processNoise(int c, double dt) const override {
-    if constexpr (N == 2)
-      return cvProcessNoise(q_ * this->processNoiseScale(c), dt);
-    else
-      return caProcessNoise(q_ * this->processNoiseScale(c), dt);
+    return motionProcessNoise<N>(q_ * this->processNoiseScale(c), dt);
   }
   double measurementNoise(int c) const override { return r_.at(static_cast<size_t>(c)); }
   void resetAdaptation() override;

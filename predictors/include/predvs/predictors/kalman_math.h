@@ -162,6 +162,35 @@ inline Mat<3> caProcessNoise(double q, double dt) {
   return q * Q;
 }
 
+/// The polynomial motion model of a filter on N states: constant velocity (N = 2, cvTransition /
+/// cvProcessNoise, q a white-acceleration density, px^2/s^3) or constant acceleration (N = 3,
+/// caTransition / caProcessNoise, q a white-jerk density, px^2/s^5).
+template <int N>
+inline Mat<N> motionTransition(double dt) {
+  if constexpr (N == 2)
+    return cvTransition(dt);
+  else
+    return caTransition(dt);
+}
+template <int N>
+inline Mat<N> motionProcessNoise(double q, double dt) {
+  if constexpr (N == 2)
+    return cvProcessNoise(q, dt);
+  else
+    return caProcessNoise(q, dt);
+}
+/// The noiseParameters() entry of that q (accelerationDensityParameter / jerkDensityParameter).
+template <int N>
+inline NoiseParameter motionDensityParameter(const std::string& key, double q);
+/// The two structures of a filter that runs on either model, for structuralVariants():
+/// {model: cv} and {model: ca}.
+inline std::vector<Params> motionModelVariants() {
+  Params cv, ca;
+  cv.setText("model", "cv");
+  ca.setText("model", "ca");
+  return {cv, ca};
+}
+
 /// noiseParameters() entries shared by several filters (bounds: see Predictor::noiseParameters).
 /// Measurement variance `r` (px^2): 1e-3..1e3, i.e. 0.03..30 px standard deviation.
 inline NoiseParameter measurementVarianceParameter(double r_px2) { return {"r", 1e-3, 1e3, r_px2}; }
@@ -169,6 +198,13 @@ inline NoiseParameter measurementVarianceParameter(double r_px2) { return {"r", 
 inline NoiseParameter accelerationDensityParameter(const std::string& key, double q) { return {key, 1e-2, 1e8, q}; }
 /// White-jerk density (caProcessNoise's q, px^2/s^5; also the Singer density 2 alpha sigma^2): 1e-1..1e11.
 inline NoiseParameter jerkDensityParameter(const std::string& key, double q) { return {key, 1e-1, 1e11, q}; }
+template <int N>
+inline NoiseParameter motionDensityParameter(const std::string& key, double q) {
+  if constexpr (N == 2)
+    return accelerationDensityParameter(key, q);
+  else
+    return jerkDensityParameter(key, q);
+}
 
 /// Estimate of a fixed-size Gaussian as the interface's ChannelEstimate.
 /// Copied element by element: for these runtime-sized (at most 3x3) types Eigen's assignment

@@ -85,10 +85,7 @@ class StAkfPredictor : public ChannelPredictor<N> {
   /// q (the white-acceleration density for cv, the white-jerk density for ca) and r (also those of
   /// st-akf-pm: the monitor adds no noise parameter).
   std::vector<NoiseParameter> noiseParameters() const override {
-    if constexpr (N == 2)
-      return {accelerationDensityParameter("q", q_), this->measurementNoiseParameter()};
-    else
-      return {jerkDensityParameter("q", q_), this->measurementNoiseParameter()};
+    return {motionDensityParameter<N>("q", q_), this->measurementNoiseParameter()};
   }
   /// {model: cv} and {model: ca}.
   std::vector<Params> structuralVariants() const override;
@@ -99,17 +96,9 @@ class StAkfPredictor : public ChannelPredictor<N> {
   double unfadedS(int c) const { return ext_.at(static_cast<size_t>(c)).s_unfaded; }
 
  protected:
-  Mat<N> transition(int, double dt) const override {
-    if constexpr (N == 2)
-      return cvTransition(dt);
-    else
-      return caTransition(dt);
-  }
+  Mat<N> transition(int, double dt) const override { return motionTransition<N>(dt); }
   Mat<N> processNoise(int c, double dt) const override {
-    if constexpr (N == 2)
-      return cvProcessNoise(q_ * this->processNoiseScale(c), dt);
-    else
-      return caProcessNoise(q_ * this->processNoiseScale(c), dt);
+    return motionProcessNoise<N>(q_ * this->processNoiseScale(c), dt);
   }
   void resetAdaptation() override;
   void step(int c, double dt, double z) override;
