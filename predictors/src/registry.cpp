@@ -33,7 +33,7 @@ const std::vector<Entry>& entries() {
       {{"kf-ca", "Kalman filter, constant-acceleration model"}, factory<KfCaPredictor>()},
       {{"cs-akf", "current-statistical-model KF: Singer Q, Rayleigh variance with fixed a_max"}, factory<CsAkfPredictor>()},
       {{"cs-akf-adaptive", "CS-model KF, variance adapted from successive acceleration estimates"}, factory<CsAkfAdaptivePredictor>()},
-      {{"stkf", "self-tuning KF: CV model (model: ca for CA), R from line (quadratic) fit residuals of the last k frames"}, makeStkfPredictor},
+      {{"stkf", "self-tuning KF: CA model (model: cv, the paper's, for CV), R from quadratic (line) fit residuals of the last k frames"}, makeStkfPredictor},
       {{"st-akf", "strong-tracking adaptive KF: CA (or model: cv) Kalman filter with fading factors"}, makeStAkfPredictor},
       {{"st-akf-pm", "st-akf re-initialised by the predictive discontinuity monitor"}, makeStAkfPmPredictor},
       {{"fakf-classic", "fuzzy adaptive KF (Escamilla-Ambrosio & Mort): CV (or model: ca), R += fuzzy(C - S)"}, makeFakfClassicPredictor},

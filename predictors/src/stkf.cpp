@@ -10,9 +10,9 @@ namespace predvs {
 
 namespace {
 
-/// The `model` word: "cv" (default) or "ca"; anything else is a one-line error naming the key.
-std::string modelParam(const Params& params) {
-  const std::string m = params.text("model", "cv");
+/// The `model` word: "cv" or "ca" (absent: `fallback`); anything else is a one-line error naming the key.
+std::string modelParam(const Params& params, const char* fallback) {
+  const std::string m = params.text("model", fallback);
   if (m != "cv" && m != "ca")
     throw std::invalid_argument("predictor parameter 'model' must be cv or ca, got '" + m + "'");
   return m;
@@ -73,7 +73,7 @@ StkfFilter<N>::StkfFilter(int channels, const Params& params)
       window_count_(static_cast<size_t>(channels), 0),
       r_(static_cast<size_t>(channels), r0_),
       pending_(static_cast<size_t>(channels), 0) {
-  const std::string model = modelParam(params);
+  const std::string model = modelParam(params, kModelWord[N]);  // a class built directly is its own model
   if (model != kModelWord[N])
     throw std::invalid_argument("stkf: model '" + model + "' is built by makeStkfPredictor(), not by StkfFilter<" +
                                 std::to_string(N) + "> (model " + kModelWord[N] + ")");
@@ -252,7 +252,9 @@ template class StkfFilter<2>;
 template class StkfFilter<3>;
 
 std::unique_ptr<Predictor> makeStkfPredictor(int channels, const Params& params) {
-  if (modelParam(params) == "ca") return std::make_unique<StkfCaPredictor>(channels, params);
+  // The registry's default is ca (issue 11: with its weighted forecast it beats hold on every
+  // generated track, the paper's cv filter on 213 of 216; docs/MODELS.md §4).
+  if (modelParam(params, "ca") == "ca") return std::make_unique<StkfCaPredictor>(channels, params);
   return std::make_unique<StkfPredictor>(channels, params);
 }
 

@@ -27,6 +27,7 @@ Params withPaperValues(const Params& params) {
       {"r", 5.0}, {"q_pos", 5.0}, {"q_vel", 20.0}, {"squared", 1.0}, {"coast_tau_s", 0.0}};
   for (const auto& kv : paper)
     if (!p.has(kv.first)) p.set(kv.first, kv.second);
+  if (!p.has("model")) p.setText("model", "cv");  // the paper's model (the registry's default is ca)
   return p;
 }
 
@@ -196,18 +197,19 @@ double fingerprint(Predictor& f) {
   return sum;
 }
 
-TEST(StkfModels, DefaultModelIsCvAndGivesTheSameNumbersAsBefore) {
-  // GIVEN stkf with its defaults, with `model: cv`, and with the paper's values
-  const Params paper{{"r", 5.0}, {"q_pos", 5.0}, {"q_vel", 20.0}, {"squared", 1.0}, {"coast_tau_s", 0.0}};
+TEST(StkfModels, CvGivesTheSameNumbersAsBeforeAndTheDefaultIsCa) {
+  // GIVEN stkf with its defaults, with `model: cv` (its default before issue 11's weighted
+  // forecast made ca the default), and with the paper's values
+  Params paper{{"r", 5.0}, {"q_pos", 5.0}, {"q_vel", 20.0}, {"squared", 1.0}, {"coast_tau_s", 0.0}};
+  paper.setText("model", "cv");
   auto by_default = makePredictor("stkf", 2);
   auto cv = makePredictor("stkf", 2, modelParams("cv"));
   auto paper_filter = makePredictor("stkf", 2, paper);
-  // THEN the default is the 2-state filter
-  EXPECT_NE(dynamic_cast<StkfPredictor*>(by_default.get()), nullptr);
-  EXPECT_EQ(by_default->predict(0, 0.0).x.size(), 2);
-  // AND its predictions are bit for bit those of the CV filter before `model` existed (the sums
-  // were printed by the same loop linked against the stkf of commit b41f742)
-  EXPECT_EQ(fingerprint(*by_default), 0x1.30c2147f2c8cep+17);
+  // THEN the default is the 3-state filter
+  EXPECT_NE(dynamic_cast<StkfCaPredictor*>(by_default.get()), nullptr);
+  EXPECT_EQ(by_default->predict(0, 0.0).x.size(), 3);
+  // AND the cv filter's predictions are bit for bit those of the CV filter before `model` existed
+  // (the sums were printed by the same loop linked against the stkf of commit b41f742)
   EXPECT_EQ(fingerprint(*cv), 0x1.30c2147f2c8cep+17);
   EXPECT_EQ(fingerprint(*paper_filter), 0x1.31350c4c1f62p+17);
 }
@@ -435,7 +437,7 @@ TEST(StkfModels, ABadModelIsAOneLineErrorNamingModel) {
   EXPECT_EQ(errorOf(modelParams("cv", {{"window", 3.0}})), "");
   // The class of one model refuses the other's word
   EXPECT_THROW(StkfPredictor(1, modelParams("ca")), std::invalid_argument);
-  EXPECT_THROW(StkfCaPredictor(1, Params{}), std::invalid_argument);
+  EXPECT_THROW(StkfCaPredictor(1, modelParams("cv")), std::invalid_argument);
 }
 
 // ---------------------------------------------------------------------------------------------
