@@ -6,7 +6,7 @@
 // target by (image speed) / lambda, whatever the delay).
 // Prints the steady-state RMS image error (pixels) without and with the predictor.
 // Usage: predictor_ahead_of_vpservo [NAME [KEY=VALUE ...]]   (default kf-cv; KEY=VALUE: the
-// predictor's parameters, e.g. `kf-ca q=1000 r=1`; docs/MODELS.md gives each predictor's keys)
+// predictor's parameters, e.g. `kf-ca q=1000 r=1`, a word for a word key, e.g. `stkf model=cv`; docs/MODELS.md gives each predictor's keys)
 #include <predvs/predictors/predictor.h>
 
 #include <visp3/core/vpMeterPixelConversion.h>
@@ -97,11 +97,14 @@ int main(int argc, char** argv) {
     const size_t eq = arg.find('=');
     char* end = nullptr;
     const double value = eq == std::string::npos ? 0.0 : std::strtod(arg.c_str() + eq + 1, &end);
-    if (eq == std::string::npos || eq == 0 || end == arg.c_str() + eq + 1 || *end != '\0') {
-      std::fprintf(stderr, "predictor_ahead_of_vpservo: '%s': expected KEY=VALUE with a number\n", arg.c_str());
+    if (eq == std::string::npos || eq == 0 || eq + 1 == arg.size()) {
+      std::fprintf(stderr, "predictor_ahead_of_vpservo: '%s': expected KEY=VALUE\n", arg.c_str());
       return 2;
     }
-    params.set(arg.substr(0, eq), value);
+    if (*end == '\0')
+      params.set(arg.substr(0, eq), value);
+    else
+      params.setText(arg.substr(0, eq), arg.substr(eq + 1));  // a word (model=cv): the predictor checks it
   }
   try {
     std::printf("steady-state RMS image error without predictor: %.3f px\n", runLoop(""));
