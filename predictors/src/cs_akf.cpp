@@ -219,33 +219,11 @@ CsKalmanPredictor::CsKalmanPredictor(int channels, const Params& params, bool au
   if (mean != "current" && mean != "zero")
     throw std::invalid_argument("predictor parameter 'mean' must be current or zero, got '" + mean + "'");
   zero_mean_ = mean == "zero";
-  shrink_sigmas_ = params.get("shrink_sigmas", default_shrink_sigmas, 0.0, 1e3);
-  shrink_update_sigmas_ = params.get("shrink_update_sigmas", shrink_sigmas_, 0.0, 1e3);
-  shrink_v_sigmas_ = params.get("shrink_v_sigmas", weigh_velocity ? shrink_sigmas_ : 0.0, 0.0, 1e3);
+  // The forecast weighting is ChannelPredictor's (the same w_v, w_a); the CS filters also weigh
+  // the acceleration of their time update (shrink_update_sigmas, defaulting to shrink_sigmas).
+  readShrinkParams(params, default_shrink_sigmas, weigh_velocity);
+  shrink_update_sigmas_ = params.get("shrink_update_sigmas", params.get("shrink_sigmas", default_shrink_sigmas), 0.0, 1e3);
   if ((auto_r || params.texts().count("r")) && isAutoMeasurementNoise(params)) enableAutoNoise();
-}
-
-Gaussian<3> CsKalmanPredictor::forecastStart(int c) const {
-  Gaussian<3> g = gaussian(c);
-  g.x(2) *= significanceWeight(g.x(2), g.P(2, 2), shrink_sigmas_);
-  const double w_v = significanceWeight(g.x(1), g.P(1, 1), shrink_v_sigmas_);
-  g.x(1) *= w_v;
-  g.x(2) *= w_v;
-  return g;
-}
-
-ChannelEstimate CsKalmanPredictor::predict(int c, double t_s) const {
-  if (!forecastWeighted() || !initialized(c) || !(t_s - time() > 0.0)) return ChannelPredictor<3>::predict(c, t_s);
-  const double dt = t_s - time();
-  Gaussian<3> g = forecastStart(c);
-  timeUpdate(g, transition(c, dt), processNoise(c, dt));
-  return toEstimate(g);
-}
-
-double CsKalmanPredictor::predictPosition(int c, double t_s) const {
-  if (!forecastWeighted() || !initialized(c) || !(t_s - time() > 0.0))
-    return ChannelPredictor<3>::predictPosition(c, t_s);
-  return predictedPosition(forecastStart(c), transition(c, t_s - time()));
 }
 
 Mat<3> CsKalmanPredictor::processNoise(int c, double dt) const {

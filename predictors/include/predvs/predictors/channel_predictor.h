@@ -23,8 +23,8 @@
 // 3 px) is damped towards hold, a well determined one (60 Hz, 0.5 px) is left as it is. Only the
 // forecast is weighted: the filter's own time update (step()) is unchanged, and the covariance of the
 // forecast is the model's propagation of P(k|k). n = 0 switches a weight off, and with both 0
-// predict() and predictPosition() are the unweighted ones bit for bit. The CS filters (cs_akf.h)
-// have their own weighting, which also acts on their time update.
+// predict() and predictPosition() are the unweighted ones bit for bit. The CS filters (cs_akf.h) use this
+// forecast weighting and also weigh the acceleration of their own time update.
 #pragma once
 
 #include "predvs/predictors/kalman_math.h"

@@ -136,8 +136,6 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
  public:
   /// Acceleration correlation rate (1/s).
   double alpha() const { return alpha_; }
-  ChannelEstimate predict(int channel, double t_s) const override;
-  double predictPosition(int channel, double t_s) const override;
   /// sigma^2 ((px/s^2)^2) that drives Q for the next time update of channel c.
   virtual double accelerationVariance(int c) const = 0;
 
@@ -173,17 +171,10 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
   /// Mutable Gaussian of channel c (x(k|k) after a step, x(k|k-1) inside inflatePrior).
   Gaussian<3>& channelGaussian(int c) { return state_[static_cast<size_t>(c)].g; }
 
-  /// The Gaussian the forecast extrapolates: x(k|k) with v and a weighted by their significance
-  /// (shrink_sigmas, see the class comment).
-  Gaussian<3> forecastStart(int c) const;
-  bool forecastWeighted() const { return shrink_sigmas_ > 0.0 || shrink_v_sigmas_ > 0.0; }
-
  private:
   double alpha_;
   bool zero_mean_ = false;
-  double shrink_sigmas_;
-  double shrink_update_sigmas_;
-  double shrink_v_sigmas_;
+  double shrink_update_sigmas_;  ///< the time-update weighting (the forecast's: ChannelPredictor)
 };
 
 /// `cs-akf`: CS Kalman filter with the modified-Rayleigh variance and fixed limits:
