@@ -187,7 +187,8 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
       throw std::invalid_argument("--param: expected [PREDICTOR.]KEY=VALUE, got '" + kv + "'");
     std::string key = kv.substr(0, eq);
     const std::string text = kv.substr(eq + 1);
-    const bool word = !text.empty() && std::isalpha(static_cast<unsigned char>(text[0]));  // model=cv
+    double number = 0.0;
+    const bool word = classifyParamText(text, &number) == ParamText::Word;  // model=cv
     const double value = word ? 0.0 : parseNumberArg("--param " + key, text);
     std::string scope;
     const auto dot = key.find('.');

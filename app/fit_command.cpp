@@ -95,15 +95,13 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
     const auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0) throw std::invalid_argument("--param: expected KEY=VALUE, got '" + kv + "'");
     const std::string text = kv.substr(eq + 1);
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (!text.empty() && *end != '\0' && std::isalpha(static_cast<unsigned char>(text[0]))) {
-      base.setText(kv.substr(0, eq), text);  // a word (model: cv): the predictor checks it below
-      continue;
+    double v = 0.0;
+    switch (classifyParamText(text, &v)) {
+      case ParamText::Number: base.set(kv.substr(0, eq), v); break;
+      case ParamText::Word: base.setText(kv.substr(0, eq), text); break;  // model: cv: the predictor checks it below
+      case ParamText::Invalid:
+        throw std::invalid_argument("--param " + kv.substr(0, eq) + ": expected a number or a word, got '" + text + "'");
     }
-    if (text.empty() || *end != '\0' || !std::isfinite(v))
-      throw std::invalid_argument("--param " + kv.substr(0, eq) + ": expected a number or a word, got '" + text + "'");
-    base.set(kv.substr(0, eq), v);
   }
   try {
     makePredictor(a.predictor, 2, base);

@@ -123,13 +123,12 @@ PredictorChoice parsePredictorChoice(const std::string& text, const std::string&
     if (e == std::string::npos || e == 0 || e + 1 == kv.size())
       throw std::invalid_argument(where + "expected KEY=VALUE after ':', got '" + kv + "'");
     const std::string key = kv.substr(0, e), value = kv.substr(e + 1);
-    char* end = nullptr;
-    const double x = std::strtod(value.c_str(), &end);
-    const bool word = end == value.c_str() && std::isalpha(static_cast<unsigned char>(value[0]));  // model=cv
-    if (!word && (end == value.c_str() || *end != '\0' || !std::isfinite(x)))
+    double x = 0.0;
+    const ParamText kind = classifyParamText(value, &x);  // model=cv is a word
+    if (kind == ParamText::Invalid)
       throw std::invalid_argument(where + "parameter '" + key + "': expected a number or a word, got '" + value + "'");
     if (c.params.has(key)) throw std::invalid_argument(where + "parameter '" + key + "' given twice");
-    if (word)
+    if (kind == ParamText::Word)
       c.params.setText(key, value);
     else
       c.params.set(key, x);

@@ -100,15 +100,13 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
       throw std::invalid_argument("--param: expected PREDICTOR.KEY=VALUE, got '" + kv + "'");
     const std::string name = kv.substr(0, dot), key = kv.substr(dot + 1, eq - dot - 1), text = kv.substr(eq + 1);
     if (!isPredictor(name)) throw std::invalid_argument("--param " + kv + ": unknown predictor '" + name + "'");
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (!text.empty() && *end != '\0' && std::isalpha(static_cast<unsigned char>(text[0]))) {
-      fixed[name].setText(key, text);  // a word: r: auto, q: auto, model: cv (the predictor checks it)
-      continue;
+    double v = 0.0;
+    switch (classifyParamText(text, &v)) {
+      case ParamText::Number: fixed[name].set(key, v); break;
+      case ParamText::Word: fixed[name].setText(key, text); break;  // r: auto, model: cv (the predictor checks it)
+      case ParamText::Invalid:
+        throw std::invalid_argument("--param " + kv + ": expected a number or a word (auto, cv, ...)");
     }
-    if (text.empty() || *end != '\0' || !std::isfinite(v))
-      throw std::invalid_argument("--param " + kv + ": expected a number or a word (auto, cv, ...)");
-    fixed[name].set(key, v);
   }
   for (const auto& [name, p] : fixed) {
     try {

@@ -45,11 +45,11 @@ std::vector<ParamFileEntry> readParamFile(const std::string& path) {
       for (const auto& kv : e["params"]) {
         const std::string key = kv.first.as<std::string>();
         const std::string text = kv.second.IsScalar() ? kv.second.as<std::string>() : "";
-        char* end = nullptr;
-        const double v = std::strtod(text.c_str(), &end);
-        if (!text.empty() && end && *end == '\0' && std::isfinite(v))
+        double v = 0.0;
+        const ParamText kind = classifyParamText(text, &v);
+        if (kind == ParamText::Number)
           s.params.set(key, v);
-        else if (!text.empty() && std::isalpha(static_cast<unsigned char>(text[0])))
+        else if (kind == ParamText::Word)
           s.params.setText(key, text);  // a word (r: auto, model: cv): the predictor checks it below
         else
           throw std::invalid_argument(at(kv.second) + "parameter '" + key + "' of " + s.name +

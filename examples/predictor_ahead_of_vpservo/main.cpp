@@ -95,13 +95,14 @@ int main(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
     const size_t eq = arg.find('=');
-    char* end = nullptr;
-    const double value = eq == std::string::npos ? 0.0 : std::strtod(arg.c_str() + eq + 1, &end);
-    if (eq == std::string::npos || eq == 0 || eq + 1 == arg.size()) {
-      std::fprintf(stderr, "predictor_ahead_of_vpservo: '%s': expected KEY=VALUE\n", arg.c_str());
+    double value = 0.0;
+    const predvs::ParamText kind =
+        eq == std::string::npos ? predvs::ParamText::Invalid : predvs::classifyParamText(arg.substr(eq + 1), &value);
+    if (eq == 0 || kind == predvs::ParamText::Invalid) {
+      std::fprintf(stderr, "predictor_ahead_of_vpservo: '%s': expected KEY=VALUE (a number or a word)\n", arg.c_str());
       return 2;
     }
-    if (*end == '\0')
+    if (kind == predvs::ParamText::Number)
       params.set(arg.substr(0, eq), value);
     else
       params.setText(arg.substr(0, eq), arg.substr(eq + 1));  // a word (model=cv): the predictor checks it

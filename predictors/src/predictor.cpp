@@ -1,6 +1,8 @@
 #include "predvs/predictors/predictor.h"
 
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -25,6 +27,19 @@ double Params::get(const std::string& key, double fallback, double lo, double hi
     throw std::invalid_argument(msg.str());
   }
   return v;
+}
+
+ParamText classifyParamText(const std::string& text, double* number) {
+  if (text.empty()) return ParamText::Invalid;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (*end == '\0' && std::isfinite(v)) {
+    *number = v;
+    return ParamText::Number;
+  }
+  // A word: no number prefix at all (so "nan", "inf" and "infx" are not words) and a letter first.
+  return end == text.c_str() && std::isalpha(static_cast<unsigned char>(text[0])) ? ParamText::Word
+                                                                                  : ParamText::Invalid;
 }
 
 std::string Params::text(const std::string& key, const std::string& fallback) const {

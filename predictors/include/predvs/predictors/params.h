@@ -41,6 +41,14 @@ class Params {
   mutable std::set<std::string> used_;
 };
 
+/// How a parameter value given as text (a command line, a scenario or parameter file) reads:
+/// a Number when the whole text is a finite number (stored in *number), a Word when it starts with
+/// a letter and no number can be read from its start (auto, cv, zero: a word key's value, checked
+/// by whoever reads the key), Invalid otherwise (empty, "1e", "-x", "nan", "inf", ...): the caller
+/// reports that with its own one-line message.
+enum class ParamText { Number, Word, Invalid };
+ParamText classifyParamText(const std::string& text, double* number);
+
 /// Named values in a fixed order (metrics of a run, per-tick diagnostics of a control law).
 using NamedValues = std::vector<std::pair<std::string, double>>;
 
