@@ -15,6 +15,10 @@ constexpr double kLog2Pi = 1.8378770664093453;
 /// Floor of a mode probability after an update: keeps every mode recoverable after a long stretch
 /// dominated by the others (renormalised afterwards).
 constexpr double kMuFloor = 1e-6;
+/// Default forgetting time of the forecast weights' evidence (s): docs/MODELS.md §14.
+constexpr double kDefaultForecastTauS = 30.0;
+/// Default floor of a forecast weight relative to the largest (docs/MODELS.md §14).
+constexpr double kDefaultForecastFloor = 0.01;
 
 // The mode-matched filters of the CP and CV modes on their own states. Their state is the common
 // [p, v, a] with the states the model lacks at zero (mixInto leaves them 0, their F zeroes them),
@@ -99,6 +103,10 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       p0_vel_(params.get("p0_vel", 1e4, 0.0, 1e12)),
       p0_acc_(params.get("p0_acc", 1e4, 0.0, 1e12)),
       coast_tau_s_(coastTauParam(params)),
+      fc_tau_s_(params.get("forecast_tau_s", kDefaultForecastTauS, 0.0, 1e6)),
+      fc_floor_(std::log(params.get("forecast_floor", kDefaultForecastFloor, 1e-12, 0.5))),
+      shrink_a_sigmas_(params.get("shrink_sigmas", kDefaultShrinkSigmasKfCa, 0.0, 1e3)),
+      shrink_v_sigmas_(params.get("shrink_v_sigmas", kDefaultShrinkVelocityKfCa ? shrink_a_sigmas_ : 0.0, 0.0, 1e3)),
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
   const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
@@ -135,6 +143,13 @@ double ImmPredictor::modeProbability(int c, ImmMode mode) const {
   const Channel& ch = chan_.at(static_cast<size_t>(c));
   for (int j = 0; j < modeCount(); ++j)
     if (modes_[static_cast<size_t>(j)].kind == mode) return ch.mu[static_cast<size_t>(j)];
+  return 0.0;
+}
+
+double ImmPredictor::forecastWeight(int c, ImmMode mode) const {
+  const std::array<double, kMaxModes> w = forecastWeights(chan_.at(static_cast<size_t>(c)));
+  for (int j = 0; j < modeCount(); ++j)
+    if (modes_[static_cast<size_t>(j)].kind == mode) return w[static_cast<size_t>(j)];
   return 0.0;
 }
 
@@ -348,6 +363,29 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         w[jj] = cbar[jj] * std::exp(loglik[jj] - maxll);
         sum += w[jj];
       }
+      if (fc_tau_s_ > 0.0) {
+        const double keep = std::exp(-dt / fc_tau_s_);
+        std::array<double, kMaxModes> ev{};
+        for (int j = 0; j < m; ++j) {
+          const auto jj = static_cast<size_t>(j);
+          Gaussian<3> g = forecastStart(ch, j);  // ch.g: the posteriors of the last update
+          timeUpdate(g, F[jj], Q[jj]);
+          const double e = z(c) - g.x(0), S_h = g.P(0, 0) + R;
+          ev[jj] = -0.5 * (std::log(S_h) + e * e / S_h);
+        }
+        double mev = -std::numeric_limits<double>::infinity();
+        for (int j = 0; j < m; ++j) mev = std::max(mev, ev[static_cast<size_t>(j)]);
+        double mx = -std::numeric_limits<double>::infinity();
+        for (int j = 0; j < m; ++j) {
+          const auto jj = static_cast<size_t>(j);
+          ch.logw[jj] = keep * ch.logw[jj] + (ev[jj] - mev);
+          mx = std::max(mx, ch.logw[jj]);
+        }
+        for (int j = 0; j < m; ++j) {
+          const auto jj = static_cast<size_t>(j);
+          ch.logw[jj] = std::max(fc_floor_, ch.logw[jj] - mx);
+        }
+      }
       if (sum > 0.0 && std::isfinite(sum)) {
         double s2 = 0.0;
         for (int j = 0; j < m; ++j) {
@@ -361,10 +399,13 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
     } else {
       ch.mu = cbar;
+      if (fc_tau_s_ > 0.0)
+        for (int j = 0; j < m; ++j) ch.logw[static_cast<size_t>(j)] *= std::exp(-dt / fc_tau_s_);
     }
     ch.g = mixed;
   }
 }
+
 
 Gaussian<3> ImmPredictor::combine(const std::array<Gaussian<3>, kMaxModes>& g, const std::array<double, kMaxModes>& w) const {
   // Written out on scalars, entry by entry, with the operations of the Eigen expressions
@@ -393,6 +434,30 @@ Gaussian<3> ImmPredictor::combine(const std::array<Gaussian<3>, kMaxModes>& g, c
   return out;
 }
 
+std::array<double, ImmPredictor::kMaxModes> ImmPredictor::forecastWeights(const Channel& ch) const {
+  if (!(fc_tau_s_ > 0.0)) return ch.mu;
+  std::array<double, kMaxModes> w{};
+  double sum = 0.0;
+  for (int j = 0; j < modeCount(); ++j) {
+    const auto jj = static_cast<size_t>(j);
+    w[jj] = std::exp(ch.logw[jj]);
+    sum += w[jj];
+  }
+  for (int j = 0; j < modeCount(); ++j) w[static_cast<size_t>(j)] /= sum;
+  return w;
+}
+
+Gaussian<3> ImmPredictor::forecastStart(const Channel& ch, int j) const {
+  Gaussian<3> g = ch.g[static_cast<size_t>(j)];
+  if (modes_[static_cast<size_t>(j)].kind == ImmMode::Ca) {
+    const double w_v = significanceWeight(g.x(1), g.P(1, 1), shrink_v_sigmas_);
+    g.x(1) *= w_v;
+    g.x(2) *= significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_);
+    g.x(2) *= w_v;
+  }
+  return g;
+}
+
 ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
   const Channel& ch = chan_.at(static_cast<size_t>(channel));
   ChannelEstimate e;
@@ -402,10 +467,14 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
     return e;
   }
   const double dt = t_s - time();
-  if (!(dt > 0.0)) return toEstimate(combine(ch.g, ch.mu));
-  std::array<Gaussian<3>, kMaxModes> g = ch.g;
-  for (int j = 0; j < modeCount(); ++j) timeUpdate(g[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));
-  return toEstimate(combine(g, ch.mu));
+  const std::array<double, kMaxModes> w = forecastWeights(ch);
+  if (!(dt > 0.0)) return toEstimate(combine(ch.g, w));
+  std::array<Gaussian<3>, kMaxModes> g;
+  for (int j = 0; j < modeCount(); ++j) {
+    g[static_cast<size_t>(j)] = forecastStart(ch, j);
+    timeUpdate(g[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));
+  }
+  return toEstimate(combine(g, w));
 }
 
 double ImmPredictor::predictPosition(int channel, double t_s) const {
@@ -415,13 +484,14 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
   if (!(dt > 0.0)) return predict(channel, t_s).position();
   // Each mode's (F x)(0): for CP and CV written out (their states beyond d are 0, so the sum has
   // one or two non-zero terms: the same bits), for CA the generic product.
+  const std::array<double, kMaxModes> w = forecastWeights(ch);
   double p = 0.0;
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);
-    const Gaussian<3>& g = ch.g[jj];
+    const Gaussian<3> g = forecastStart(ch, j);
     const int d = modes_[jj].dim;
     const double pj = d == 1 ? g.x(0) : d == 2 ? g.x(0) + dt * g.x(1) : predictedPosition(g, transition(j, dt));
-    p += ch.mu[jj] * pj;
+    p += w[jj] * pj;
   }
   return p;
 }
