@@ -132,6 +132,7 @@ void ImmPredictor::reset() {
   Channel init;
   init.mu.fill(0.0);
   for (int j = 0; j < modeCount(); ++j) init.mu[static_cast<size_t>(j)] = 1.0 / modeCount();
+  init.fw = init.mu;
   chan_.assign(static_cast<size_t>(channels()), init);
 }
 
@@ -147,7 +148,7 @@ double ImmPredictor::modeProbability(int c, ImmMode mode) const {
 }
 
 double ImmPredictor::forecastWeight(int c, ImmMode mode) const {
-  const std::array<double, kMaxModes> w = forecastWeights(chan_.at(static_cast<size_t>(c)));
+  const std::array<double, kMaxModes>& w = forecastWeights(chan_.at(static_cast<size_t>(c)));
   for (int j = 0; j < modeCount(); ++j)
     if (modes_[static_cast<size_t>(j)].kind == mode) return w[static_cast<size_t>(j)];
   return 0.0;
@@ -295,6 +296,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     F[static_cast<size_t>(j)] = transition(j, dt);
     Q[static_cast<size_t>(j)] = processNoise(j, dt);
   }
+  const double keep = fc_tau_s_ > 0.0 ? std::exp(-dt / fc_tau_s_) : 0.0;  // forecast weights' forgetting
   for (int c = 0; c < channels(); ++c) {
     Channel& ch = chan_[static_cast<size_t>(c)];
     ch.innovation = Innovation{};
@@ -364,13 +366,16 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         sum += w[jj];
       }
       if (fc_tau_s_ > 0.0) {
-        const double keep = std::exp(-dt / fc_tau_s_);
         std::array<double, kMaxModes> ev{};
         for (int j = 0; j < m; ++j) {
+          // Mode j's forecast of z from its posterior of the last update (ch.g, not yet replaced):
+          // mean f x and variance f P f' + Q(0, 0) + R, f = row 0 of F (only the measured entry
+          // of the time update).
           const auto jj = static_cast<size_t>(j);
-          Gaussian<3> g = forecastStart(ch, j);  // ch.g: the posteriors of the last update
-          timeUpdate(g, F[jj], Q[jj]);
-          const double e = z(c) - g.x(0), S_h = g.P(0, 0) + R;
+          const Gaussian<3> g = forecastStart(ch, j);
+          const Eigen::Matrix<double, 1, 3> f = F[jj].row(0);
+          const double e = z(c) - f.dot(g.x.transpose());
+          const double S_h = f * g.P * f.transpose() + Q[jj](0, 0) + R;
           ev[jj] = -0.5 * (std::log(S_h) + e * e / S_h);
         }
         double mev = -std::numeric_limits<double>::infinity();
@@ -378,13 +383,14 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         double mx = -std::numeric_limits<double>::infinity();
         for (int j = 0; j < m; ++j) {
           const auto jj = static_cast<size_t>(j);
-          ch.logw[jj] = keep * ch.logw[jj] + (ev[jj] - mev);
+          ch.logw[jj] = keep * ch.logw[jj] + (ev[jj] - mev);  // keep = exp(-dt / forecast_tau_s)
           mx = std::max(mx, ch.logw[jj]);
         }
         for (int j = 0; j < m; ++j) {
           const auto jj = static_cast<size_t>(j);
           ch.logw[jj] = std::max(fc_floor_, ch.logw[jj] - mx);
         }
+        normaliseForecastWeights(ch);
       }
       if (sum > 0.0 && std::isfinite(sum)) {
         double s2 = 0.0;
@@ -399,8 +405,10 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
     } else {
       ch.mu = cbar;
-      if (fc_tau_s_ > 0.0)
-        for (int j = 0; j < m; ++j) ch.logw[static_cast<size_t>(j)] *= std::exp(-dt / fc_tau_s_);
+      if (fc_tau_s_ > 0.0) {
+        for (int j = 0; j < m; ++j) ch.logw[static_cast<size_t>(j)] *= keep;
+        normaliseForecastWeights(ch);
+      }
     }
     ch.g = mixed;
   }
@@ -434,17 +442,26 @@ Gaussian<3> ImmPredictor::combine(const std::array<Gaussian<3>, kMaxModes>& g, c
   return out;
 }
 
-std::array<double, ImmPredictor::kMaxModes> ImmPredictor::forecastWeights(const Channel& ch) const {
-  if (!(fc_tau_s_ > 0.0)) return ch.mu;
-  std::array<double, kMaxModes> w{};
+void ImmPredictor::normaliseForecastWeights(Channel& ch) const {
   double sum = 0.0;
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);
-    w[jj] = std::exp(ch.logw[jj]);
-    sum += w[jj];
+    ch.fw[jj] = std::exp(ch.logw[jj]);
+    sum += ch.fw[jj];
   }
-  for (int j = 0; j < modeCount(); ++j) w[static_cast<size_t>(j)] /= sum;
-  return w;
+  for (int j = 0; j < modeCount(); ++j) ch.fw[static_cast<size_t>(j)] /= sum;
+}
+
+Vec<3> ImmPredictor::forecastStartMean(const Channel& ch, int j) const {
+  const Gaussian<3>& g = ch.g[static_cast<size_t>(j)];
+  Vec<3> x = g.x;
+  if (modes_[static_cast<size_t>(j)].kind == ImmMode::Ca) {
+    const double w_v = significanceWeight(g.x(1), g.P(1, 1), shrink_v_sigmas_);
+    x(1) *= w_v;
+    x(2) *= significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_);
+    x(2) *= w_v;
+  }
+  return x;
 }
 
 Gaussian<3> ImmPredictor::forecastStart(const Channel& ch, int j) const {
@@ -467,7 +484,7 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
     return e;
   }
   const double dt = t_s - time();
-  const std::array<double, kMaxModes> w = forecastWeights(ch);
+  const std::array<double, kMaxModes>& w = forecastWeights(ch);
   if (!(dt > 0.0)) return toEstimate(combine(ch.g, w));
   std::array<Gaussian<3>, kMaxModes> g;
   for (int j = 0; j < modeCount(); ++j) {
@@ -484,13 +501,14 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
   if (!(dt > 0.0)) return predict(channel, t_s).position();
   // Each mode's (F x)(0): for CP and CV written out (their states beyond d are 0, so the sum has
   // one or two non-zero terms: the same bits), for CA the generic product.
-  const std::array<double, kMaxModes> w = forecastWeights(ch);
+  const std::array<double, kMaxModes>& w = forecastWeights(ch);
   double p = 0.0;
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);
-    const Gaussian<3> g = forecastStart(ch, j);
     const int d = modes_[jj].dim;
-    const double pj = d == 1 ? g.x(0) : d == 2 ? g.x(0) + dt * g.x(1) : predictedPosition(g, transition(j, dt));
+    const double pj = d == 1   ? ch.g[jj].x(0)
+                      : d == 2 ? ch.g[jj].x(0) + dt * ch.g[jj].x(1)
+                               : Vec<3>((transition(j, dt) * forecastStartMean(ch, j)).eval())(0);
     p += w[jj] * pj;
   }
   return p;

@@ -147,6 +147,7 @@ class ImmPredictor : public Predictor {
     std::array<Gaussian<3>, kMaxModes> g;
     std::array<double, kMaxModes> mu{};
     std::array<double, kMaxModes> logw{};  ///< forecast log weights (forgetting evidence), max 0
+    std::array<double, kMaxModes> fw{};    ///< forecast weights: exp(logw) normalised
     bool initialized = false;
     Innovation innovation;
     StartupNoiseEstimator r_est;
@@ -167,8 +168,14 @@ class ImmPredictor : public Predictor {
   /// Mode j's posterior on channel ch as its forecast starts from: the CA mode's v and a weighted
   /// as kf-ca weighs them (channel_predictor.h), the other modes' unchanged.
   Gaussian<3> forecastStart(const Channel& ch, int j) const;
-  /// The weights the forecast combines the modes with on channel ch: mu, or the forgetting weights.
-  std::array<double, kMaxModes> forecastWeights(const Channel& ch) const;
+  /// The mean of forecastStart(ch, j) alone.
+  Vec<3> forecastStartMean(const Channel& ch, int j) const;
+  /// The weights the forecast combines the modes with on channel ch: mu, or the forecast weights.
+  const std::array<double, kMaxModes>& forecastWeights(const Channel& ch) const {
+    return fc_tau_s_ > 0.0 ? ch.fw : ch.mu;
+  }
+  /// ch.fw from ch.logw.
+  void normaliseForecastWeights(Channel& ch) const;
   bool r_auto_;
   std::vector<Mode> modes_;
   ModeMatrix rates_;
