@@ -466,12 +466,7 @@ Vec<3> ImmPredictor::forecastStartMean(const Channel& ch, int j) const {
 
 Gaussian<3> ImmPredictor::forecastStart(const Channel& ch, int j) const {
   Gaussian<3> g = ch.g[static_cast<size_t>(j)];
-  if (modes_[static_cast<size_t>(j)].kind == ImmMode::Ca) {
-    const double w_v = significanceWeight(g.x(1), g.P(1, 1), shrink_v_sigmas_);
-    g.x(1) *= w_v;
-    g.x(2) *= significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_);
-    g.x(2) *= w_v;
-  }
+  g.x = forecastStartMean(ch, j);
   return g;
 }
 

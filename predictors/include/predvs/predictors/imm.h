@@ -58,8 +58,9 @@
 // bounds how far behind a mode can fall (log 100 = 4.6 nats), so a switch with a clear signature
 // is followed within a few frames (imm_test.cpp: 0.13 s into a 400 px/s^2 acceleration) while weak
 // evidence accumulates to a clear choice. The floor also keeps a 1 % share of each other mode in
-// every forecast. The filter itself (mixing, mu, the estimate at t_last) is the IMM above:
-// forecast_tau_s = 0 gives the forecast combined with mu, as before issue 11 item 4 was closed.
+// every forecast. The filter itself (mixing, mu) is the IMM above; a query at t <= t_last (zero
+// horizon) combines the posteriors with the forecast weights too. forecast_tau_s = 0 gives every
+// query combined with mu, as before issue 11 item 4 was closed.
 // Measured choices (docs/PERFORMANCE.md "IMM"): scoring the 2- or 3-frame forecasts instead of the
 // 1-frame ones, or the sum of the 1- and 2-frame scores, lost 5-11 of the 216 tracks; floor 1e-6
 // (recovery needs 13.8 nats) left E2 at 1.20 times kf-ca; forecast_tau_s 3 s left the closed
@@ -163,7 +164,7 @@ class ImmPredictor : public Predictor {
   double q_cp_, q_cv_, q_ca_, alpha_, r_, p0_vel_, p0_acc_;
   double coast_tau_s_;  ///< s; 0 = no coasting
   double fc_tau_s_;     ///< s; forgetting time of the forecast weights' evidence; 0 = forecast with mu
-  double fc_floor_;
+  double fc_floor_;     ///< log of forecast_floor: the lowest log forecast weight relative to the best
   double shrink_a_sigmas_, shrink_v_sigmas_;  ///< the CA mode's forecast weighting (kf-ca's); 0 = off
   /// Mode j's posterior on channel ch as its forecast starts from: the CA mode's v and a weighted
   /// as kf-ca weighs them (channel_predictor.h), the other modes' unchanged.
