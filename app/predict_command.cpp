@@ -11,10 +11,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <future>
@@ -41,16 +43,14 @@ nlohmann::json errorsJson(const PredictionErrors& e) {
   return j;
 }
 
-/// Appends x as csvNumber(x, precision) would write it (printf "%.{precision}g", the characters of
-/// std::to_chars in the general format: writeGeneral), without a stream or a temporary string;
-/// nothing for a non-finite x (an empty cell), or `nan_text` when given.
-void appendNumber(std::string& out, double x, int precision, const char* nan_text = "") {
-  if (!std::isfinite(x)) {
-    out += nan_text;
-    return;
-  }
-  char buf[32];
-  out.append(buf, writeGeneral(buf, x, precision));
+/// The double a number's text stands for (what gnuplot reads from it): from_chars, strtod when
+/// from_chars refuses (a subnormal).
+double textValue(const char* begin, char* end) {
+  double value = 0.0;
+  const auto r = std::from_chars(begin, end, value);
+  if (r.ec == std::errc() && r.ptr == end) return value;
+  *end = '\0';
+  return std::strtod(begin, nullptr);
 }
 
 /// Writes `text` to `path` in one call; throws std::runtime_error naming the file on failure.
@@ -389,14 +389,29 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
     return;
   }
   // Plot data (the first point): measured points at their time, predictions at the time they are
-  // made for; every plotStride()-th row only (all of them up to kMaxPlotRows rows).
+  // made for; every plotStride()-th row only (all of them up to kMaxPlotRows rows). The text file
+  // is for the user; predictions.gp reads the same numbers from predictions_plot.bin (the values of
+  // the text, as doubles), which gnuplot takes in once per series without parsing text.
   const size_t stride = plotStride(track.size());
+  const size_t plot_columns = 6 + 2 * report.runs.size();
   {
     std::string dat = "# t_s u_px v_px t_target_s u_true_px v_true_px";
     for (const auto& run : report.runs) dat += " " + run.spec.name + ".u_pred " + run.spec.name + ".v_pred";
     if (stride > 1) dat += "\n# 1 row in " + std::to_string(stride) + " of " + std::to_string(track.size());
     dat += '\n';
-    auto num = [&](double x) { appendNumber(dat, x, 8, "NaN"); };  // datNumber's format
+    std::vector<double> bin;
+    bin.reserve((track.size() / stride + 1) * plot_columns);
+    auto num = [&](double x) {  // datNumber's format; the binary value is the text's
+      if (!std::isfinite(x)) {
+        dat += "NaN";
+        bin.push_back(kNaN);
+        return;
+      }
+      char buf[40];
+      char* end = writeGeneral(buf, x, 8);
+      dat.append(buf, end);
+      bin.push_back(textValue(buf, end));
+    };
     for (size_t i = 0; i < track.size(); i += stride) {
       num(track.t_s[i]);
       dat += ' ';
@@ -418,6 +433,8 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
       dat += '\n';
     }
     writeWhole(dir.file("predictions_plot.dat"), dat);
+    writeWhole(dir.file("predictions_plot.bin"),
+               std::string(reinterpret_cast<const char*>(bin.data()), bin.size() * sizeof(double)));
   }
   std::ofstream gp(dir.file("predictions.gp"));
   std::ostringstream title;
@@ -425,7 +442,15 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   if (delay_frames >= 0) title << " (" << delay_frames << " frames)";
   if (!single) title << ", point " << track.point_names[0] << " of " << n << " (all in predictions.csv)";
   if (stride > 1) title << ", 1 row in " << stride << " of " << track.size() << " drawn";
+  // The binary data and how to read it: the same columns as predictions_plot.dat, doubles in the
+  // machine's byte order. Drawing from the text instead gives the same PNG (same values).
+  const std::string binary = "binary format='%" + std::to_string(plot_columns) + "float64'";
   gp << "# Regenerate with: gnuplot predictions.gp\n"
+     << "# It reads predictions_plot.bin: the numbers of predictions_plot.dat (same rows and columns) as\n"
+     << "# " << plot_columns << " doubles per row; to draw from the text file instead, set data = "
+     << "'predictions_plot.dat' and fmt = ''.\n"
+     << "data = 'predictions_plot.bin'\n"
+     << "fmt = \"" << binary << "\"\n"
      << "set terminal pngcairo size 1200,850 enhanced font 'Sans,10'\n"
      << "set output 'predictions.png'\n"
      << "set datafile missing 'NaN'\n"
@@ -437,13 +462,13 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
     const char* name = axis == 0 ? "u" : "v";
     gp << "set title " << gnuplotQuote(std::string("image coordinate ") + name + " (measured vs predicted)") << "\n"
        << "set ylabel '" << name << " [px]'\n"
-       << "plot 'predictions_plot.dat' using 1:" << (2 + axis)
+       << "plot data @fmt using 1:" << (2 + axis)
        << " with points pt 7 ps 0.5 lc rgb 'black' title 'measured'";
     for (size_t k = 0; k < report.runs.size(); ++k)
-      gp << ", '' using 4:" << (7 + 2 * k + static_cast<size_t>(axis)) << " with lines lw 1.5 lc rgb '"
+      gp << ", '' @fmt using 4:" << (7 + 2 * k + static_cast<size_t>(axis)) << " with lines lw 1.5 lc rgb '"
          << seriesColor(k) << "' title " << gnuplotQuote(report.runs[k].spec.name);
     if (track.hasTruth())
-      gp << ", '' using 1:" << (5 + axis) << " with lines dt 2 lw 2 lc rgb 'black' title 'true'";
+      gp << ", '' @fmt using 1:" << (5 + axis) << " with lines dt 2 lw 2 lc rgb 'black' title 'true'";
     gp << "\n";
   }
   gp << "unset multiplot\n";

@@ -186,6 +186,56 @@ TEST(PredictThroughput, ParallelRunGivesTheSameOutputsAsOneThread) {
   }
 }
 
+TEST(PredictThroughput, PlotBinaryHoldsTheNumbersOfThePlotText) {
+  // GIVEN a one-point track with empty cells, thinned for the plot (stride 2), and three predictors
+  const predvs::FeatureTrack track = syntheticTrack(predvs::kMaxPlotRows + 3001, 1);
+  const std::vector<predvs::PredictorSpec> specs{{"hold", {}}, {"kf-cv", {}}, {"fakf", {}}};
+  const predvs::PredictionReport report = predvs::predictTrack(track, specs, 2.0 / 30.0, 2);
+  const auto out = std::filesystem::temp_directory_path() / "predvs_throughput_plot_bin";
+  std::filesystem::remove_all(out);
+  // WHEN the outputs are written with the plot
+  {
+    predvs::StagedOutputDir dir(out);
+    predvs::writePredictionOutputs(track, report, 2, "predvs predict (test)", /*plots=*/true, dir, 2);
+    dir.commit();
+  }
+  // THEN predictions_plot.bin holds, row by row, the doubles the text of predictions_plot.dat reads
+  // as (NaN for "NaN"), and predictions.gp reads it with that many columns
+  const size_t columns = 6 + 2 * specs.size();
+  const std::string bin = readAll(out / "predictions_plot.bin");
+  std::ifstream dat(out / "predictions_plot.dat");
+  std::string line;
+  size_t rows = 0, nans = 0, at = 0;
+  while (std::getline(dat, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream cells(line);
+    std::string cell;
+    size_t c = 0;
+    for (; cells >> cell; ++c) {
+      ASSERT_LE(at + sizeof(double), bin.size()) << "row " << rows;
+      double value;
+      std::memcpy(&value, bin.data() + at, sizeof value);
+      at += sizeof value;
+      if (cell == "NaN") {
+        EXPECT_TRUE(std::isnan(value)) << "row " << rows << " column " << c;
+        ++nans;
+      } else {
+        EXPECT_TRUE(sameBits(value, std::strtod(cell.c_str(), nullptr))) << cell << " row " << rows << " column " << c;
+      }
+    }
+    ASSERT_EQ(c, columns) << "row " << rows;
+    ++rows;
+  }
+  EXPECT_EQ(rows, (track.size() + 1) / 2);
+  EXPECT_EQ(at, bin.size());
+  EXPECT_GT(nans, 0u);
+  const std::string gp = readAll(out / "predictions.gp");
+  EXPECT_NE(gp.find("data = 'predictions_plot.bin'"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("binary format='%" + std::to_string(columns) + "float64'"), std::string::npos) << gp;
+  EXPECT_TRUE(std::filesystem::exists(out / "predictions.png"));
+  std::filesystem::remove_all(out);
+}
+
 TEST(PredictThroughput, BadJobsIsAOneLineErrorWithNoOutput) {
   const std::string input = writeTemp("jobs.csv", "t,u,v\n0,1,2\n0.1,2,3\n0.2,3,4\n");
   const auto out = std::filesystem::temp_directory_path() / "predvs_throughput_bad_jobs";
