@@ -250,7 +250,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   const int jobs = a.jobs.empty() ? hardwareJobs() : static_cast<int>(parseIntegerArg("--jobs", a.jobs, 1, 1024));
   if (!a.no_plots) requireGnuplot();
 
-  const FeatureTrack track = readFeatureTrack(a.input);
+  const FeatureTrack track = readFeatureTrack(a.input, jobs);
   if (delay_frames >= 0) {
     if (track.size() < 2)
       throw std::invalid_argument(fileLocation(a.input, 0, "--delay-frames needs at least two data rows to measure the frame period"));
