@@ -182,11 +182,7 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
     instances.push_back(makePredictor(predictors[k].name, 2 * n, predictors[k].params));
     PredictionRun& run = report.runs[k];
     run.spec = predictors[k];
-    run.points.resize(np);
-    for (auto& pt : run.points) {
-      pt.u_pred_px.resize(track.size());
-      pt.v_pred_px.resize(track.size());
-    }
+    run.points.resize(np);  // their vectors are sized by the item that fills them, on the pool
   }
   // The references at t + horizon, per point: measured and (if any) true. Items of the same pool
   // as the predictors, after them: short ones that fill the gaps at the end.
@@ -211,6 +207,10 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
     }
     const size_t k = order[item];
     try {
+      for (auto& pt : report.runs[k].points) {  // zeroed here, on the thread that fills them (not 2 x 16 MB
+        pt.u_pred_px.resize(track.size());     // per predictor and point in a row on the calling thread)
+        pt.v_pred_px.resize(track.size());
+      }
       runPredictor(*instances[k], track, horizon_s, track.size(), report.runs[k]);
     } catch (...) {
       errors[k] = std::current_exception();
@@ -328,10 +328,16 @@ void writePredictionsCsv(const std::string& path, const FeatureTrack& track, con
       turn_changed.notify_all();
       throw;
     }
-    std::unique_lock<std::mutex> lock(turn_mutex);
-    turn_changed.wait(lock, [&] { return next_to_write == c || failed; });
-    if (failed) return;
+    {
+      std::unique_lock<std::mutex> lock(turn_mutex);
+      turn_changed.wait(lock, [&] { return next_to_write == c || failed; });
+      if (failed) return;
+    }
+    // Written without the lock: only the thread whose turn it is touches the file (the turn passes
+    // on below, under the lock, after the write), and the other threads meanwhile take a spare
+    // buffer and format their next chunk instead of waiting for the kernel's copy to end.
     file.write(text.get(), static_cast<std::streamsize>(size));
+    std::lock_guard<std::mutex> lock(turn_mutex);
     ++next_to_write;
     spare.push_back(std::move(text));
     turn_changed.notify_all();
@@ -342,10 +348,12 @@ void writePredictionsCsv(const std::string& path, const FeatureTrack& track, con
 
 }  // namespace
 
-void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
-                            const std::string& command_line, bool plots, StagedOutputDir& dir, int jobs) {
+namespace {
+
+/// summary.json (see writePredictionOutputs).
+void writeSummaryJson(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
+                      const std::string& command_line, const StagedOutputDir& dir) {
   const int n = track.points();
-  const bool single = n == 1;
   nlohmann::json summary;
   summary["command"] = command_line;
   summary["input"] = track.path;
@@ -383,11 +391,13 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
     js << summary.dump(2) << "\n";
     if (!js) throw std::runtime_error(dir.file("summary.json") + ": write failed");
   }
+}
 
-  if (!plots) {
-    writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);
-    return;
-  }
+/// predictions_plot.dat, predictions_plot.bin and predictions.gp (see writePredictionOutputs).
+void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
+                    const StagedOutputDir& dir) {
+  const int n = track.points();
+  const bool single = n == 1;
   // Plot data (the first point): measured points at their time, predictions at the time they are
   // made for; every plotStride()-th row only (all of them up to kMaxPlotRows rows). The text file
   // is for the user; predictions.gp reads the same numbers from predictions_plot.bin (the values of
@@ -473,16 +483,30 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   }
   gp << "unset multiplot\n";
   gp.close();
-  // gnuplot (another process, one core) draws while predictions.csv is written when there are
-  // threads to spare; its error, if any, is reported after the CSV's.
+}
+
+}  // namespace
+
+void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
+                            const std::string& command_line, bool plots, StagedOutputDir& dir, int jobs) {
   if (jobs < 2) {
+    writeSummaryJson(track, report, delay_frames, command_line, dir);
+    if (plots) writePlotFiles(track, report, delay_frames, dir);
     writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);
-    runGnuplot(dir.staging().string(), "predictions.gp");
+    if (plots) runGnuplot(dir.staging().string(), "predictions.gp");
     return;
   }
-  std::future<void> drawing = std::async(std::launch::async, [&dir] { runGnuplot(dir.staging().string(), "predictions.gp"); });
+  // With threads to spare, everything but predictions.csv (summary.json, the plot's data and script,
+  // gnuplot drawing predictions.png: another process, one core) is one task on its own thread while
+  // the pool formats and writes predictions.csv; its error, if any, is reported after the CSV's.
+  std::future<void> side = std::async(std::launch::async, [&] {
+    writeSummaryJson(track, report, delay_frames, command_line, dir);
+    if (!plots) return;
+    writePlotFiles(track, report, delay_frames, dir);
+    runGnuplot(dir.staging().string(), "predictions.gp");
+  });
   writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);  // on throwing, ~future waits
-  drawing.get();
+  side.get();
 }
 
 void printPredictionTable(const PredictionReport& report, const FeatureTrack& track, std::ostream& out) {
