@@ -8,12 +8,16 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <string_view>
 #include <tuple>
 #include <unordered_map>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace predvs {
 namespace {
@@ -144,6 +148,46 @@ struct LongRow {
   int line;
 };
 
+/// A file's bytes: mapped read-only when it is a regular file (the page cache's own pages: no
+/// zeroed buffer, no copy of a 100 MB track), else read whole into memory (a pipe, /dev/stdin).
+/// Throws as readFeatureTrack does when the file cannot be opened.
+class FileText {
+ public:
+  explicit FileText(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throwAt(path, 0, "cannot open the file for reading (expected a CSV with columns t,u,v or t,point,u,v)");
+    struct stat st {};
+    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+      void* p = ::mmap(nullptr, static_cast<size_t>(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+      if (p != MAP_FAILED) {
+        map_ = p;
+        map_size_ = static_cast<size_t>(st.st_size);
+        ::madvise(map_, map_size_, MADV_SEQUENTIAL);
+      }
+    }
+    if (!map_) {
+      char buf[1 << 16];
+      ssize_t got;
+      while ((got = ::read(fd, buf, sizeof buf)) > 0) copy_.append(buf, static_cast<size_t>(got));
+      // A read error (a directory) leaves what was read, as the stream read did: "the file is empty".
+    }
+    ::close(fd);
+  }
+  ~FileText() {
+    if (map_) ::munmap(map_, map_size_);
+  }
+  FileText(const FileText&) = delete;
+  FileText& operator=(const FileText&) = delete;
+  std::string_view text() const {
+    return map_ ? std::string_view(static_cast<const char*>(map_), map_size_) : std::string_view(copy_);
+  }
+
+ private:
+  void* map_ = nullptr;
+  size_t map_size_ = 0;
+  std::string copy_;
+};
+
 /// Every column of a track, in one order: t, then u, v of each point, then the true u, v of each.
 std::vector<std::vector<double>*> columnsOf(FeatureTrack& f) {
   std::vector<std::vector<double>*> c{&f.t_s};
@@ -159,7 +203,7 @@ std::vector<std::vector<double>*> columnsOf(FeatureTrack& f) {
 /// small file) or when a piece met a defect or the time did not increase from one piece to the
 /// next: the caller then parses the whole on one thread, which reports the defect with its line.
 template <class Size, class Parse>
-bool parseWideInPieces(const std::string& text, size_t begin, int jobs, size_t min_bytes, FeatureTrack& track,
+bool parseWideInPieces(std::string_view text, size_t begin, int jobs, size_t min_bytes, FeatureTrack& track,
                        Size& sizeColumns, Parse& parse) {
   const size_t bytes = text.size() - begin;
   if (jobs < 2 || bytes < min_bytes || bytes == 0) return false;
@@ -171,7 +215,7 @@ bool parseWideInPieces(const std::string& text, size_t begin, int jobs, size_t m
   for (size_t k = 1; k < want; ++k) {
     const size_t guess = std::max(cut.back(), begin + bytes / want * k);
     const auto nl = text.find('\n', guess);
-    if (nl == std::string::npos) break;
+    if (nl == std::string_view::npos) break;
     if (nl + 1 > cut.back() && nl + 1 < text.size()) cut.push_back(nl + 1);
   }
   cut.push_back(text.size());
@@ -215,25 +259,17 @@ bool parseWideInPieces(const std::string& text, size_t begin, int jobs, size_t m
 }  // namespace
 
 FeatureTrack readFeatureTrack(const std::string& path, int jobs, size_t parallel_min_bytes) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throwAt(path, 0, "cannot open the file for reading (expected a CSV with columns t,u,v or t,point,u,v)");
-  // The whole file in one read; lines are views into it (split on '\n' as std::getline does).
-  std::string text;
-  in.seekg(0, std::ios::end);
-  const auto file_size = in.tellg();
-  in.seekg(0, std::ios::beg);
-  if (file_size > 0) {
-    text.resize(static_cast<size_t>(file_size));
-    in.read(&text[0], static_cast<std::streamsize>(text.size()));
-    text.resize(static_cast<size_t>(in.gcount()));
-  }
+  // The whole file, mapped (or, for what cannot be mapped, read in one go); lines are views into it
+  // (split on '\n' as std::getline does).
+  const FileText file(path);
+  const std::string_view text = file.text();
   size_t pos = 0;
   auto nextLine = [&](std::string_view& out) {
     if (pos >= text.size()) return false;
     const auto nl = text.find('\n', pos);
-    const size_t end = nl == std::string::npos ? text.size() : nl;
+    const size_t end = nl == std::string_view::npos ? text.size() : nl;
     out = std::string_view(text.data() + pos, end - pos);
-    pos = nl == std::string::npos ? text.size() : nl + 1;
+    pos = nl == std::string_view::npos ? text.size() : nl + 1;
     return true;
   };
 
@@ -364,7 +400,7 @@ FeatureTrack readFeatureTrack(const std::string& path, int jobs, size_t parallel
     size_t at = begin;
     while (at < end) {
       const auto nl = text.find('\n', at);
-      const size_t stop = nl == std::string::npos || nl >= end ? end : nl;
+      const size_t stop = nl == std::string_view::npos || nl >= end ? end : nl;
       const std::string_view row(text.data() + at, stop - at);
       at = stop == end ? end : stop + 1;
       ++line;
