@@ -257,11 +257,13 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   const int jobs = a.jobs.empty() ? hardwareJobs() : static_cast<int>(parseIntegerArg("--jobs", a.jobs, 1, 1024));
   if (!a.no_plots) requireGnuplot();
 
-  const FeatureTrack track = readFeatureTrack(a.input);
+  const FeatureTrack track = readFeatureTrack(a.input, jobs);
+  double period_s = 0.0;  // with --delay-frames: measured once (a 2 M-row track: a 2 M-element median)
   if (delay_frames >= 0) {
     if (track.size() < 2)
       throw std::invalid_argument(fileLocation(a.input, 0, "--delay-frames needs at least two data rows to measure the frame period"));
-    horizon_s = delay_frames * medianPeriod(track.t_s);
+    period_s = medianPeriod(track.t_s);
+    horizon_s = delay_frames * period_s;
   }
   // --fit: each predictor's noise fitted on the first fit_split of the rows (all rows without
   // --fit-split), then run on the whole track; with --fit-split only the rest is scored.
@@ -308,7 +310,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   if (a.fit && !a.fit_split.empty())
     out << "fitted on rows 1.." << fit_rows << ", scored on rows " << fit_rows + 1 << ".." << track.size() << "\n";
   out << "horizon " << horizon_s << " s";
-  if (delay_frames >= 0) out << " (" << delay_frames << " frames of " << medianPeriod(track.t_s) << " s)";
+  if (delay_frames >= 0) out << " (" << delay_frames << " frames of " << period_s << " s)";
   out << "; wrote " << (dir.target() / "predictions.csv").string() << ", summary.json"
       << (a.no_plots ? "" : ", predictions.png") << "\n";
   return 0;

@@ -11,10 +11,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <future>
@@ -41,16 +43,14 @@ nlohmann::json errorsJson(const PredictionErrors& e) {
   return j;
 }
 
-/// Appends x as csvNumber(x, precision) would write it (printf "%.{precision}g", the characters of
-/// std::to_chars in the general format: writeGeneral), without a stream or a temporary string;
-/// nothing for a non-finite x (an empty cell), or `nan_text` when given.
-void appendNumber(std::string& out, double x, int precision, const char* nan_text = "") {
-  if (!std::isfinite(x)) {
-    out += nan_text;
-    return;
-  }
-  char buf[32];
-  out.append(buf, writeGeneral(buf, x, precision));
+/// The double a number's text stands for (what gnuplot reads from it): from_chars, strtod when
+/// from_chars refuses (a subnormal).
+double textValue(const char* begin, char* end) {
+  double value = 0.0;
+  const auto r = std::from_chars(begin, end, value);
+  if (r.ec == std::errc() && r.ptr == end) return value;
+  *end = '\0';
+  return std::strtod(begin, nullptr);
 }
 
 /// Writes `text` to `path` in one call; throws std::runtime_error naming the file on failure.
@@ -182,11 +182,7 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
     instances.push_back(makePredictor(predictors[k].name, 2 * n, predictors[k].params));
     PredictionRun& run = report.runs[k];
     run.spec = predictors[k];
-    run.points.resize(np);
-    for (auto& pt : run.points) {
-      pt.u_pred_px.resize(track.size());
-      pt.v_pred_px.resize(track.size());
-    }
+    run.points.resize(np);  // their vectors are sized by the item that fills them, on the pool
   }
   // The references at t + horizon, per point: measured and (if any) true. Items of the same pool
   // as the predictors, after them: short ones that fill the gaps at the end.
@@ -211,6 +207,10 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
     }
     const size_t k = order[item];
     try {
+      for (auto& pt : report.runs[k].points) {  // zeroed here, on the thread that fills them (not 2 x 16 MB
+        pt.u_pred_px.resize(track.size());     // per predictor and point in a row on the calling thread)
+        pt.v_pred_px.resize(track.size());
+      }
       runPredictor(*instances[k], track, horizon_s, track.size(), report.runs[k]);
     } catch (...) {
       errors[k] = std::current_exception();
@@ -238,8 +238,10 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
 
 namespace {
 
-/// Rows of predictions.csv formatted per work item (about 5 MB of text for 11 predictors).
-constexpr size_t kCsvChunkRows = 16384;
+/// Rows of predictions.csv formatted per work item: about 640 kB of text for 11 predictors and one
+/// point, which stays in a core's 1 MB L2 cache until write() copies it into the page cache (16384
+/// rows, 5 MB, went to memory and back: 3.2-3.4 s of CPU for the 2 M-row track against 2.4-2.5 s).
+constexpr size_t kCsvChunkRows = 2048;
 
 /// A cell of predictions.csv at p: x as csvNumber(x, 10) writes it, nothing for a non-finite x.
 /// Needs 32 bytes of room at p (writeGeneral).
@@ -303,8 +305,8 @@ void writePredictionsCsv(const std::string& path, const FeatureTrack& track, con
   size_t next_to_write = 0;
   bool failed = false;
   const size_t chunk_bytes = kCsvChunkRows * static_cast<size_t>(track.points()) * csvRowBound(track, report);
-  // Text buffers handed from chunk to chunk (at most one per thread is in use): a fresh ~14 MB
-  // buffer per chunk would be fresh pages from the kernel each time (a page fault and a zeroed
+  // Text buffers handed from chunk to chunk (at most one per thread is in use): a fresh buffer
+  // per chunk would be fresh pages from the kernel each time (a page fault and a zeroed
   // page per 4 kB of predictions.csv).
   std::vector<std::unique_ptr<char[]>> spare;
   parallelFor(chunks, jobs, [&](size_t c) {
@@ -328,10 +330,16 @@ void writePredictionsCsv(const std::string& path, const FeatureTrack& track, con
       turn_changed.notify_all();
       throw;
     }
-    std::unique_lock<std::mutex> lock(turn_mutex);
-    turn_changed.wait(lock, [&] { return next_to_write == c || failed; });
-    if (failed) return;
+    {
+      std::unique_lock<std::mutex> lock(turn_mutex);
+      turn_changed.wait(lock, [&] { return next_to_write == c || failed; });
+      if (failed) return;
+    }
+    // Written without the lock: only the thread whose turn it is touches the file (the turn passes
+    // on below, under the lock, after the write), and the other threads meanwhile take a spare
+    // buffer and format their next chunk instead of waiting for the kernel's copy to end.
     file.write(text.get(), static_cast<std::streamsize>(size));
+    std::lock_guard<std::mutex> lock(turn_mutex);
     ++next_to_write;
     spare.push_back(std::move(text));
     turn_changed.notify_all();
@@ -342,10 +350,12 @@ void writePredictionsCsv(const std::string& path, const FeatureTrack& track, con
 
 }  // namespace
 
-void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
-                            const std::string& command_line, bool plots, StagedOutputDir& dir, int jobs) {
+namespace {
+
+/// summary.json (see writePredictionOutputs).
+void writeSummaryJson(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
+                      const std::string& command_line, const StagedOutputDir& dir) {
   const int n = track.points();
-  const bool single = n == 1;
   nlohmann::json summary;
   summary["command"] = command_line;
   summary["input"] = track.path;
@@ -383,20 +393,37 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
     js << summary.dump(2) << "\n";
     if (!js) throw std::runtime_error(dir.file("summary.json") + ": write failed");
   }
+}
 
-  if (!plots) {
-    writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);
-    return;
-  }
+/// predictions_plot.dat, predictions_plot.bin and predictions.gp (see writePredictionOutputs).
+void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
+                    const StagedOutputDir& dir) {
+  const int n = track.points();
+  const bool single = n == 1;
   // Plot data (the first point): measured points at their time, predictions at the time they are
-  // made for; every plotStride()-th row only (all of them up to kMaxPlotRows rows).
+  // made for; every plotStride()-th row only (all of them up to kMaxPlotRows rows). The text file
+  // is for the user; predictions.gp reads the same numbers from predictions_plot.bin (the values of
+  // the text, as doubles), which gnuplot takes in once per series without parsing text.
   const size_t stride = plotStride(track.size());
+  const size_t plot_columns = 6 + 2 * report.runs.size();
   {
     std::string dat = "# t_s u_px v_px t_target_s u_true_px v_true_px";
     for (const auto& run : report.runs) dat += " " + run.spec.name + ".u_pred " + run.spec.name + ".v_pred";
     if (stride > 1) dat += "\n# 1 row in " + std::to_string(stride) + " of " + std::to_string(track.size());
     dat += '\n';
-    auto num = [&](double x) { appendNumber(dat, x, 8, "NaN"); };  // datNumber's format
+    std::vector<double> bin;
+    bin.reserve((track.size() / stride + 1) * plot_columns);
+    auto num = [&](double x) {  // datNumber's format; the binary value is the text's
+      if (!std::isfinite(x)) {
+        dat += "NaN";
+        bin.push_back(kNaN);
+        return;
+      }
+      char buf[40];
+      char* end = writeGeneral(buf, x, 8);
+      dat.append(buf, end);
+      bin.push_back(textValue(buf, end));
+    };
     for (size_t i = 0; i < track.size(); i += stride) {
       num(track.t_s[i]);
       dat += ' ';
@@ -418,6 +445,8 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
       dat += '\n';
     }
     writeWhole(dir.file("predictions_plot.dat"), dat);
+    writeWhole(dir.file("predictions_plot.bin"),
+               std::string(reinterpret_cast<const char*>(bin.data()), bin.size() * sizeof(double)));
   }
   std::ofstream gp(dir.file("predictions.gp"));
   std::ostringstream title;
@@ -425,7 +454,15 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
   if (delay_frames >= 0) title << " (" << delay_frames << " frames)";
   if (!single) title << ", point " << track.point_names[0] << " of " << n << " (all in predictions.csv)";
   if (stride > 1) title << ", 1 row in " << stride << " of " << track.size() << " drawn";
+  // The binary data and how to read it: the same columns as predictions_plot.dat, doubles in the
+  // machine's byte order. Drawing from the text instead gives the same PNG (same values).
+  const std::string binary = "binary format='%" + std::to_string(plot_columns) + "float64'";
   gp << "# Regenerate with: gnuplot predictions.gp\n"
+     << "# It reads predictions_plot.bin: the numbers of predictions_plot.dat (same rows and columns) as\n"
+     << "# " << plot_columns << " doubles per row; to draw from the text file instead, set data = "
+     << "'predictions_plot.dat' and fmt = ''.\n"
+     << "data = 'predictions_plot.bin'\n"
+     << "fmt = \"" << binary << "\"\n"
      << "set terminal pngcairo size 1200,850 enhanced font 'Sans,10'\n"
      << "set output 'predictions.png'\n"
      << "set datafile missing 'NaN'\n"
@@ -437,27 +474,41 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
     const char* name = axis == 0 ? "u" : "v";
     gp << "set title " << gnuplotQuote(std::string("image coordinate ") + name + " (measured vs predicted)") << "\n"
        << "set ylabel '" << name << " [px]'\n"
-       << "plot 'predictions_plot.dat' using 1:" << (2 + axis)
+       << "plot data @fmt using 1:" << (2 + axis)
        << " with points pt 7 ps 0.5 lc rgb 'black' title 'measured'";
     for (size_t k = 0; k < report.runs.size(); ++k)
-      gp << ", '' using 4:" << (7 + 2 * k + static_cast<size_t>(axis)) << " with lines lw 1.5 lc rgb '"
+      gp << ", '' @fmt using 4:" << (7 + 2 * k + static_cast<size_t>(axis)) << " with lines lw 1.5 lc rgb '"
          << seriesColor(k) << "' title " << gnuplotQuote(report.runs[k].spec.name);
     if (track.hasTruth())
-      gp << ", '' using 1:" << (5 + axis) << " with lines dt 2 lw 2 lc rgb 'black' title 'true'";
+      gp << ", '' @fmt using 1:" << (5 + axis) << " with lines dt 2 lw 2 lc rgb 'black' title 'true'";
     gp << "\n";
   }
   gp << "unset multiplot\n";
   gp.close();
-  // gnuplot (another process, one core) draws while predictions.csv is written when there are
-  // threads to spare; its error, if any, is reported after the CSV's.
+}
+
+}  // namespace
+
+void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
+                            const std::string& command_line, bool plots, StagedOutputDir& dir, int jobs) {
   if (jobs < 2) {
+    writeSummaryJson(track, report, delay_frames, command_line, dir);
+    if (plots) writePlotFiles(track, report, delay_frames, dir);
     writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);
-    runGnuplot(dir.staging().string(), "predictions.gp");
+    if (plots) runGnuplot(dir.staging().string(), "predictions.gp");
     return;
   }
-  std::future<void> drawing = std::async(std::launch::async, [&dir] { runGnuplot(dir.staging().string(), "predictions.gp"); });
+  // With threads to spare, everything but predictions.csv (summary.json, the plot's data and script,
+  // gnuplot drawing predictions.png: another process, one core) is one task on its own thread while
+  // the pool formats and writes predictions.csv; its error, if any, is reported after the CSV's.
+  std::future<void> side = std::async(std::launch::async, [&] {
+    writeSummaryJson(track, report, delay_frames, command_line, dir);
+    if (!plots) return;
+    writePlotFiles(track, report, delay_frames, dir);
+    runGnuplot(dir.staging().string(), "predictions.gp");
+  });
   writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);  // on throwing, ~future waits
-  drawing.get();
+  side.get();
 }
 
 void printPredictionTable(const PredictionReport& report, const FeatureTrack& track, std::ostream& out) {

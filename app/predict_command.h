@@ -104,7 +104,12 @@ size_t plotStride(size_t rows);
 ///                    overall), "per_point": [{"point", "vs_measurement", "vs_truth"}]}]}
 ///  predictions.png: u and v versus time of the first point (for N > 1 its title says so; every
 ///                   point is in predictions.csv and its errors in summary.json); thinned beyond
-///                   kMaxPlotRows rows (its title then says so).
+///                   kMaxPlotRows rows (its title then says so). Drawn by predictions.gp from
+///                   predictions_plot.bin: the numbers of the text predictions_plot.dat (same rows
+///                   and columns: t_s u_px v_px t_target_s u_true_px v_true_px, then u_pred v_pred
+///                   per predictor) as doubles in the machine's byte order (NaN for "NaN"), which
+///                   gnuplot reads once per series without parsing text; predictions.gp says how
+///                   to draw from the text instead (the same PNG).
 ///  jobs:            threads formatting predictions.csv (written in row order: the same file for any
 ///                   jobs); with jobs >= 2 gnuplot draws predictions.png meanwhile.
 void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,

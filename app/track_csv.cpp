@@ -1,18 +1,23 @@
 #include "track_csv.h"
 
 #include "app_error.h"
+#include "parallel_for.h"
 
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <string_view>
 #include <tuple>
 #include <unordered_map>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace predvs {
 namespace {
@@ -143,28 +148,128 @@ struct LongRow {
   int line;
 };
 
+/// A file's bytes: mapped read-only when it is a regular file (the page cache's own pages: no
+/// zeroed buffer, no copy of a 100 MB track), else read whole into memory (a pipe, /dev/stdin).
+/// Throws as readFeatureTrack does when the file cannot be opened.
+class FileText {
+ public:
+  explicit FileText(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throwAt(path, 0, "cannot open the file for reading (expected a CSV with columns t,u,v or t,point,u,v)");
+    struct stat st {};
+    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+      void* p = ::mmap(nullptr, static_cast<size_t>(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+      if (p != MAP_FAILED) {
+        map_ = p;
+        map_size_ = static_cast<size_t>(st.st_size);
+        ::madvise(map_, map_size_, MADV_SEQUENTIAL);
+      }
+    }
+    if (!map_) {
+      char buf[1 << 16];
+      ssize_t got;
+      while ((got = ::read(fd, buf, sizeof buf)) > 0) copy_.append(buf, static_cast<size_t>(got));
+      // A read error (a directory) leaves what was read, as the stream read did: "the file is empty".
+    }
+    ::close(fd);
+  }
+  ~FileText() {
+    if (map_) ::munmap(map_, map_size_);
+  }
+  FileText(const FileText&) = delete;
+  FileText& operator=(const FileText&) = delete;
+  std::string_view text() const {
+    return map_ ? std::string_view(static_cast<const char*>(map_), map_size_) : std::string_view(copy_);
+  }
+
+ private:
+  void* map_ = nullptr;
+  size_t map_size_ = 0;
+  std::string copy_;
+};
+
+/// Every column of a track, in one order: t, then u, v of each point, then the true u, v of each.
+std::vector<std::vector<double>*> columnsOf(FeatureTrack& f) {
+  std::vector<std::vector<double>*> c{&f.t_s};
+  for (size_t p = 0; p < f.u_px.size(); ++p) c.push_back(&f.u_px[p]), c.push_back(&f.v_px[p]);
+  for (size_t p = 0; p < f.u_true_px.size(); ++p) c.push_back(&f.u_true_px[p]), c.push_back(&f.v_true_px[p]);
+  return c;
+}
+
+/// The parallel parse of a wide file's data rows, text[begin, end): cut into pieces at line ends,
+/// each parsed on the pool into its own columns by parse(piece_begin, piece_end, 0, out) (line
+/// numbers are not known there and not needed: a piece that meets a defect gives up), then
+/// appended in order. Returns false, with `track` untouched, when it was not tried (one thread, a
+/// small file) or when a piece met a defect or the time did not increase from one piece to the
+/// next: the caller then parses the whole on one thread, which reports the defect with its line.
+template <class Size, class Parse>
+bool parseWideInPieces(std::string_view text, size_t begin, int jobs, size_t min_bytes, FeatureTrack& track,
+                       Size& sizeColumns, Parse& parse) {
+  const size_t bytes = text.size() - begin;
+  if (jobs < 2 || bytes < min_bytes || bytes == 0) return false;
+  // Four pieces per thread (a thread held up by another process does not hold up the rest), none
+  // under 1 MB (or min_bytes / 4 when that is less: tests).
+  const size_t piece_min = std::max<size_t>(1, std::min<size_t>(size_t{1} << 20, min_bytes / 4));
+  const size_t want = std::min<size_t>(static_cast<size_t>(jobs) * 4, std::max<size_t>(2, bytes / piece_min));
+  std::vector<size_t> cut{begin};
+  for (size_t k = 1; k < want; ++k) {
+    const size_t guess = std::max(cut.back(), begin + bytes / want * k);
+    const auto nl = text.find('\n', guess);
+    if (nl == std::string_view::npos) break;
+    if (nl + 1 > cut.back() && nl + 1 < text.size()) cut.push_back(nl + 1);
+  }
+  cut.push_back(text.size());
+  const size_t pieces = cut.size() - 1;
+  if (pieces < 2) return false;
+  std::vector<FeatureTrack> part(pieces);
+  std::vector<char> failed(pieces, 0);
+  parallelFor(pieces, jobs, [&](size_t k) {
+    try {
+      sizeColumns(part[k]);
+      parse(cut[k], cut[k + 1], 0, part[k]);
+    } catch (...) {
+      failed[k] = 1;  // the serial parse finds it again and names its line
+    }
+  });
+  double last_t = -std::numeric_limits<double>::infinity();
+  bool any = false;
+  for (size_t k = 0; k < pieces; ++k) {
+    if (failed[k]) return false;
+    if (part[k].t_s.empty()) continue;
+    if (any && !(part[k].t_s.front() > last_t)) return false;
+    last_t = part[k].t_s.back();
+    any = true;
+  }
+  // Appended in order, one column per item.
+  std::vector<size_t> offset(pieces + 1, 0);
+  for (size_t k = 0; k < pieces; ++k) offset[k + 1] = offset[k] + part[k].t_s.size();
+  const std::vector<std::vector<double>*> dest = columnsOf(track);
+  parallelFor(dest.size(), jobs, [&](size_t c) {
+    std::vector<double>& to = *dest[c];
+    to.resize(offset[pieces]);
+    for (size_t k = 0; k < pieces; ++k) {
+      std::vector<double>& from = *columnsOf(part[k])[c];
+      std::copy(from.begin(), from.end(), to.begin() + static_cast<std::ptrdiff_t>(offset[k]));
+      std::vector<double>().swap(from);
+    }
+  });
+  return true;
+}
+
 }  // namespace
 
-FeatureTrack readFeatureTrack(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throwAt(path, 0, "cannot open the file for reading (expected a CSV with columns t,u,v or t,point,u,v)");
-  // The whole file in one read; lines are views into it (split on '\n' as std::getline does).
-  std::string text;
-  in.seekg(0, std::ios::end);
-  const auto file_size = in.tellg();
-  in.seekg(0, std::ios::beg);
-  if (file_size > 0) {
-    text.resize(static_cast<size_t>(file_size));
-    in.read(&text[0], static_cast<std::streamsize>(text.size()));
-    text.resize(static_cast<size_t>(in.gcount()));
-  }
+FeatureTrack readFeatureTrack(const std::string& path, int jobs, size_t parallel_min_bytes) {
+  // The whole file, mapped (or, for what cannot be mapped, read in one go); lines are views into it
+  // (split on '\n' as std::getline does).
+  const FileText file(path);
+  const std::string_view text = file.text();
   size_t pos = 0;
   auto nextLine = [&](std::string_view& out) {
     if (pos >= text.size()) return false;
     const auto nl = text.find('\n', pos);
-    const size_t end = nl == std::string::npos ? text.size() : nl;
+    const size_t end = nl == std::string_view::npos ? text.size() : nl;
     out = std::string_view(text.data() + pos, end - pos);
-    pos = nl == std::string::npos ? text.size() : nl + 1;
+    pos = nl == std::string_view::npos ? text.size() : nl + 1;
     return true;
   };
 
@@ -283,6 +388,63 @@ FeatureTrack readFeatureTrack(const std::string& path) {
                                wideName('v', index, true)});
     }
   }
+  // The wide rows of text[begin, end) (whole lines) appended to `out` (t_s, u_px, ... sized to the
+  // points), `line` counting from the line before the first; throws at the first defect. flatten:
+  // the splitting and the push_backs inlined, as they were in the loop this came from (GCC left them
+  // out of line here: 8 % more time).
+  auto parseWideRows = [&](size_t begin, size_t end, int line, FeatureTrack& out) __attribute__((flatten)) {
+    std::vector<std::string_view> cells;
+    auto cellOf = [&](int col) { return cells[static_cast<size_t>(col)]; };
+    // Room for every line (no regrowth of the columns on the way).
+    const size_t lines = static_cast<size_t>(std::count(text.begin() + static_cast<std::ptrdiff_t>(begin),
+                                                        text.begin() + static_cast<std::ptrdiff_t>(end), '\n')) + 1;
+    for (std::vector<double>* column : columnsOf(out)) column->reserve(column->size() + lines);
+    size_t at = begin;
+    while (at < end) {
+      const auto nl = text.find('\n', at);
+      const size_t stop = nl == std::string_view::npos || nl >= end ? end : nl;
+      const std::string_view row(text.data() + at, stop - at);
+      at = stop == end ? end : stop + 1;
+      ++line;
+      if (trimView(row).empty()) continue;
+      splitCsvView(row, cells);
+      if (cells.size() != header.size())
+        throwAt(path, line, "expected " + std::to_string(header.size()) + " cells, got " + std::to_string(cells.size()));
+      const double t = parseCellView(cellOf(col_t), path, line, "t", false);
+      if (!out.t_s.empty() && !(t > out.t_s.back()))
+        throwAt(path, line, "column 't': expected a time after the previous row's (strictly increasing), got " +
+                                std::string(cellOf(col_t)));
+      out.t_s.push_back(t);
+      for (int p = 0; p < n_points; ++p) {
+        const size_t pp = static_cast<size_t>(p);
+        const PointColumns& c = point_columns[pp];
+        out.u_px[pp].push_back(parseCellView(cellOf(c.u), path, line, c.u_name, true));
+        out.v_px[pp].push_back(parseCellView(cellOf(c.v), path, line, c.v_name, true));
+        if (!truth) continue;
+        const bool has = c.u_true >= 0;
+        out.u_true_px[pp].push_back(has ? parseCellView(cellOf(c.u_true), path, line, c.u_true_name, true) : kNaN);
+        out.v_true_px[pp].push_back(has ? parseCellView(cellOf(c.v_true), path, line, c.v_true_name, true) : kNaN);
+      }
+    }
+    return line;
+  };
+  auto sizeColumns = [&](FeatureTrack& out) {
+    out.u_px.resize(static_cast<size_t>(n_points));
+    out.v_px.resize(static_cast<size_t>(n_points));
+    if (truth) {
+      out.u_true_px.resize(static_cast<size_t>(n_points));
+      out.v_true_px.resize(static_cast<size_t>(n_points));
+    }
+  };
+  if (!long_format) {
+    sizeColumns(track);
+    if (!parseWideInPieces(text, pos, jobs, parallel_min_bytes, track, sizeColumns, parseWideRows))
+      line_no = parseWideRows(pos, text.size(), line_no, track);  // one thread, or a defect to report
+    if (track.t_s.empty()) throwAt(path, line_no, "no data rows after the header (expected at least one)");
+    for (int p = 0; p < n_points; ++p) track.point_names.push_back(std::to_string(p));
+    return track;
+  }
+
   std::vector<std::string_view> cells;
   auto cellOf = [&](int col) { return cells[static_cast<size_t>(col)]; };
   std::vector<LongRow> long_rows;
@@ -294,48 +456,18 @@ FeatureTrack readFeatureTrack(const std::string& path) {
       throwAt(path, line_no,
               "expected " + std::to_string(header.size()) + " cells, got " + std::to_string(cells.size()));
     const double t = parseCellView(cellOf(col_t), path, line_no, "t", false);
-    if (long_format) {
-      LongRow r{t, std::string(cellOf(col_point)), kNaN, kNaN, kNaN, kNaN, line_no};
-      if (r.id.empty()) throwAt(path, line_no, "column 'point': expected a point id (integer or name), got an empty cell");
-      if (!long_rows.empty() && t < long_rows.back().t)
-        throwAt(path, line_no, "column 't': expected the rows of a frame together and frames in increasing time, got " +
-                                   std::string(cellOf(col_t)) + " after a later frame");
-      r.u = parseCellView(cellOf(col_u), path, line_no, "u", true);
-      r.v = parseCellView(cellOf(col_v), path, line_no, "v", true);
-      if (truth) {
-        r.u_true = parseCellView(cellOf(col_ut), path, line_no, "u_true", true);
-        r.v_true = parseCellView(cellOf(col_vt), path, line_no, "v_true", true);
-      }
-      long_rows.push_back(std::move(r));
-      continue;
+    LongRow r{t, std::string(cellOf(col_point)), kNaN, kNaN, kNaN, kNaN, line_no};
+    if (r.id.empty()) throwAt(path, line_no, "column 'point': expected a point id (integer or name), got an empty cell");
+    if (!long_rows.empty() && t < long_rows.back().t)
+      throwAt(path, line_no, "column 't': expected the rows of a frame together and frames in increasing time, got " +
+                                 std::string(cellOf(col_t)) + " after a later frame");
+    r.u = parseCellView(cellOf(col_u), path, line_no, "u", true);
+    r.v = parseCellView(cellOf(col_v), path, line_no, "v", true);
+    if (truth) {
+      r.u_true = parseCellView(cellOf(col_ut), path, line_no, "u_true", true);
+      r.v_true = parseCellView(cellOf(col_vt), path, line_no, "v_true", true);
     }
-    if (!track.t_s.empty() && !(t > track.t_s.back()))
-      throwAt(path, line_no, "column 't': expected a time after the previous row's (strictly increasing), got " +
-                                 std::string(cellOf(col_t)));
-    if (track.t_s.empty()) {
-      track.u_px.resize(static_cast<size_t>(n_points));
-      track.v_px.resize(static_cast<size_t>(n_points));
-      if (truth) {
-        track.u_true_px.resize(static_cast<size_t>(n_points));
-        track.v_true_px.resize(static_cast<size_t>(n_points));
-      }
-    }
-    track.t_s.push_back(t);
-    for (int p = 0; p < n_points; ++p) {
-      const size_t pp = static_cast<size_t>(p);
-      const PointColumns& c = point_columns[pp];
-      track.u_px[pp].push_back(parseCellView(cellOf(c.u), path, line_no, c.u_name, true));
-      track.v_px[pp].push_back(parseCellView(cellOf(c.v), path, line_no, c.v_name, true));
-      if (!truth) continue;
-      const bool has = c.u_true >= 0;
-      track.u_true_px[pp].push_back(has ? parseCellView(cellOf(c.u_true), path, line_no, c.u_true_name, true) : kNaN);
-      track.v_true_px[pp].push_back(has ? parseCellView(cellOf(c.v_true), path, line_no, c.v_true_name, true) : kNaN);
-    }
-  }
-  if (!long_format) {
-    if (track.t_s.empty()) throwAt(path, line_no, "no data rows after the header (expected at least one)");
-    for (int p = 0; p < n_points; ++p) track.point_names.push_back(std::to_string(p));
-    return track;
+    long_rows.push_back(std::move(r));
   }
 
   // Long: the point set (integers sorted by value, else in order of first appearance), then frames.

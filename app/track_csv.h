@@ -29,6 +29,7 @@
 
 #include "predvs/servo/sampled_signal.h"  // interpolateAt
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -48,8 +49,18 @@ struct FeatureTrack {
   int points() const { return static_cast<int>(point_names.size()); }
 };
 
+/// Files whose data rows take fewer bytes are parsed on one thread whatever `jobs` says.
+constexpr size_t kParallelParseMinBytes = size_t{4} << 20;
+
 /// Reads and validates a feature-track CSV (format above).
-FeatureTrack readFeatureTrack(const std::string& path);
+/// jobs >= 2: the data rows of a wide-format file (one row per frame) of at least
+/// parallel_min_bytes are cut at line ends into up to 4 * jobs pieces parsed on `jobs` threads and
+/// appended in order (the long format is always read on one thread). The track is the same, value
+/// for value, as with one thread; so is any error: a piece that meets a defect (or a time that does
+/// not increase from one piece to the next) hands the file to the one-thread parse, which reports it
+/// with its line.
+FeatureTrack readFeatureTrack(const std::string& path, int jobs = 1,
+                              size_t parallel_min_bytes = kParallelParseMinBytes);
 
 /// Parses one CSV cell as a finite double. Empty (after trimming) -> NaN if allow_empty, else an
 /// error. Throws std::invalid_argument "FILE:LINE: column 'COL': expected ..." otherwise.

@@ -1,5 +1,5 @@
 // predvs bench — throughput of `predvs predict` (issue 11 item 8, docs/PERFORMANCE.md "predict
-// throughput"): reading a track CSV (readFeatureTrack) and running every registered predictor
+// throughput"): reading a track CSV (readFeatureTrack, on 1 and 2 threads) and running every registered predictor
 // along it (predictTrack, on 1 and 2 threads; and each predictor alone, BM_PredictTrack/<name>),
 // and writing predictions.csv + summary.json (writePredictionOutputs without the plot, 1 and 2
 // threads), separately, so that the predictors' own share of a run is measured.
@@ -46,16 +46,18 @@ const std::string& benchTrackPath() {
   return path;
 }
 
+/// readFeatureTrack on state.range(0) threads (`--jobs`; real time for 2).
 void BM_ReadFeatureTrack(benchmark::State& state) {
   size_t rows = 0;
   for (auto _ : state) {
-    const predvs::FeatureTrack track = predvs::readFeatureTrack(benchTrackPath());
+    const predvs::FeatureTrack track = predvs::readFeatureTrack(benchTrackPath(), static_cast<int>(state.range(0)));
     rows = track.size();
     benchmark::DoNotOptimize(track.t_s.data());
   }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * rows));
 }
-BENCHMARK(BM_ReadFeatureTrack)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ReadFeatureTrack)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ReadFeatureTrack)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 const predvs::FeatureTrack& benchTrack() {
   static const predvs::FeatureTrack track = predvs::readFeatureTrack(benchTrackPath());

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -183,6 +184,182 @@ TEST(PredictThroughput, ParallelRunGivesTheSameOutputsAsOneThread) {
     EXPECT_EQ(readAll(dir1 / "summary.json"), readAll(dir3 / "summary.json"));
     std::filesystem::remove_all(dir1);
     std::filesystem::remove_all(dir3);
+  }
+}
+
+TEST(PredictThroughput, PlotBinaryHoldsTheNumbersOfThePlotText) {
+  // GIVEN a one-point track with empty cells, thinned for the plot (stride 2), and three predictors
+  const predvs::FeatureTrack track = syntheticTrack(predvs::kMaxPlotRows + 3001, 1);
+  const std::vector<predvs::PredictorSpec> specs{{"hold", {}}, {"kf-cv", {}}, {"fakf", {}}};
+  const predvs::PredictionReport report = predvs::predictTrack(track, specs, 2.0 / 30.0, 2);
+  const auto out = std::filesystem::temp_directory_path() / "predvs_throughput_plot_bin";
+  std::filesystem::remove_all(out);
+  // WHEN the outputs are written with the plot
+  {
+    predvs::StagedOutputDir dir(out);
+    predvs::writePredictionOutputs(track, report, 2, "predvs predict (test)", /*plots=*/true, dir, 2);
+    dir.commit();
+  }
+  // THEN predictions_plot.bin holds, row by row, the doubles the text of predictions_plot.dat reads
+  // as (NaN for "NaN"), and predictions.gp reads it with that many columns
+  const size_t columns = 6 + 2 * specs.size();
+  const std::string bin = readAll(out / "predictions_plot.bin");
+  std::ifstream dat(out / "predictions_plot.dat");
+  std::string line;
+  size_t rows = 0, nans = 0, at = 0;
+  while (std::getline(dat, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream cells(line);
+    std::string cell;
+    size_t c = 0;
+    for (; cells >> cell; ++c) {
+      ASSERT_LE(at + sizeof(double), bin.size()) << "row " << rows;
+      double value;
+      std::memcpy(&value, bin.data() + at, sizeof value);
+      at += sizeof value;
+      if (cell == "NaN") {
+        EXPECT_TRUE(std::isnan(value)) << "row " << rows << " column " << c;
+        ++nans;
+      } else {
+        EXPECT_TRUE(sameBits(value, std::strtod(cell.c_str(), nullptr))) << cell << " row " << rows << " column " << c;
+      }
+    }
+    ASSERT_EQ(c, columns) << "row " << rows;
+    ++rows;
+  }
+  EXPECT_EQ(rows, (track.size() + 1) / 2);
+  EXPECT_EQ(at, bin.size());
+  EXPECT_GT(nans, 0u);
+  const std::string gp = readAll(out / "predictions.gp");
+  EXPECT_NE(gp.find("data = 'predictions_plot.bin'"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("binary format='%" + std::to_string(columns) + "float64'"), std::string::npos) << gp;
+  EXPECT_TRUE(std::filesystem::exists(out / "predictions.png"));
+  std::filesystem::remove_all(out);
+}
+
+/// A wide track's text: 3 points (truth for points 0 and 2 only), an ignored column, empty cells,
+/// a blank line now and then, CRLF line ends on some rows; `rows` data rows at 30 Hz.
+std::string wideTrackText(size_t rows) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  std::string text = "t,u0,v0,u1,v1,u2,v2,note,u0_true,v0_true,u2_true,v2_true\n";
+  char cell[64];
+  auto num = [&](double x) {
+    std::snprintf(cell, sizeof cell, "%.10g", x);
+    return std::string(cell);
+  };
+  for (size_t i = 0; i < rows; ++i) {
+    const double t = i / 30.0;
+    std::string row = num(t);
+    for (int p = 0; p < 3; ++p)
+      for (int axis = 0; axis < 2; ++axis) row += "," + (uni(rng) < 0.03 ? std::string() : num(300.0 * uni(rng) + p));
+    row += ",x" + std::to_string(i % 7);
+    for (int k = 0; k < 4; ++k) row += "," + num(200.0 + 100.0 * uni(rng));
+    text += row + (i % 5 == 0 ? "\r\n" : "\n");
+    if (i % 211 == 0) text += "\n";
+  }
+  return text;
+}
+
+TEST(PredictThroughput, ParallelParseGivesTheSameTrackAsOneThread) {
+  // GIVEN a wide track (and a long one)
+  const std::string wide = writeTemp("parallel_wide.csv", wideTrackText(3000));
+  const std::string long_csv =
+      writeTemp("parallel_long.csv", "t,point,u,v\n0,a,1,2\n0,b,3,4\n0.1,b,5,6\n0.2,a,7,8\n0.2,b,9,10\n");
+  for (const std::string& path : {wide, long_csv}) {
+    // WHEN it is read on one thread and, cut into pieces (no size threshold), on 1 to 4 threads
+    const predvs::FeatureTrack one = predvs::readFeatureTrack(path, 1);
+    for (int jobs : {2, 3, 4}) {
+      const predvs::FeatureTrack many = predvs::readFeatureTrack(path, jobs, 1);
+      // THEN the tracks are the same, value for value
+      EXPECT_EQ(many.format, one.format);
+      EXPECT_EQ(many.point_names, one.point_names);
+      EXPECT_EQ(many.ignored_columns, one.ignored_columns);
+      ASSERT_EQ(many.size(), one.size()) << jobs;
+      auto same = [&](const std::vector<std::vector<double>>& a, const std::vector<std::vector<double>>& b) {
+        ASSERT_EQ(a.size(), b.size());
+        for (size_t p = 0; p < a.size(); ++p) {
+          ASSERT_EQ(a[p].size(), b[p].size());
+          for (size_t i = 0; i < a[p].size(); ++i) ASSERT_TRUE(sameBits(a[p][i], b[p][i])) << "point " << p << " row " << i;
+        }
+      };
+      same({many.t_s}, {one.t_s});
+      same(many.u_px, one.u_px);
+      same(many.v_px, one.v_px);
+      same(many.u_true_px, one.u_true_px);
+      same(many.v_true_px, one.v_true_px);
+    }
+  }
+  const predvs::FeatureTrack track = predvs::readFeatureTrack(wide, 3, 1);
+  EXPECT_EQ(track.size(), 3000u);
+  EXPECT_EQ(track.points(), 3);
+  EXPECT_TRUE(std::isnan(track.u_true_px[1][7]));
+  EXPECT_EQ(track.ignored_columns, std::vector<std::string>{"note"});
+}
+
+TEST(PredictThroughput, ParallelParseGivesTheSameErrorLineAsOneThread) {
+  // GIVEN a wide track of 2000 rows with one defect, at lines spread over the file (so at the start,
+  // inside and at the ends of the pieces)
+  const std::string good = wideTrackText(2000);
+  std::vector<size_t> line_start{0};
+  for (size_t i = 0; i < good.size(); ++i)
+    if (good[i] == '\n') line_start.push_back(i + 1);
+  const size_t lines = line_start.size() - 1;
+  int checked = 0;
+  for (size_t line = 2; line <= lines; line += 97) {
+    const size_t b = line_start[line - 1], e = line_start[line];
+    const std::string row = good.substr(b, e - b);
+    if (row == "\n") continue;  // a blank line
+    const size_t comma = row.find(',');
+    for (int defect = 0; defect < 3; ++defect) {
+      std::string bad_row;
+      if (defect == 0) bad_row = row.substr(0, comma) + ",1.5x" + row.substr(row.find(',', comma + 1));  // a bad cell
+      if (defect == 1) bad_row = row.substr(0, comma) + ",1" + row.substr(comma);                       // a cell too many
+      if (defect == 2) bad_row = "-1" + row.substr(comma);  // a time that goes back (but on line 2)
+      const std::string path = writeTemp("parallel_bad.csv", good.substr(0, b) + bad_row + good.substr(e));
+      auto message = [&](int jobs) {
+        try {
+          predvs::readFeatureTrack(path, jobs, 1);
+        } catch (const std::invalid_argument& ex) {
+          return std::string(ex.what());
+        }
+        return std::string("no error");
+      };
+      // WHEN it is read on one thread and on three
+      const std::string one = message(1);
+      // THEN both give the same message, naming the line
+      EXPECT_EQ(message(3), one);
+      if (!(defect == 2 && line == 2)) {
+        EXPECT_NE(one.find(":" + std::to_string(line) + ": "), std::string::npos) << one;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 50);
+  // ... and a time that goes back on every line of a short track, so also on the first row of each
+  // piece (where only the check across pieces can see it)
+  const std::string small = wideTrackText(150);
+  size_t b = small.find('\n') + 1;
+  for (int line = 2; b < small.size(); ++line) {
+    const size_t e = small.find('\n', b) + 1;
+    if (e - b > 1 && line > 2) {
+      const std::string path = writeTemp("parallel_back.csv", small.substr(0, b) + "-1" +
+                                                                 small.substr(small.find(',', b), std::string::npos));
+      std::string one, three;
+      try {
+        predvs::readFeatureTrack(path, 1);
+      } catch (const std::invalid_argument& ex) {
+        one = ex.what();
+      }
+      try {
+        predvs::readFeatureTrack(path, 3, 1);
+      } catch (const std::invalid_argument& ex) {
+        three = ex.what();
+      }
+      EXPECT_NE(one.find(":" + std::to_string(line) + ": column 't'"), std::string::npos) << one;
+      EXPECT_EQ(three, one);
+    }
+    b = e;
   }
 }
 
