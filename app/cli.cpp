@@ -134,6 +134,7 @@ struct PredictArgs {
   bool fit = false;         ///< --fit
   std::string fit_split;    ///< --fit-split F
   std::string fit_objective;  ///< --fit-objective likelihood|prediction (default prediction at the horizon)
+  std::string fit_select_holdout;  ///< --fit-select-holdout F (fit-noise --select-holdout)
 };
 
 /// Sets the params of a parameter file on the specs of the same name (--params FILE).
@@ -246,6 +247,12 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("--fit-objective: ") + e.what());
     }
+  }
+  if (!a.fit_select_holdout.empty()) {
+    if (!a.fit) throw std::invalid_argument("--fit-select-holdout: needs --fit");
+    fit_options.select_holdout = parseNumberArg("--fit-select-holdout", a.fit_select_holdout);
+    if (!(fit_options.select_holdout >= 0.0 && fit_options.select_holdout <= 0.9))
+      throw std::invalid_argument("--fit-select-holdout: expected a fraction in [0, 0.9], got '" + a.fit_select_holdout + "'");
   }
   const int jobs = a.jobs.empty() ? hardwareJobs() : static_cast<int>(parseIntegerArg("--jobs", a.jobs, 1, 1024));
   if (!a.no_plots) requireGnuplot();
@@ -444,6 +451,10 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                       "command's horizon against the later measurements, the score itself) or 'likelihood' "
                       "(maximise the innovation log-likelihood, as fit-noise by default)")
       ->type_name("OBJ");
+  predict->add_option("--fit-select-holdout", pa.fit_select_holdout,
+                      "with --fit: the structure of a predictor that has several is chosen on the last fraction F of "
+                      "its fit rows (fit-noise --select-holdout, the same default)")
+      ->type_name("F");
 
   TrackArgs ta;
   CLI::App* track = app.add_subcommand("track", "Track points through an image sequence or video and score the predictors on them");
@@ -659,6 +670,12 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                         "starting points: the start values, then the process-noise keys moved by 10^+-2, 10^+-1, ...; the best fit is kept")
       ->capture_default_str()
       ->type_name("N");
+  fit_noise->add_option("--select-holdout", fna.select_holdout,
+                        "for a predictor with several structures (model, mean, adaptation): fit each on all but the "
+                        "last fraction F of the rows, keep the one that does best on those, fit it on all rows; "
+                        "0 = keep the best fit on all rows")
+      ->capture_default_str()
+      ->type_name("F");
   fit_noise->add_option("--out", fna.out, "output directory (replaced only when the fit succeeds)")->required()->type_name("DIR");
 
   // Generated maneuvering tracks (app/track_commands.h).
@@ -703,6 +720,11 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   track_study->add_option("--fit-starts", tsa.fit_starts, "with --fit: starting points per fit (fit-noise --starts)")
       ->capture_default_str()
       ->type_name("N");
+  track_study->add_option("--fit-select-holdout", tsa.fit_select,
+                          "with --fit: the structure of a predictor that has several is chosen on the last fraction F "
+                          "of the fit part (fit-noise --select-holdout); 0 = on the whole fit part")
+      ->capture_default_str()
+      ->type_name("F");
   track_study->add_option("--jobs", tsa.jobs, "tracks computed in parallel (threads); results do not depend on it")
       ->capture_default_str()
       ->type_name("N");

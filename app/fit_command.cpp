@@ -70,11 +70,14 @@ void printFit(const NoiseFitResult& fit, std::ostream& out) {
   if (fit.starts > 1) out << "; " << fit.starts << " starts, kept #" << fit.best_start;
   out << "\n";
   if (!fit.variants.empty()) {
+    const bool held_out = std::isfinite(fit.variants.front().objective_holdout);
     out << "  structure (fitted each, kept the best " << (fit.objective == FitObjective::Prediction ? "RMSE" : "log-likelihood")
-        << "):";
-    for (const auto& v : fit.variants)
-      out << "  " << v.variant << " " << std::setprecision(4) << v.objective_before << " -> " << v.objective_after
-          << (v.variant == fit.variant ? " [kept]" : "");
+        << (held_out ? " on the held-out last rows" : "") << "):";
+    for (const auto& v : fit.variants) {
+      out << "  " << v.variant << " " << std::setprecision(4) << v.objective_before << " -> " << v.objective_after;
+      if (std::isfinite(v.objective_holdout)) out << " (held out " << v.objective_holdout << ")";
+      out << (v.variant == fit.variant ? " [kept]" : "");
+    }
     out << "\n";
   }
   out.unsetf(std::ios::fixed);
@@ -122,6 +125,9 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
   opt.burn_in_frames = a.burn_in;
   opt.horizon_s = a.horizon_frames * medianPeriod(track.t_s);
   opt.starts = a.starts;
+  if (!(a.select_holdout >= 0.0 && a.select_holdout <= 0.9))
+    throw std::invalid_argument("--select-holdout: expected a fraction in [0, 0.9]");
+  opt.select_holdout = a.select_holdout;
   NoiseFitResult fit;
   try {
     fit = fitNoise(a.predictor, base, fitTrackOf(track, track.size()), opt);
@@ -183,8 +189,12 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
   j["variant"] = fit.variant;
   j["variants"] = nlohmann::json::array();
   for (const auto& v : fit.variants)
-    j["variants"].push_back({{"variant", v.variant}, {"objective_before", v.objective_before},
-                             {"objective_after", v.objective_after}});
+    j["variants"].push_back({{"variant", v.variant},
+                             {"objective_before", v.objective_before},
+                             {"objective_after", v.objective_after},
+                             {"objective_holdout", std::isfinite(v.objective_holdout) ? nlohmann::json(v.objective_holdout)
+                                                                                      : nlohmann::json(nullptr)}});
+  j["select_holdout"] = a.select_holdout;
   {
     std::ofstream f(dir.file("fit.json"));
     f << j.dump(2) << "\n";

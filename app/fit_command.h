@@ -21,6 +21,7 @@
 #pragma once
 
 #include "predict_command.h"
+#include "predvs/calibration/noise_fit.h"
 
 #include <ostream>
 #include <string>
@@ -50,6 +51,7 @@ struct FitNoiseArgs {
   std::string objective = "likelihood";  ///< --objective likelihood | prediction
   int horizon_frames = 2;                ///< --horizon-frames N: h = N x median frame period
   int starts = 1;                        ///< --starts N
+  double select_holdout = NoiseFitOptions{}.select_holdout;  ///< --select-holdout F
   std::string out;
   std::string command_line;
 };

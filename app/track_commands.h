@@ -20,6 +20,8 @@
 // results do not depend on N). --out DIR writes DIR/study.csv (one row per track and predictor).
 #pragma once
 
+#include "predvs/calibration/noise_fit.h"
+
 #include <ostream>
 #include <string>
 #include <vector>
@@ -54,6 +56,7 @@ struct TrackStudyArgs {
   double fit_split = 0.5;
   std::string fit_objective = "prediction";  ///< --fit-objective likelihood | prediction
   int fit_starts = 1;                        ///< --fit-starts N
+  double fit_select = NoiseFitOptions{}.select_holdout;  ///< --fit-select-holdout F
   int jobs = 1;                              ///< --jobs N: tracks in parallel
   std::string out;                      ///< optional
   std::string command_line;

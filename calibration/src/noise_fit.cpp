@@ -587,7 +587,23 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
   if (variants.empty()) return fitOneStructure(predictor, base, track, options);
 
   const bool by_prediction = options.objective == FitObjective::Prediction;
+  if (!(options.select_holdout >= 0.0 && options.select_holdout <= 0.9))
+    throw std::invalid_argument("noise fit: expected a structure hold-out fraction in [0, 0.9]");
+  // The rows before the held-out part (select_holdout > 0), and the track cut there.
+  const size_t rows = track.t_s.size();
+  const size_t head = options.select_holdout > 0.0
+                          ? static_cast<size_t>(std::lround((1.0 - options.select_holdout) * static_cast<double>(rows)))
+                          : rows;
+  FitTrack head_track;
+  if (head < rows) {
+    head_track.t_s.assign(track.t_s.begin(), track.t_s.begin() + static_cast<long>(head));
+    for (const auto& ch : track.channels) head_track.channels.emplace_back(ch.begin(), ch.begin() + static_cast<long>(head));
+  }
+  // Lower is better: RMSE, or -log L.
+  const auto score = [&](const NoiseFitResult& r) { return by_prediction ? r.rmse_after_px : -r.loglik_after; };
+
   NoiseFitResult best;
+  double best_score = kNaN;
   bool have = false;
   std::vector<VariantFit> tried;
   std::string first_error;
@@ -606,11 +622,27 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
     f.variant = describeVariant(v);
     f.objective_before = by_prediction ? r.rmse_before_px : r.loglik_before;
     f.objective_after = by_prediction ? r.rmse_after_px : r.loglik_after;
+    double s = score(r);
+    if (head < rows) {
+      // Out of sample: fitted on the head, judged on the rows after it.
+      try {
+        const NoiseFitResult h = fitOneStructure(predictor, pv, head_track, options);
+        const int burn = static_cast<int>(head);
+        const double o = by_prediction ? predictionRmse(predictor, h.params, track, options.horizon_s, burn)
+                                       : innovationLogLikelihood(predictor, h.params, track, burn);
+        if (std::isfinite(o)) {
+          f.objective_holdout = o;
+          s = by_prediction ? o : -o;
+        }
+      } catch (const std::invalid_argument&) {
+        // the head is too short for this structure: judged in sample (the header)
+      }
+    }
     tried.push_back(f);
-    const bool better = !have || (by_prediction ? r.rmse_after_px < best.rmse_after_px : r.loglik_after > best.loglik_after);
-    if (better) {
+    if (!have || s < best_score) {
       best = r;
       best.variant = f.variant;
+      best_score = s;
       have = true;
     }
   }

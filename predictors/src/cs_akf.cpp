@@ -284,14 +284,15 @@ CsAkfAdaptivePredictor::CsAkfAdaptivePredictor(int channels, const Params& param
       // a ceiling given below the default floor lowers the default floor with it
       sigma_min_sq_(params.get("sigma_min_sq", std::min(kDefaultSigmaMinSq, sigma_max_sq_), 0.0, 1e12)),
       adapt_tau_s_(params.get("adapt_tau_s", 0.0, 0.0, 1e3)),
-      sigma2_(static_cast<size_t>(channels), sigma_max_sq_),
+      adapt_(adaptationParam(params, "cs-akf-adaptive / fakf")),
+      sigma2_(static_cast<size_t>(channels), adapt_ ? sigma_max_sq_ : sigma_min_sq_),
       a_prev_(static_cast<size_t>(channels), 0.0) {
   if (!(sigma_min_sq_ <= sigma_max_sq_))
     throw std::invalid_argument("predictor parameter 'sigma_min_sq' must not exceed 'sigma_max_sq'");
 }
 
 void CsAkfAdaptivePredictor::afterStep(int c, double dt, double z) {
-  if (!isMeasured(z)) return;
+  if (!adapt_ || !isMeasured(z)) return;
   const auto i = static_cast<size_t>(c);
   const double a = gaussian(c).x(2);
   const double d = a - a_prev_[i];
@@ -306,18 +307,18 @@ std::vector<Params> CsAkfAdaptivePredictor::structuralVariants() const {
   current_unweighted.setText("mean", "current");
   current_unweighted.set("shrink_sigmas", 0.0);
   zero.setText("mean", "zero");
-  return {current, current_unweighted, zero};
+  return withAdaptationOff({current, current_unweighted, zero});
 }
 
 void CsAkfAdaptivePredictor::resetAdaptation() {
-  std::fill(sigma2_.begin(), sigma2_.end(), sigma_max_sq_);
+  std::fill(sigma2_.begin(), sigma2_.end(), adapt_ ? sigma_max_sq_ : sigma_min_sq_);
   std::fill(a_prev_.begin(), a_prev_.end(), 0.0);
 }
 
 void CsAkfAdaptivePredictor::initialize(int c, double z) {
   CsKalmanPredictor::initialize(c, z);
   a_prev_[static_cast<size_t>(c)] = gaussian(c).x(2);
-  sigma2_[static_cast<size_t>(c)] = sigma_max_sq_;
+  sigma2_[static_cast<size_t>(c)] = adapt_ ? sigma_max_sq_ : sigma_min_sq_;
 }
 
 }  // namespace predvs

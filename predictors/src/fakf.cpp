@@ -82,6 +82,7 @@ FakfClassicPredictor<N>::FakfClassicPredictor(int channels, const Params& params
       r_min_(params.get("r_min", 0.01 * this->r0_, 1e-12, 1e12)),
       r_max_(params.get("r_max", 100.0 * this->r0_, 1e-12, 1e12)),
       window_length_(static_cast<int>(params.get("window", 10.0, 2.0, 1000.0))),
+      adapt_(adaptationParam(params, "fakf-classic")),
       dom_(fuzzy::makeFakfDomSystem(domConfig(params))) {
   // Built directly (tests) the template argument is the model; a `model` given must agree with it.
   if (params.has("model") && fakfClassicModelStates(params) != N)
@@ -98,7 +99,7 @@ FakfClassicPredictor<N>::FakfClassicPredictor(int channels, const Params& params
 
 template <int N>
 std::vector<Params> FakfClassicPredictor<N>::structuralVariants() const {
-  return motionModelVariants();
+  return withAdaptationOff(motionModelVariants());
 }
 
 template <int N>
@@ -118,7 +119,7 @@ void FakfClassicPredictor<N>::step(int c, double dt, double z) {
   if (!this->nominalNoiseFinal(c)) R = this->nominalNoise(c);  // start-up estimate: adapt from it once frozen
   const double S = s.g.P(0, 0) + R;  // theoretical innovation power with R(k-1)
   win.push(eps);
-  if (win.full() && this->nominalNoiseFinal(c)) {
+  if (adapt_ && win.full() && this->nominalNoiseFinal(c)) {
     const double dom = win.meanSquare() - S;
     const double lo = this->autoNoise() && relative_bounds_ ? 0.01 * this->nominalNoise(c) : r_min_;
     const double hi = this->autoNoise() && relative_bounds_ ? 100.0 * this->nominalNoise(c) : r_max_;
@@ -193,6 +194,10 @@ void FakfPredictor::inflatePrior(int c, double dt) {
   Channel& ch = chan_[static_cast<size_t>(c)];
   ch.gamma = 1.0;
   if (!isMeasured(pending_z_)) return;
+  if (!adapt_) {  // adaptation: off: R is r (or its start-up estimate), P as predicted
+    ch.r = nominalNoise(c);
+    return;
+  }
   Gaussian<3>& g = channelGaussian(c);
   const double eps = pending_z_ - g.x(0);
   if (!nominalNoiseFinal(c)) ch.r = nominalNoise(c);  // start-up estimate: adapt from it once frozen

@@ -15,6 +15,10 @@ constexpr double kLog2Pi = 1.8378770664093453;
 /// Floor of a mode probability after an update: keeps every mode recoverable after a long stretch
 /// dominated by the others (renormalised afterwards).
 constexpr double kMuFloor = 1e-6;
+/// Default forgetting time of the forecast weights' evidence (s): docs/MODELS.md §14.
+constexpr double kDefaultForecastTauS = 30.0;
+/// Default floor of a forecast weight relative to the largest (docs/MODELS.md §14).
+constexpr double kDefaultForecastFloor = 0.01;
 
 // The mode-matched filters of the CP and CV modes on their own states. Their state is the common
 // [p, v, a] with the states the model lacks at zero (mixInto leaves them 0, their F zeroes them),
@@ -99,6 +103,10 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       p0_vel_(params.get("p0_vel", 1e4, 0.0, 1e12)),
       p0_acc_(params.get("p0_acc", 1e4, 0.0, 1e12)),
       coast_tau_s_(coastTauParam(params)),
+      fc_tau_s_(params.get("forecast_tau_s", kDefaultForecastTauS, 0.0, 1e6)),
+      fc_floor_(std::log(params.get("forecast_floor", kDefaultForecastFloor, 1e-12, 0.5))),
+      shrink_a_sigmas_(params.get("shrink_sigmas", kDefaultShrinkSigmasKfCa, 0.0, 1e3)),
+      shrink_v_sigmas_(params.get("shrink_v_sigmas", kDefaultShrinkVelocityKfCa ? shrink_a_sigmas_ : 0.0, 0.0, 1e3)),
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
   const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
@@ -124,6 +132,7 @@ void ImmPredictor::reset() {
   Channel init;
   init.mu.fill(0.0);
   for (int j = 0; j < modeCount(); ++j) init.mu[static_cast<size_t>(j)] = 1.0 / modeCount();
+  init.fw = init.mu;
   chan_.assign(static_cast<size_t>(channels()), init);
 }
 
@@ -135,6 +144,13 @@ double ImmPredictor::modeProbability(int c, ImmMode mode) const {
   const Channel& ch = chan_.at(static_cast<size_t>(c));
   for (int j = 0; j < modeCount(); ++j)
     if (modes_[static_cast<size_t>(j)].kind == mode) return ch.mu[static_cast<size_t>(j)];
+  return 0.0;
+}
+
+double ImmPredictor::forecastWeight(int c, ImmMode mode) const {
+  const std::array<double, kMaxModes>& w = forecastWeights(chan_.at(static_cast<size_t>(c)));
+  for (int j = 0; j < modeCount(); ++j)
+    if (modes_[static_cast<size_t>(j)].kind == mode) return w[static_cast<size_t>(j)];
   return 0.0;
 }
 
@@ -280,6 +296,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     F[static_cast<size_t>(j)] = transition(j, dt);
     Q[static_cast<size_t>(j)] = processNoise(j, dt);
   }
+  const double keep = fc_tau_s_ > 0.0 ? std::exp(-dt / fc_tau_s_) : 0.0;  // forecast weights' forgetting
   for (int c = 0; c < channels(); ++c) {
     Channel& ch = chan_[static_cast<size_t>(c)];
     ch.innovation = Innovation{};
@@ -348,6 +365,33 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         w[jj] = cbar[jj] * std::exp(loglik[jj] - maxll);
         sum += w[jj];
       }
+      if (fc_tau_s_ > 0.0) {
+        std::array<double, kMaxModes> ev{};
+        for (int j = 0; j < m; ++j) {
+          // Mode j's forecast of z from its posterior of the last update (ch.g, not yet replaced):
+          // mean f x and variance f P f' + Q(0, 0) + R, f = row 0 of F (only the measured entry
+          // of the time update).
+          const auto jj = static_cast<size_t>(j);
+          const Gaussian<3> g = forecastStart(ch, j);
+          const Eigen::Matrix<double, 1, 3> f = F[jj].row(0);
+          const double e = z(c) - f.dot(g.x.transpose());
+          const double S_h = f * g.P * f.transpose() + Q[jj](0, 0) + R;
+          ev[jj] = -0.5 * (std::log(S_h) + e * e / S_h);
+        }
+        double mev = -std::numeric_limits<double>::infinity();
+        for (int j = 0; j < m; ++j) mev = std::max(mev, ev[static_cast<size_t>(j)]);
+        double mx = -std::numeric_limits<double>::infinity();
+        for (int j = 0; j < m; ++j) {
+          const auto jj = static_cast<size_t>(j);
+          ch.logw[jj] = keep * ch.logw[jj] + (ev[jj] - mev);  // keep = exp(-dt / forecast_tau_s)
+          mx = std::max(mx, ch.logw[jj]);
+        }
+        for (int j = 0; j < m; ++j) {
+          const auto jj = static_cast<size_t>(j);
+          ch.logw[jj] = std::max(fc_floor_, ch.logw[jj] - mx);
+        }
+        normaliseForecastWeights(ch);
+      }
       if (sum > 0.0 && std::isfinite(sum)) {
         double s2 = 0.0;
         for (int j = 0; j < m; ++j) {
@@ -361,10 +405,15 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
     } else {
       ch.mu = cbar;
+      if (fc_tau_s_ > 0.0) {
+        for (int j = 0; j < m; ++j) ch.logw[static_cast<size_t>(j)] *= keep;
+        normaliseForecastWeights(ch);
+      }
     }
     ch.g = mixed;
   }
 }
+
 
 Gaussian<3> ImmPredictor::combine(const std::array<Gaussian<3>, kMaxModes>& g, const std::array<double, kMaxModes>& w) const {
   // Written out on scalars, entry by entry, with the operations of the Eigen expressions
@@ -393,6 +442,34 @@ Gaussian<3> ImmPredictor::combine(const std::array<Gaussian<3>, kMaxModes>& g, c
   return out;
 }
 
+void ImmPredictor::normaliseForecastWeights(Channel& ch) const {
+  double sum = 0.0;
+  for (int j = 0; j < modeCount(); ++j) {
+    const auto jj = static_cast<size_t>(j);
+    ch.fw[jj] = std::exp(ch.logw[jj]);
+    sum += ch.fw[jj];
+  }
+  for (int j = 0; j < modeCount(); ++j) ch.fw[static_cast<size_t>(j)] /= sum;
+}
+
+Vec<3> ImmPredictor::forecastStartMean(const Channel& ch, int j) const {
+  const Gaussian<3>& g = ch.g[static_cast<size_t>(j)];
+  Vec<3> x = g.x;
+  if (modes_[static_cast<size_t>(j)].kind == ImmMode::Ca) {
+    const double w_v = significanceWeight(g.x(1), g.P(1, 1), shrink_v_sigmas_);
+    x(1) *= w_v;
+    x(2) *= significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_);
+    x(2) *= w_v;
+  }
+  return x;
+}
+
+Gaussian<3> ImmPredictor::forecastStart(const Channel& ch, int j) const {
+  Gaussian<3> g = ch.g[static_cast<size_t>(j)];
+  g.x = forecastStartMean(ch, j);
+  return g;
+}
+
 ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
   const Channel& ch = chan_.at(static_cast<size_t>(channel));
   ChannelEstimate e;
@@ -402,10 +479,14 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
     return e;
   }
   const double dt = t_s - time();
-  if (!(dt > 0.0)) return toEstimate(combine(ch.g, ch.mu));
-  std::array<Gaussian<3>, kMaxModes> g = ch.g;
-  for (int j = 0; j < modeCount(); ++j) timeUpdate(g[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));
-  return toEstimate(combine(g, ch.mu));
+  const std::array<double, kMaxModes>& w = forecastWeights(ch);
+  if (!(dt > 0.0)) return toEstimate(combine(ch.g, w));
+  std::array<Gaussian<3>, kMaxModes> g;
+  for (int j = 0; j < modeCount(); ++j) {
+    g[static_cast<size_t>(j)] = forecastStart(ch, j);
+    timeUpdate(g[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));
+  }
+  return toEstimate(combine(g, w));
 }
 
 double ImmPredictor::predictPosition(int channel, double t_s) const {
@@ -415,13 +496,15 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
   if (!(dt > 0.0)) return predict(channel, t_s).position();
   // Each mode's (F x)(0): for CP and CV written out (their states beyond d are 0, so the sum has
   // one or two non-zero terms: the same bits), for CA the generic product.
+  const std::array<double, kMaxModes>& w = forecastWeights(ch);
   double p = 0.0;
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);
-    const Gaussian<3>& g = ch.g[jj];
     const int d = modes_[jj].dim;
-    const double pj = d == 1 ? g.x(0) : d == 2 ? g.x(0) + dt * g.x(1) : predictedPosition(g, transition(j, dt));
-    p += ch.mu[jj] * pj;
+    const double pj = d == 1   ? ch.g[jj].x(0)
+                      : d == 2 ? ch.g[jj].x(0) + dt * ch.g[jj].x(1)
+                               : Vec<3>((transition(j, dt) * forecastStartMean(ch, j)).eval())(0);
+    p += w[jj] * pj;
   }
   return p;
 }

@@ -28,6 +28,7 @@ StAkfPredictor<N>::StAkfPredictor(int channels, const Params& params)
       q_(processNoiseParam(params, "q", N == 2 ? kDefaultQStAkfCv : kDefaultQStAkf, 0.0, N == 2 ? 1e12 : 1e15)),
       rho_(params.get("rho", 0.95, 0.0, 1.0)),
       beta_(params.get("beta", 5.0, 1.0, 1e6)),
+      adapt_(adaptationParam(params, "st-akf")),
       ext_(static_cast<size_t>(channels)) {
   // Built directly (tests) the template argument is the model; a `model` given must agree with it.
   if (params.has("model") && motionModelStates(params, kDefaultModel, "st-akf") != N)
@@ -46,7 +47,7 @@ StAkfPredictor<N>::StAkfPredictor(int channels, const Params& params)
 
 template <int N>
 std::vector<Params> StAkfPredictor<N>::structuralVariants() const {
-  return motionModelVariants();
+  return withAdaptationOff(motionModelVariants());
 }
 
 template <int N>
@@ -81,7 +82,7 @@ void StAkfPredictor<N>::step(int c, double dt, double z) {
   // No fading while R is still the start-up estimate (r: auto, its first ~53 frames): an innovation
   // power above the filter's then only says that the prior R was too small, not that the target
   // manoeuvres, and fading on it sets the gain to ~1 and the acceleration to the noise.
-  const double cf = M > 0.0 && this->nominalNoiseFinal(c) ? Nv / M : 0.0;
+  const double cf = adapt_ && M > 0.0 && this->nominalNoiseFinal(c) ? Nv / M : 0.0;
   for (int i = 0; i < N; ++i) ex.lambda(i) = std::max(1.0, a_(i) * cf);
   ex.s_unfaded = FPFt(0, 0) + Q(0, 0) + R;
   const Vec<N> sqrt_l = ex.lambda.cwiseSqrt();

@@ -104,13 +104,19 @@ std::vector<Params> StkfFilter<N>::structuralVariants() const {
   // a gradient fit cannot move, and on stops, bursts and zigzags the paper's k = 15 slows the
   // filter through every manoeuvre (docs/PERFORMANCE.md, "stkf on either motion model": the fit
   // choosing among the three is within 10 % of the best fitted fixed KF on 155/216 tracks, 121
-  // with cv and ca alone). ca's default window is already its shortest (4).
-  Params cv, cv_short, ca;
+  // with cv and ca alone). ca's default window is already its shortest (4). And each model with
+  // window 0, the self-tuning off (the plain KF of the model): where the self-tuned R does not
+  // pay on a track, the fit says so (as `adaptation: off` of the other adaptive filters).
+  Params cv, cv_short, ca, cv_fixed, ca_fixed;
   cv.setText("model", "cv");
   cv_short.setText("model", "cv");
   cv_short.set("window", 3);
   ca.setText("model", "ca");
-  return {cv, cv_short, ca};
+  cv_fixed.setText("model", "cv");
+  cv_fixed.set("window", 0);
+  ca_fixed.setText("model", "ca");
+  ca_fixed.set("window", 0);
+  return {cv, cv_short, ca, cv_fixed, ca_fixed};
 }
 
 template <int N>

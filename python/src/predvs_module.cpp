@@ -355,9 +355,10 @@ PYBIND11_MODULE(_predvs, m) {
       .def_property_readonly("variants", [](const NoiseFitResult& r) {
             py::list l;
             for (const auto& v : r.variants)
-              l.append(py::make_tuple(v.variant, v.objective_before, v.objective_after));
+              l.append(py::make_tuple(v.variant, v.objective_before, v.objective_after, v.objective_holdout));
             return l;
-          }, "every structural variant fitted: (variant, objective before, after)")
+          }, "every structural variant fitted: (variant, objective before, after, on the held-out rows "
+             "(NaN unless select_holdout > 0))")
       .def_readonly("starts", &NoiseFitResult::starts)
       .def_readonly("best_start", &NoiseFitResult::best_start)
       .def("__repr__", [](const NoiseFitResult& r) {
@@ -370,11 +371,14 @@ PYBIND11_MODULE(_predvs, m) {
   m.def(
       "fit_noise",
       [](const std::string& name, const py::object& t, const py::object& z, const py::object& params,
-         int burn_in_frames, int max_iterations, const std::string& objective, double horizon_s, int starts) {
+         int burn_in_frames, int max_iterations, const std::string& objective, double horizon_s, int starts,
+         double select_holdout) {
         if (burn_in_frames < 0) throw std::invalid_argument("burn_in_frames: expected an integer >= 0");
         if (max_iterations < 1) throw std::invalid_argument("max_iterations: expected an integer >= 1");
         if (!(horizon_s >= 0.0)) throw std::invalid_argument("horizon_s: expected a number >= 0");
         if (starts < 1) throw std::invalid_argument("starts: expected an integer >= 1");
+        if (!(select_holdout >= 0.0 && select_holdout <= 0.9))
+          throw std::invalid_argument("select_holdout: expected a fraction in [0, 0.9]");
         const Params base = checkedParams(name, params);
         fitParameters(name);        // unknown predictor, or nothing to fit (hold): its message
         makePredictor(name, 2, base);  // an unknown or out-of-range key: its message, as fit-noise --param
@@ -385,15 +389,16 @@ PYBIND11_MODULE(_predvs, m) {
         opt.objective = parseFitObjective(objective);
         opt.horizon_s = horizon_s;
         opt.starts = starts;
+        opt.select_holdout = select_holdout;
         py::gil_scoped_release release;
         return fitNoise(name, base, track, opt);
       },
       py::arg("name"), py::arg("t"), py::arg("z"), py::arg("params") = py::none(), py::arg("burn_in_frames") = 10,
       py::arg("max_iterations") = 200, py::arg("objective") = "likelihood", py::arg("horizon_s") = 0.0,
-      py::arg("starts") = 1,
+      py::arg("starts") = 1, py::arg("select_holdout") = NoiseFitOptions{}.select_holdout,
       "Fits the noise keys of `name` on the track t (frames,), z (frames, channels), as `predvs fit-noise`: "
       "objective 'likelihood' (maximum innovation likelihood) or 'prediction' (least h-step prediction "
-      "error against the track's later measurements, h = horizon_s; r held). params: starting / fixed values.");
+      "error against the track's later measurements, h = horizon_s; r held). params: starting / fixed values. select_holdout: as fit-noise --select-holdout.");
   m.def(
       "log_likelihood",
       [](const std::string& name, const py::object& t, const py::object& z, const py::object& params,

@@ -105,8 +105,9 @@ TEST(NoiseFit, ChoosesTheStructureThatPredictsBestAndKeepsAPinnedOne) {
     const NoiseFitResult f = fitNoise("stkf", {}, track(kind), o);
     // THEN every variant was fitted, the kept one has the lowest h-step RMSE, its params carry its
     // model, and the model is the one of the track's kind
-    ASSERT_EQ(f.variants.size(), 3u);
+    ASSERT_EQ(f.variants.size(), 5u);  // cv, cv window 3, ca, cv and ca with window 0
     for (const auto& v : f.variants) EXPECT_LE(f.rmse_after_px, v.objective_after) << v.variant;
+    for (const auto& v : f.variants) EXPECT_TRUE(std::isnan(v.objective_holdout)) << v.variant;
     EXPECT_EQ(f.params.texts().at("model"), model) << maneuverKindName(kind) << ": kept " << f.variant;
     EXPECT_EQ(f.variant.rfind(std::string("model=") + model, 0), 0u) << f.variant;
   }
@@ -119,6 +120,51 @@ TEST(NoiseFit, ChoosesTheStructureThatPredictsBestAndKeepsAPinnedOne) {
   EXPECT_EQ(f.params.texts().at("model"), "cv");
   // and a predictor without variants reports none
   EXPECT_TRUE(fitNoise("kf-cv", {}, track(ManeuverKind::Smooth), o).variants.empty());
+}
+
+TEST(NoiseFit, ChoosesTheStructureOnHeldOutRowsWhenAsked) {
+  // GIVEN a generated track of stops and st-akf, which offers four structures (cv, ca, each with
+  // adaptation off)
+  ManeuverTrackConfig c;
+  c.kind = ManeuverKind::Stops;
+  c.rate_hz = 30.0;
+  c.noise_px = 1.0;
+  c.duration_s = 12.0;
+  c.seed = 2;
+  const ManeuverTrack g = generateManeuverTrack(c);
+  const FitTrack track{g.t_s, {g.u_px, g.v_px}};
+  NoiseFitOptions o;
+  o.objective = FitObjective::Prediction;
+  o.horizon_s = 2.0 / 30.0;
+  o.select_holdout = 0.33;
+  // WHEN it is fitted with the structure chosen on the last third
+  const NoiseFitResult f = fitNoise("st-akf", {}, track, o);
+  // THEN every structure has a held-out score, the kept one has the lowest, and the result is
+  // that structure fitted on the whole track (its in-sample RMSE is the one reported)
+  ASSERT_EQ(f.variants.size(), 4u);
+  const VariantFit* kept = nullptr;
+  for (const auto& v : f.variants) {
+    ASSERT_TRUE(std::isfinite(v.objective_holdout)) << v.variant;
+    if (v.variant == f.variant) kept = &v;
+  }
+  ASSERT_NE(kept, nullptr) << f.variant;
+  for (const auto& v : f.variants) EXPECT_LE(kept->objective_holdout, v.objective_holdout) << v.variant;
+  EXPECT_EQ(kept->objective_after, f.rmse_after_px);
+  // the held-out score is the h-step RMSE over the last third with the structure fitted before it
+  NoiseFitOptions head = o;
+  head.select_holdout = 0.0;
+  Params pinned;
+  for (const auto& kv : f.params.texts())
+    if (kv.first != "r") pinned.setText(kv.first, kv.second);
+  const size_t cut = static_cast<size_t>(std::lround((1.0 - 0.33) * static_cast<double>(track.t_s.size())));
+  FitTrack first{{track.t_s.begin(), track.t_s.begin() + static_cast<long>(cut)}, {}};
+  for (const auto& ch : track.channels) first.channels.emplace_back(ch.begin(), ch.begin() + static_cast<long>(cut));
+  const NoiseFitResult on_head = fitNoise("st-akf", pinned, first, head);
+  EXPECT_DOUBLE_EQ(predictionRmse("st-akf", on_head.params, track, o.horizon_s, static_cast<int>(cut)),
+                   kept->objective_holdout);
+  // and a fraction outside [0, 0.9] is refused
+  o.select_holdout = 0.95;
+  EXPECT_THROW(fitNoise("st-akf", {}, track, o), std::invalid_argument);
 }
 
 TEST(NoiseFit, KeepsFixedKeysAndRejectsHold) {

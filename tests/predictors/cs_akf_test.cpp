@@ -395,7 +395,7 @@ TEST(CsModel, AdaptiveFiltersOfferTheCsAndSingerMeansAsStructuresAndRejectABadWo
   for (const char* name : {"cs-akf-adaptive", "fakf"}) {
     // GIVEN the structural variants of the adaptive CS filters
     const auto variants = makePredictor(name, 1)->structuralVariants();
-    ASSERT_EQ(variants.size(), 3u) << name;
+    ASSERT_EQ(variants.size(), 6u) << name;  // the three below, then each with adaptation: off
     EXPECT_EQ(variants[0].texts().at("mean"), "current");
     EXPECT_EQ(variants[1].texts().at("mean"), "current");
     EXPECT_EQ(variants[1].values().at("shrink_sigmas"), 0.0);

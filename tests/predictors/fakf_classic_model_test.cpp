@@ -70,7 +70,7 @@ TEST(FakfClassicModel, OnCaTheFuzzyAdaptationStillRaisesR) {
 TEST(FakfClassicModel, StructuralVariantsAreCvAndCaAndEachBuildsAndRuns) {
   // GIVEN the variants of the default predictor
   const auto variants = makePredictor("fakf-classic", 1, {})->structuralVariants();
-  ASSERT_EQ(variants.size(), 2u);
+  ASSERT_EQ(variants.size(), 4u);  // cv, ca, then each with adaptation: off (adaptation_off_test.cpp)
   EXPECT_EQ(variants[0].text("model", ""), "cv");
   EXPECT_EQ(variants[1].text("model", ""), "ca");
   for (const Params& v : variants) {

@@ -222,7 +222,7 @@ TEST(StAkfModel, StructuralVariantsAreCvAndCaAndEachBuildsAndRuns) {
     SCOPED_TRACE(name);
     // GIVEN the variants of the default predictor
     const auto variants = makePredictor(name, 1, {})->structuralVariants();
-    ASSERT_EQ(variants.size(), 2u);
+    ASSERT_EQ(variants.size(), 4u);  // cv, ca, then each with adaptation: off (adaptation_off_test.cpp)
     EXPECT_EQ(variants[0].text("model", ""), "cv");
     EXPECT_EQ(variants[1].text("model", ""), "ca");
     for (const Params& v : variants) {
@@ -241,7 +241,7 @@ TEST(StAkfModel, StructuralVariantsAreCvAndCaAndEachBuildsAndRuns) {
       EXPECT_EQ(noise[0].value, cv ? kDefaultQStAkfCv : kDefaultQStAkf);
       EXPECT_EQ(noise[0].hi, cv ? accelerationDensityParameter("q", 1.0).hi : jerkDensityParameter("q", 1.0).hi);
       EXPECT_EQ(noise[1].key, "r");
-      EXPECT_EQ(f->structuralVariants().size(), 2u);
+      EXPECT_EQ(f->structuralVariants().size(), 4u);
     }
   }
 }

@@ -373,12 +373,17 @@ TEST(StkfModels, StructuralVariantsAreCvAndCaAndEachRuns) {
   for (const char* model : {"cv", "ca"}) {
     // GIVEN the variants of either model's instance
     const auto variants = makePredictor("stkf", 1, modelParams(model))->structuralVariants();
-    ASSERT_EQ(variants.size(), 3u);
+    ASSERT_EQ(variants.size(), 5u);
     EXPECT_EQ(variants[0].texts().at("model"), "cv");
     EXPECT_EQ(variants[1].texts().at("model"), "cv");
     EXPECT_EQ(variants[1].values().at("window"), 3.0);
     EXPECT_EQ(variants[2].texts().at("model"), "ca");
     EXPECT_TRUE(variants[0].values().empty());
+    // each model with the self-tuning off (window 0)
+    EXPECT_EQ(variants[3].texts().at("model"), "cv");
+    EXPECT_EQ(variants[3].values().at("window"), 0.0);
+    EXPECT_EQ(variants[4].texts().at("model"), "ca");
+    EXPECT_EQ(variants[4].values().at("window"), 0.0);
   }
   const auto variants = makePredictor("stkf", 1)->structuralVariants();
   for (size_t i = 0; i < variants.size(); ++i) {

@@ -15,12 +15,18 @@
 namespace predvs {
 namespace {
 
-// Measured at the commit that added this test: imm within 10 % of the better single model on
-// 23 of 24 tracks (worst 1.12: smooth, 10 Hz, 0.5 px, where kf-cv is 3.51 px and imm 3.94 px),
-// geometric-mean ratio 1.01, better than hold on all 24. The bounds are those figures with a
-// small margin.
-constexpr int kMinWithinTenPercent = 23;
-constexpr double kMaxRatio = 1.15;
+// Measured with imm's forecast combination (forecast weights from the realised one-frame forecasts,
+// docs/MODELS.md §14) against kf-cv and kf-ca with their defaults: imm within 10 % of the better
+// single model on 23 of 24 tracks (worst 1.16: smooth, 10 Hz, 0.5 px, where kf-cv is 3.78 px and
+// imm 4.39 px: the forecast follows CA, whose one-frame forecasts are the better ones there but
+// not its two-frame ones), geometric-mean ratio 1.02, better than hold on all 24. (When the test
+// was added, with the forecast combined by the mode probabilities and kf-ca unweighted: 23/24,
+// worst 1.12 on the same track, 1.01.) The bounds are those figures with a small margin.
+// Since kf-cv's and kf-ca's forecasts are blended with hold (channel_predictor.h, branch wipD; imm's
+// is not), the reference is stronger: imm within 10 % on 21 of 24 tracks, worst 1.173, geometric
+// mean 1.027, still better than hold on all 24; the bound follows the measurement.
+constexpr int kMinWithinTenPercent = 21;
+constexpr double kMaxRatio = 1.2;
 constexpr double kMaxGeometricMeanRatio = 1.03;
 
 TEST(ImmOnTracks, WithinTenPercentOfTheBetterSingleModelAndNeverBelowHold) {
@@ -37,12 +43,10 @@ TEST(ImmOnTracks, WithinTenPercentOfTheBetterSingleModelAndNeverBelowHold) {
         c.seed = 7;
         const ManeuverTrack t = generateManeuverTrack(c);
         const double horizon = 2.0 / rate;
-        // kf-cv and kf-ca as imm runs them (its modes): without their significance-weighted
-        // forecast (channel_predictor.h), which imm does not use. Against kf-ca's weighted default
-        // imm is x1.21 on one of these tracks (measured when the weighting came).
+        // kf-cv and kf-ca with their defaults, as imm runs them as its modes (the CA mode's
+        // forecast weighted as kf-ca's, channel_predictor.h).
         const auto score = [&](const char* name) {
-          const std::string n = name;
-          auto p = (n == "kf-cv" || n == "kf-ca") ? makePredictor(name, 2, Params{{"shrink_sigmas", 0.0}}) : makePredictor(name, 2);
+          auto p = makePredictor(name, 2);
           return scoreOnTrack(t, *p, horizon).rmse_truth_px;
         };
         const double hold = score("hold"), cv = score("kf-cv"), ca = score("kf-ca"), imm = score("imm");

@@ -62,6 +62,7 @@
 #include "predvs/predictors/params.h"
 #include "predvs/predictors/predictor.h"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -95,6 +96,9 @@ struct NoiseFitOptions {
   double horizon_s = 0.0;  ///< prediction objective: h, seconds ahead of each frame (>= 0)
   int starts = 1;          ///< starting points (>= 1), see the file comment
   bool prediction_fits_r = false;  ///< prediction objective: fit r too (default: held at its start value)
+  /// Structural variants: the fraction of the track's rows, at its end, held out to choose the
+  /// structure (in [0, 0.9]; 0 = choose on the fit's own objective over the whole track). See fitNoise.
+  double select_holdout = 0.0;
 };
 
 struct FittedValue {
@@ -114,6 +118,9 @@ struct VariantFit {
   std::string variant;  ///< "key=value,...", e.g. "model=ca"
   double objective_before = 0.0;
   double objective_after = 0.0;
+  /// With NoiseFitOptions::select_holdout > 0: the same objective on the held-out rows, the
+  /// variant fitted on the rows before them (what chose the structure); NaN otherwise.
+  double objective_holdout = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct NoiseFitResult {
@@ -154,7 +161,13 @@ double predictionRmse(const std::string& predictor, const Params& params, const 
 /// objective on the track is kept: the result's params carry its keys (e.g. model: ca), `variant`
 /// names it and `variants` lists every variant's objective; before/after fields are the kept
 /// variant's. A variant that cannot be fitted on the track is skipped (the first error is thrown
-/// if none can). When `base` pins a variant key, only that structure is fitted. Starting values: the value in `base`
+/// if none can). With options.select_holdout = f > 0 the structure is chosen out of sample
+/// instead: each variant is fitted on the first 1 - f of the rows and run over the whole track,
+/// its objective (h-step RMSE, or log-likelihood) taken on the last f of the rows only; the best
+/// there is then fitted again on the whole track, which gives the result. Choice: an adaptive
+/// structure fitted on the same rows it is judged on tends to win in sample and lose after; the
+/// rows nearest the future stand in for it (if the held-out part is too short for a variant, it
+/// is judged in sample). When `base` pins a variant key, only that structure is fitted. Starting values: the value in `base`
 /// if given, else for r the start-up noise estimate of the track (noise_estimate.h), else the
 /// predictor's default; each clamped into its bounds. Other keys of `base` are kept fixed. Throws std::invalid_argument
 /// (bad predictor, fewer than 4 * burn_in measured rows, no finite objective at the start, no h-step

@@ -235,6 +235,8 @@ class CsAkfPredictor : public CsKalmanPredictor {
 ///                alone sets the smoothing / lag trade-off (docs/MODELS.md §11); its effect is measured in
 ///                tests/predictors/cs_akf_test.cpp (see kDefaultSigmaMinSq in cs_akf.cpp).
 ///   sigma_max_sq ((px/s^2)^2, default 1e6 ~ (4-pi)/pi * 3600^2; 1000 before issue 11): the ceiling.
+///   adaptation   (word, on | off, default on): off fixes sigma^2 at sigma_min_sq (a fixed CS /
+///                Singer filter; fakf: also R at r and no P inflation), kalman_math.h adaptationParam.
 ///   adapt_tau_s  (s, default 0): time constant of the reference acceleration. 0 is the variant
 ///                above (reference = a(k-1|k-1)); tau > 0 replaces a(k-1|k-1) by a low-passed
 ///                a_ref += (1 - exp(-dt/tau)) (a(k|k) - a_ref), which measures the change over ~tau
@@ -252,12 +254,16 @@ class CsAkfAdaptivePredictor : public CsKalmanPredictor {
   double accelerationVariance(int c) const override { return sigma2_[static_cast<size_t>(c)]; }
   double sigmaMinSq() const { return sigma_min_sq_; }
   double sigmaMaxSq() const { return sigma_max_sq_; }
+  /// With `adaptation: off` sigma^2 is fixed at sigma_min_sq and sigma_max_sq is not fitted.
   std::vector<NoiseParameter> noiseParameters() const override {
+    if (!adapt_) return {alphaParameter(), sigmaMinSqParameter(), measurementNoiseParameter()};
     return {alphaParameter(), sigmaMinSqParameter(), {"sigma_max_sq", 1e-1, 1e10, sigma_max_sq_},
             measurementNoiseParameter()};
   }
-  /// {mean: current} (the CS model) and {mean: zero} (Singer's; see CsKalmanPredictor): a fit keeps
-  /// whichever predicts the track better (fakf inherits both).
+  /// {mean: current} (the CS model), the same unweighted (shrink_sigmas 0) and {mean: zero}
+  /// (Singer's; see CsKalmanPredictor), each also with `adaptation: off` (kalman_math.h: sigma^2
+  /// fixed at sigma_min_sq; for fakf also no fuzzy R or P): a fit keeps whichever predicts the
+  /// track better (fakf inherits them).
   std::vector<Params> structuralVariants() const override;
 
  protected:
@@ -274,6 +280,11 @@ class CsAkfAdaptivePredictor : public CsKalmanPredictor {
   double sigma_max_sq_;  // before sigma_min_sq_: its default depends on the ceiling
   double sigma_min_sq_;
   double adapt_tau_s_;
+
+ protected:
+  bool adapt_;  ///< `adaptation` on (default) / off (kalman_math.h adaptationParam)
+
+ private:
   std::vector<double> sigma2_;  ///< per channel, (px/s^2)^2
   std::vector<double> a_prev_;  ///< a(k-1|k-1) per channel, px/s^2
 };

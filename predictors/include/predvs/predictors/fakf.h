@@ -88,6 +88,7 @@ inline constexpr double kDefaultShrinkSigmasFakfClassicCa = 3.0;
 /// r_max (100 r px^2), coast_tau_s (s, 0.2, channel_predictor.h), shrink_sigmas (significance
 /// weight of the forecast, default kDefaultShrinkSigmasFakfClassic = 0.5 on cv, 3 on ca; 0 = the
 /// unweighted filter) and shrink_v_sigmas (velocity, default shrink_sigmas), channel_predictor.h;
+/// adaptation (on | off, default on; off: R stays at r, kalman_math.h adaptationParam);
 /// q also takes `auto` (process_noise_adapt.h). q and r default to kf-cv's (kf-ca's on ca), so
 /// with equal shrink_sigmas the only difference is the adaptation.
 template <int N>
@@ -101,7 +102,7 @@ class FakfClassicPredictor : public ChannelPredictor<N> {
   std::vector<NoiseParameter> noiseParameters() const override {
     return {motionDensityParameter<N>("q", q_), this->measurementNoiseParameter()};
   }
-  /// {model: cv} and {model: ca}.
+  /// {model: cv} and {model: ca}, each also with `adaptation: off` (R fixed at r).
   std::vector<Params> structuralVariants() const override;
 
   /// Current (adapted) measurement variance of channel c, px^2.
@@ -121,6 +122,7 @@ class FakfClassicPredictor : public ChannelPredictor<N> {
   double r_min_, r_max_;
   bool relative_bounds_ = true;  ///< r_min / r_max not given: with auto R they are 0.01 / 100 x the estimate
   int window_length_;
+  bool adapt_;  ///< `adaptation` on (default) / off: R stays at r (kalman_math.h adaptationParam)
   fuzzy::MamdaniSystem dom_;
   std::vector<double> r_;
   std::vector<InnovationWindow> window_;

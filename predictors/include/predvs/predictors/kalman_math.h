@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace predvs {
 
@@ -189,6 +190,29 @@ inline std::vector<Params> motionModelVariants() {
   cv.setText("model", "cv");
   ca.setText("model", "ca");
   return {cv, ca};
+}
+
+/// `adaptation` (word: on | off, default on), read by the adaptive filters (st-akf, st-akf-pm,
+/// fakf-classic, cs-akf-adaptive, fakf): off keeps the filter's model, noise and forecast and turns
+/// its adaptive layer off (no fading factor; R fixed at r; sigma^2 fixed at its floor; no fuzzy
+/// R or P), leaving the fixed Kalman filter it is built on. It is a structure the noise fit
+/// tries (withAdaptationOff): where the adaptation does not pay on a track, the fit says so.
+/// Throws std::invalid_argument naming `who` for another word.
+inline bool adaptationParam(const Params& params, const std::string& who) {
+  const std::string word = params.text("adaptation", "on");
+  if (word == "on") return true;
+  if (word == "off") return false;
+  throw std::invalid_argument("predictor '" + who + "': parameter 'adaptation' must be on or off, got '" + word + "'");
+}
+/// The structures `variants` (each as given, with the adaptive layer on) followed by each of them
+/// with `adaptation: off`, for the structuralVariants() of an adaptive filter.
+inline std::vector<Params> withAdaptationOff(const std::vector<Params>& variants) {
+  std::vector<Params> out = variants;
+  for (Params v : variants) {
+    v.setText("adaptation", "off");
+    out.push_back(v);
+  }
+  return out;
 }
 
 /// noiseParameters() entries shared by several filters (bounds: see Predictor::noiseParameters).

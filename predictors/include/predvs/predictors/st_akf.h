@@ -66,7 +66,8 @@ inline constexpr bool kDefaultShrinkVelocityStAkf = true;
 /// process_noise_adapt.h), r (px^2, default `auto`: predictors/noise_estimate.h),
 /// p0_vel ((px/s)^2, 1e4), p0_acc ((px/s^2)^2, 1e4), rho (0.95), beta (default 5 since issue 11,
 /// 1 before), a1, a2, a3 (1: preset ratios of the fading factors of p, v, a; each >= 1),
-/// coast_tau_s (s, 0.2, channel_predictor.h), shrink_sigmas (significance weight of the forecast
+/// coast_tau_s (s, 0.2, channel_predictor.h), adaptation (on | off, default on; off: no fading,
+/// kalman_math.h adaptationParam), shrink_sigmas (significance weight of the forecast
 /// acceleration, default 1.5 on ca, 0.5 on cv; 0 = the unweighted filter) and shrink_v_sigmas
 /// (velocity, default shrink_sigmas): channel_predictor.h.
 /// Choice: with `model: cv` the keys of the acceleration state, p0_acc and a3, are accepted (range
@@ -87,7 +88,7 @@ class StAkfPredictor : public ChannelPredictor<N> {
   std::vector<NoiseParameter> noiseParameters() const override {
     return {motionDensityParameter<N>("q", q_), this->measurementNoiseParameter()};
   }
-  /// {model: cv} and {model: ca}.
+  /// {model: cv} and {model: ca}, each also with `adaptation: off` (no fading: the KF of the model).
   std::vector<Params> structuralVariants() const override;
 
   /// Fading factors lambda_i of channel c at its last measured update (1 when no fading).
@@ -113,6 +114,7 @@ class StAkfPredictor : public ChannelPredictor<N> {
     double s_unfaded = 0.0;
   };
   double q_, rho_, beta_;
+  bool adapt_;  ///< `adaptation` on (default) / off: no fading (kalman_math.h adaptationParam)
 
  protected:
   double q() const { return q_; }

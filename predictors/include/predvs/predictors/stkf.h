@@ -112,7 +112,8 @@ class StkfFilter : public ChannelPredictor<N> {
   /// cv: r (R_0), q_pos, q_vel. q_pos defaults to 0, below its bound: a fit starts it at the
   /// bound. ca: r, q (white-jerk density).
   std::vector<NoiseParameter> noiseParameters() const override;
-  /// {model: cv}, {model: cv, window: 3} and {model: ca}.
+  /// {model: cv}, {model: cv, window: 3}, {model: ca}, and each model with window 0 (no
+  /// self-tuning).
   std::vector<Params> structuralVariants() const override;
 
   void update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) override;
