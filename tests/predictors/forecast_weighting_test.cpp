@@ -52,7 +52,8 @@ TEST(ForecastWeighting, ZeroIsTheUnweightedFilterBitForBit) {
 TEST(ForecastWeighting, HalvesAccelerationAndVelocityAtNSigmas) {
   // GIVEN the same data in an unweighted kf-ca, which gives x(k|k) and P(k|k) (the weighting does
   // not touch the filter, so every filter below holds the same Gaussian)
-  const Params base{{"q", kDefaultQCa}, {"r", 9.0}};
+  // (the blend with hold off: this test is about the significance weights alone)
+  const Params base{{"q", kDefaultQCa}, {"r", 9.0}, {"hold_blend_tau_s", 0.0}};
   Params off = base;
   off.set("shrink_sigmas", 0.0);
   KfCaPredictor ref(1, off);
@@ -118,7 +119,7 @@ TEST(ForecastWeighting, DefaultsWeighAndBothQueryPathsAgree) {
   }
   {
     KfCvPredictor a(1, {}), b(1, off);
-    check(a, b, "kf-cv", kDefaultShrinkSigmasKfCv > 0.0);
+    check(a, b, "kf-cv");  // weighted by the blend with hold (shrink_sigmas 0 given: off)
   }
   {
     StAkfPredictor<3> a(1, {}), b(1, off);
@@ -138,7 +139,7 @@ TEST(ForecastWeighting, DefaultsWeighAndBothQueryPathsAgree) {
   }
   {
     StkfPredictor a(1, {}), b(1, off);
-    check(a, b, "stkf", kDefaultShrinkSigmasStkf > 0.0);
+    check(a, b, "stkf");  // the blend with hold
   }
   {
     FakfClassicPredictor<2> a(1, {}), b(1, off);

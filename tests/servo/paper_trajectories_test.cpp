@@ -116,7 +116,8 @@ TEST(ChannelExperiment, OnTwoChannelsEqualsThePlanarExperiment) {
   const Params p{{"vx", 10}, {"vy", -5}};
   // (kf-cv with its defaults before issue 11: the velocity bound below was set with them)
   // (and no coasting decay, coast_tau_s = 0: the gap is extrapolated at the learned velocity)
-  const Params kf{{"q", 100.0}, {"r", 1.0}, {"coast_tau_s", 0.0}};
+  // (and the plain forecast, hold_blend_tau_s = 0: the blend with hold came after issue 11's defaults)
+  const Params kf{{"q", 100.0}, {"r", 1.0}, {"coast_tau_s", 0.0}, {"hold_blend_tau_s", 0.0}};
   auto a = makePredictor("kf-cv", 2, kf), b = makePredictor("kf-cv", 2, kf);
   // WHEN both experiments run THEN every row has the same prediction and error
   const PredictionResult planar = runPredictionExperiment(cfg, *makeTrajectory("line", p), *a);

@@ -25,6 +25,26 @@
 // forecast is the model's propagation of P(k|k). n = 0 switches a weight off, and with both 0
 // predict() and predictPosition() are the unweighted ones bit for bit. The CS filters (cs_akf.h) use this
 // forecast weighting and also weigh the acceleration of their own time update.
+//
+// Blend with hold (issue 11 item 3, "defaults not worse than doing nothing"; docs/MODELS.md §15): the
+// forecast handed out is
+//   x_f = x_h + w (x_m - x_h),   x_h = [z_hold, 0(, 0)],
+// x_m the (significance-weighted) model forecast above, z_hold the channel's last measurement (what
+// `hold` predicts), w in [0, 1] the least-squares weight of the model's forecast step against hold's,
+// learnt on the track: on every measured frame k whose previous frame was measured,
+//   d = x_m(t_k | k-1)(0) - z_hold,  y = z_k - z_hold,  S_dd <- l S_dd + d^2,  S_dy <- l S_dy + d y,
+//   w = clamp(S_dy / S_dd, 0, 1),  l = exp(-dt / tau),  tau = hold_blend_tau_s (s),
+// i.e. the weight that would have made the one-frame forecasts of the last ~tau seconds closest to
+// the measurements (measurement noise adds the same variance to every candidate, so it does not bias
+// the choice). An exact ramp gives d = y once the filter has converged (and d < y while it catches
+// up), so w = 1 and the model forecast is handed out unchanged; where the model's steps are mostly
+// noise (a slow target under 3 px noise at 10 Hz) w falls towards 0 and the forecast towards hold.
+// The velocity (and acceleration) of predict() are scaled by w too, so the blended estimate is one
+// state. Only the forecast is blended: the filter (step(), gaussian()) is unchanged. Frames after a
+// gap are not learnt from (their forecast spans the gap, not one frame). Units: px, s; the weight
+// is dimensionless, so the rule holds at any frame rate and noise level. tau = 0 switches the blend
+// off; its default is kDefaultHoldBlendTauS, and 0 when the parameters give `shrink_sigmas: 0`
+// explicitly (the papers' plain filters, whose scenarios pin it) unless `hold_blend_tau_s` is given.
 #pragma once
 
 #include "predvs/predictors/kalman_math.h"
@@ -32,6 +52,8 @@
 #include "predvs/predictors/predictor.h"
 #include "predvs/predictors/process_noise_adapt.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -46,6 +68,16 @@ namespace predvs {
 /// 0.1..0.3 s otherwise costs an extrapolation error far above hold's. 0.2 s is the longest
 /// 2-frame horizon of the 10..60 Hz envelope, so a single dropped frame at 10 Hz keeps 60 % of v.
 inline constexpr double kDefaultCoastTauS = 0.2;
+
+/// Default forgetting time constant (s) of the forecast's blend with hold (`hold_blend_tau_s`, file
+/// comment). About tau * rate one-frame forecasts make the weight: 60 at 10 Hz, so its standard error
+/// under pure noise is about 1/sqrt(60) = 0.13. Measured with `predvs track-study` (docs/PERFORMANCE.md
+/// "Defaults that hold", wide grids): tau = 1.5 / 3 / 6 / 20 s leaves 11 / 3 / 0 / 1 losses to hold on
+/// the 2160 tracks of seeds 401-430 (all predictors but imm together), and 0 on the repo's three grids.
+inline constexpr double kDefaultHoldBlendTauS = 6.0;
+/// Default horizon (frames) of the forecasts the blend weight is learnt on (`hold_blend_frames`).
+inline constexpr int kDefaultHoldBlendFrames = 1;
+inline constexpr int kMaxBlendFrames = 8;
 
 /// The `coast_tau_s` parameter (s, >= 0, default kDefaultCoastTauS; 0 = no coasting).
 inline double coastTauParam(const Params& params) { return params.get("coast_tau_s", kDefaultCoastTauS, 0.0, 1e6); }
@@ -85,11 +117,14 @@ class ChannelPredictor : public Predictor {
         if (isMeasured(z(c))) {
           initialize(c, z(c));
           s.initialized = true;
+          s.z_hold = z(c);
+          if (blend_tau_s_ > 0.0) rememberForecastStart(c, t_s);
         }
         continue;
       }
       if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) coast(s.g.x, dt, coast_tau_s_);
       step(c, dt, z(c));
+      if (blend_tau_s_ > 0.0) learnBlend(c, t_s, z(c), dt);
       if (!q_auto_.empty() && s.innovation.valid) q_auto_[static_cast<size_t>(c)].observe(s.innovation.eps, s.innovation.S, dt);
     }
   }
@@ -107,6 +142,10 @@ class ChannelPredictor : public Predictor {
     if (!(dt > 0.0)) return toEstimate(s.g);
     Gaussian<N> g = forecastWeightingOn() ? weightedForecastStart(channel) : s.g;
     timeUpdate(g, transition(channel, dt), processNoise(channel, dt));
+    if (blend_tau_s_ > 0.0) {
+      g.x(0) = s.z_hold + s.w_blend * (g.x(0) - s.z_hold);
+      for (int i = 1; i < N; ++i) g.x(i) *= s.w_blend;
+    }
     return toEstimate(g);
   }
 
@@ -116,8 +155,9 @@ class ChannelPredictor : public Predictor {
     if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
     const double dt = t_s - time();
     if (!(dt > 0.0)) return s.g.x(0);
-    if (forecastWeightingOn()) return predictedPosition(weightedForecastStart(channel), transition(channel, dt));
-    return predictedPosition(s.g, transition(channel, dt));
+    const double f = forecastWeightingOn() ? predictedPosition(weightedForecastStart(channel), transition(channel, dt))
+                                           : predictedPosition(s.g, transition(channel, dt));
+    return blend_tau_s_ > 0.0 ? s.z_hold + s.w_blend * (f - s.z_hold) : f;
   }
 
   Innovation innovation(int channel) const override { return state_.at(channel).innovation; }
@@ -131,7 +171,48 @@ class ChannelPredictor : public Predictor {
     Gaussian<N> g;
     bool initialized = false;
     Innovation innovation;
+    double z_hold = 0.0;   ///< last measurement (hold's forecast), px
+    double s_dd = 0.0;     ///< forgetting sums of the blend regression, px^2
+    double s_dy = 0.0;
+    double w_blend = 1.0;  ///< weight of the model forecast against hold, [0, 1]
+    int run = 0;           ///< consecutive measured frames up to the last update
+    /// The forecast starts of the last kMaxBlendFrames measured updates (ring, newest at head).
+    std::array<Vec<N>, kMaxBlendFrames> x_start{};
+    std::array<double, kMaxBlendFrames> t_start{};
+    std::array<double, kMaxBlendFrames> z_start{};
+    int head = 0;
   };
+
+  /// Keeps the forecast start (x(k|k), significance-weighted) of channel c at t_s for the blend.
+  void rememberForecastStart(int c, double t_s) {
+    ChannelState& s = state_[static_cast<size_t>(c)];
+    s.head = (s.head + 1) % kMaxBlendFrames;
+    s.x_start[static_cast<size_t>(s.head)] = forecastWeightingOn() ? weightedForecastStart(c).x : s.g.x;
+    s.t_start[static_cast<size_t>(s.head)] = t_s;
+    s.z_start[static_cast<size_t>(s.head)] = s.z_hold;
+    s.run = std::min(s.run + 1, kMaxBlendFrames + 1);
+  }
+  /// One regression sample of the blend (file comment) on channel c after the update at t_s.
+  void learnBlend(int c, double t_s, double z, double dt) {
+    ChannelState& s = state_[static_cast<size_t>(c)];
+    if (!isMeasured(z)) {
+      s.run = 0;
+      return;
+    }
+    if (s.run >= blend_frames_) {  // frames k - H .. k - 1 measured: the forecast made at k - H
+      const size_t j = static_cast<size_t>((s.head - (blend_frames_ - 1) + kMaxBlendFrames) % kMaxBlendFrames);
+      Gaussian<N> g;
+      g.x = s.x_start[j];
+      const double f = predictedPosition(g, transition(c, t_s - s.t_start[j]));
+      const double d = f - s.z_start[j], y = z - s.z_start[j];
+      const double lambda = std::exp(-dt / blend_tau_s_);
+      s.s_dd = lambda * s.s_dd + d * d;
+      s.s_dy = lambda * s.s_dy + d * y;
+      s.w_blend = s.s_dd > 0.0 ? std::clamp(s.s_dy / s.s_dd, 0.0, 1.0) : 1.0;
+    }
+    s.z_hold = z;
+    rememberForecastStart(c, t_s);
+  }
 
   ChannelPredictor(int channels, double r_px2, double p0_vel, double p0_acc)
       : Predictor(channels), state_(static_cast<size_t>(channels)), r0_(r_px2), p0_vel_(p0_vel), p0_acc_(p0_acc) {}
@@ -156,11 +237,17 @@ class ChannelPredictor : public Predictor {
   /// default_sigmas; with N = 2 there is no acceleration and it only sets the default of the next
   /// key) and `shrink_v_sigmas` (n of the velocity weight w_v, default: shrink_sigmas when
   /// weigh_velocity, else 0); see the file comment. Called by the derived constructors whose
-  /// forecast is weighted; without the call the forecast is unweighted.
+  /// forecast is weighted; without the call the forecast is unweighted. Also reads `hold_blend_tau_s`
+  /// (s, >= 0; default kDefaultHoldBlendTauS, or 0 when `shrink_sigmas: 0` is given; file comment).
   void readShrinkParams(const Params& params, double default_sigmas, bool weigh_velocity) {
     shrink_a_sigmas_ = params.get("shrink_sigmas", default_sigmas, 0.0, 1e3);
     shrink_v_sigmas_ = params.get("shrink_v_sigmas", weigh_velocity ? shrink_a_sigmas_ : 0.0, 0.0, 1e3);
     if constexpr (N == 2) shrink_a_sigmas_ = 0.0;
+    const bool plain_pinned = params.has("shrink_sigmas") && !(params.get("shrink_sigmas", 0.0) > 0.0);
+    blend_tau_s_ = params.get("hold_blend_tau_s", plain_pinned ? 0.0 : kDefaultHoldBlendTauS, 0.0, 1e6);
+    blend_frames_ = static_cast<int>(params.get("hold_blend_frames", kDefaultHoldBlendFrames, 1, kMaxBlendFrames));
+    if (blend_frames_ != params.get("hold_blend_frames", kDefaultHoldBlendFrames))
+      throw std::invalid_argument("hold_blend_frames: expected a whole number of frames from 1 to " + std::to_string(kMaxBlendFrames));
   }
   /// True when the forecast is weighted (a shrink key > 0).
   bool forecastWeightingOn() const { return shrink_a_sigmas_ > 0.0 || shrink_v_sigmas_ > 0.0; }
@@ -220,6 +307,8 @@ class ChannelPredictor : public Predictor {
   double coast_tau_s_ = 0.0;  ///< 0 until readCoastParam(): hold never coasts
   double shrink_a_sigmas_ = 0.0;  ///< 0 until readShrinkParams(): unweighted forecast
   double shrink_v_sigmas_ = 0.0;
+  double blend_tau_s_ = 0.0;
+  int blend_frames_ = kDefaultHoldBlendFrames;
 };
 
 }  // namespace predvs

@@ -1,0 +1,133 @@
+// The forecast's blend with hold (channel_predictor.h, `hold_blend_tau_s`, docs/MODELS.md §15):
+// the least-squares weight of the model's one-frame forecast against hold's, with forgetting; an
+// exact ramp keeps the model forecast (w = 1), noise around a still target moves it towards hold,
+// and the filter itself is untouched.
+#include "predvs/predictors/kalman_baselines.h"
+#include "predvs/predictors/registry.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace predvs {
+namespace {
+
+constexpr double kRateHz = 10.0;
+constexpr double kH = 2.0 / kRateHz;  // s, the 2-frame horizon
+// Two double evaluations of the same blend differ by rounding only (px).
+constexpr double kRoundingPx = 1e-9;
+
+TEST(HoldBlend, ForecastIsHoldPlusTheLeastSquaresWeightTimesTheModelStep) {
+  // GIVEN kf-cv with the blend (tau 2 s) and a twin without it, fed the same noisy sway with a
+  // dropped frame every 7th
+  const double tau_s = 2.0;
+  KfCvPredictor on(1, {{"hold_blend_tau_s", tau_s}});
+  KfCvPredictor off(1, {{"hold_blend_tau_s", 0.0}});
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 2.0);
+  double s_dd = 0.0, s_dy = 0.0, w = 1.0, z_hold = 0.0;
+  bool last_measured = false;
+  Eigen::VectorXd z(1);
+  for (int k = 0; k < 120; ++k) {
+    const double t = k / kRateHz;
+    const bool measured = k == 0 || k % 7 != 0;
+    z(0) = measured ? 30.0 * std::sin(0.8 * t) + noise(rng) : std::nan("");
+    // the twin's one-frame forecast, made before z(k) is seen (the blend does not change the filter)
+    const double f = k > 0 ? off.predictPosition(0, t) : 0.0;
+    if (measured && last_measured) {  // the regression of y = z - z_hold on d = f - z_hold
+      const double lambda = std::exp(-(1.0 / kRateHz) / tau_s), d = f - z_hold, y = z(0) - z_hold;
+      s_dd = lambda * s_dd + d * d;
+      s_dy = lambda * s_dy + d * y;
+      w = s_dd > 0.0 ? std::clamp(s_dy / s_dd, 0.0, 1.0) : 1.0;  // no forecast step yet: the model's
+    }
+    if (measured) z_hold = z(0);
+    last_measured = measured;
+    on.update(t, z);
+    off.update(t, z);
+    // THEN the filter is the same, and the forecast is hold + w (model forecast - hold)
+    const double t_f = t + kH;
+    ASSERT_EQ(on.gaussian(0).x, off.gaussian(0).x) << k;
+    const double expected = z_hold + w * (off.predictPosition(0, t_f) - z_hold);
+    ASSERT_NEAR(on.predictPosition(0, t_f), expected, kRoundingPx) << k;
+    ASSERT_EQ(on.predictPosition(0, t_f), on.predict(0, t_f).position()) << k;
+    ASSERT_NEAR(on.predict(0, t_f).velocity(), w * off.predict(0, t_f).velocity(), kRoundingPx) << k;
+  }
+  // (the weight moved: the data are noisy enough for the regression to pull it below 1)
+  EXPECT_LT(w, 0.99);
+}
+
+TEST(HoldBlend, AnExactRampKeepsTheModelForecast) {
+  // GIVEN kf-cv and kf-ca with their defaults (blend on) and without the blend, on a noise-free
+  // ramp at 80 px/s
+  for (const char* name : {"kf-cv", "kf-ca"}) {
+    auto on = makePredictor(name, 1);
+    auto off = makePredictor(name, 1, {{"hold_blend_tau_s", 0.0}});
+    Eigen::VectorXd z(1);
+    for (int k = 0; k < 60; ++k) {
+      const double t = k / kRateHz;
+      z(0) = 5.0 + 80.0 * t;
+      on->update(t, z);
+      off->update(t, z);
+      // THEN the weight stays 1: the model's forecast, to rounding, at every frame
+      EXPECT_NEAR(on->predictPosition(0, t + kH), off->predictPosition(0, t + kH), kRoundingPx) << name << " " << k;
+    }
+  }
+}
+
+TEST(HoldBlend, NoiseAroundAStillTargetMovesTheForecastTowardsHold) {
+  // GIVEN kf-cv with its defaults and without the blend, 10 s of a still target under 3 px noise
+  // at 10 Hz (every velocity the filter sees is noise)
+  auto on = makePredictor("kf-cv", 1);
+  auto off = makePredictor("kf-cv", 1, {{"hold_blend_tau_s", 0.0}});
+  auto hold = makePredictor("hold", 1);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 3.0);
+  double se_on = 0.0, se_off = 0.0, se_hold = 0.0;
+  int n = 0;
+  Eigen::VectorXd z(1);
+  for (int k = 0; k < 100; ++k) {
+    const double t = k / kRateHz;
+    z(0) = 100.0 + noise(rng);
+    on->update(t, z);
+    off->update(t, z);
+    hold->update(t, z);
+    if (k < 30) continue;  // after the first 3 s
+    const double truth = 100.0;
+    se_on += std::pow(on->predictPosition(0, t + kH) - truth, 2);
+    se_off += std::pow(off->predictPosition(0, t + kH) - truth, 2);
+    se_hold += std::pow(hold->predictPosition(0, t + kH) - truth, 2);
+    ++n;
+  }
+  const double rmse_on = std::sqrt(se_on / n), rmse_off = std::sqrt(se_off / n), rmse_hold = std::sqrt(se_hold / n);
+  // THEN the blended forecast beats the plain one there, and is not worse than hold (measured: the
+  // weight sits at 0 and the forecast is hold's)
+  EXPECT_LT(rmse_on, 0.9 * rmse_off);
+  EXPECT_LE(rmse_on, rmse_hold);
+}
+
+TEST(HoldBlend, ShrinkSigmasZeroIsThePlainForecastUnlessTheBlendIsGiven) {
+  // GIVEN kf-ca with shrink_sigmas 0 (the papers' plain filter), and the same with the blend given
+  KfCaPredictor plain(1, {{"shrink_sigmas", 0.0}});
+  KfCaPredictor given(1, {{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", kDefaultHoldBlendTauS}});
+  KfCaPredictor off(1, {{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}});
+  std::mt19937 rng(2);
+  std::normal_distribution<double> noise(0.0, 3.0);
+  Eigen::VectorXd z(1);
+  bool differs = false;
+  for (int k = 0; k < 50; ++k) {
+    const double t = k / kRateHz;
+    z(0) = 10.0 * t + noise(rng);
+    plain.update(t, z);
+    given.update(t, z);
+    off.update(t, z);
+    // THEN the first is the unblended forecast bit for bit; the second blends
+    ASSERT_EQ(plain.predictPosition(0, t + kH), off.predictPosition(0, t + kH)) << k;
+    differs = differs || given.predictPosition(0, t + kH) != off.predictPosition(0, t + kH);
+  }
+  EXPECT_TRUE(differs);
+}
+
+}  // namespace
+}  // namespace predvs
