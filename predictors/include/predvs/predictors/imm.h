@@ -76,7 +76,10 @@
 // law of every other predictor (channel_predictor.h, docs/MODELS.md §15), so imm coasts like its
 // single models; forecast_tau_s (s, default 30; 0 = forecast with mu), forecast_floor
 // (relative weight, default 0.01, in [1e-12, 0.5]); shrink_sigmas and shrink_v_sigmas (the CA
-// mode's forecast weighting, kf-ca's keys and defaults: 2 and 2; 0 = unweighted). The initial
+// mode's forecast weighting, kf-ca's keys and defaults: 2 and 2; 0 = unweighted). hold_blend_tau_s (s,
+// default kDefaultHoldBlendTauS; 0 = off; off by default when `shrink_sigmas: 0` is given): the
+// combined forecast blended with hold by the least-squares weight of its one-frame forecasts, as
+// every per-channel filter's (channel_predictor.h). The initial
 // mode probabilities and forecast weights are equal. q_cp and the tau were chosen
 // on the generated tracks (servo/maneuver_tracks.h) and the paper scenarios E1-E4, E7 together
 // (docs/PERFORMANCE.md "IMM against its single models"); they are not sharp optima (one at a
@@ -152,6 +155,11 @@ class ImmPredictor : public Predictor {
     bool initialized = false;
     Innovation innovation;
     StartupNoiseEstimator r_est;
+    // The blend with hold (channel_predictor.h): hold's forecast, the regression sums, the weight.
+    double z_hold = 0.0;
+    double s_dd = 0.0, s_dy = 0.0;
+    double w_blend = 1.0;
+    bool last_measured = false;
   };
   Mat<3> transition(int j, double dt) const;
   Mat<3> processNoise(int j, double dt) const;
@@ -166,6 +174,7 @@ class ImmPredictor : public Predictor {
   double fc_tau_s_;     ///< s; forgetting time of the forecast weights' evidence; 0 = forecast with mu
   double fc_floor_;     ///< log of forecast_floor: the lowest log forecast weight relative to the best
   double shrink_a_sigmas_, shrink_v_sigmas_;  ///< the CA mode's forecast weighting (kf-ca's); 0 = off
+  double blend_tau_s_;  ///< s; the forecast's blend with hold (hold_blend_tau_s, channel_predictor.h); 0 = off
   /// Mode j's posterior on channel ch as its forecast starts from: the CA mode's v and a weighted
   /// as kf-ca weighs them (channel_predictor.h), the other modes' unchanged.
   Gaussian<3> forecastStart(const Channel& ch, int j) const;
