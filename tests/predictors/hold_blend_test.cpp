@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 
 namespace predvs {
 namespace {
@@ -61,7 +62,7 @@ TEST(HoldBlend, ForecastIsHoldPlusTheLeastSquaresWeightTimesTheModelStep) {
 TEST(HoldBlend, AnExactRampKeepsTheModelForecast) {
   // GIVEN kf-cv and kf-ca with their defaults (blend on) and without the blend, on a noise-free
   // ramp at 80 px/s
-  for (const char* name : {"kf-cv", "kf-ca"}) {
+  for (const char* name : {"kf-cv", "kf-ca", "imm"}) {
     auto on = makePredictor(name, 1);
     auto off = makePredictor(name, 1, {{"hold_blend_tau_s", 0.0}});
     Eigen::VectorXd z(1);
@@ -77,10 +78,13 @@ TEST(HoldBlend, AnExactRampKeepsTheModelForecast) {
 }
 
 TEST(HoldBlend, NoiseAroundAStillTargetMovesTheForecastTowardsHold) {
-  // GIVEN kf-cv with its defaults and without the blend, 10 s of a still target under 3 px noise
-  // at 10 Hz (every velocity the filter sees is noise)
-  auto on = makePredictor("kf-cv", 1);
-  auto off = makePredictor("kf-cv", 1, {{"hold_blend_tau_s", 0.0}});
+  // GIVEN kf-cv (and imm, which blends its combined forecast the same way) with its defaults and
+  // without the blend, 10 s of a still target under 3 px noise at 10 Hz (every velocity the filter
+  // sees is noise)
+  for (const char* name : {"kf-cv", "imm"}) {
+  SCOPED_TRACE(name);
+  auto on = makePredictor(name, 1);
+  auto off = makePredictor(name, 1, {{"hold_blend_tau_s", 0.0}});
   auto hold = makePredictor("hold", 1);
   std::mt19937 rng(11);
   std::normal_distribution<double> noise(0.0, 3.0);
@@ -103,8 +107,16 @@ TEST(HoldBlend, NoiseAroundAStillTargetMovesTheForecastTowardsHold) {
   const double rmse_on = std::sqrt(se_on / n), rmse_off = std::sqrt(se_off / n), rmse_hold = std::sqrt(se_hold / n);
   // THEN the blended forecast beats the plain one there, and is not worse than hold (measured: the
   // weight sits at 0 and the forecast is hold's)
-  EXPECT_LT(rmse_on, 0.9 * rmse_off);
   EXPECT_LE(rmse_on, rmse_hold);
+  if (std::string(name) == "kf-cv") {
+    EXPECT_LT(rmse_on, 0.9 * rmse_off);
+  } else {
+    // imm's CP mode already forecasts a still target well (0.73 px here against hold's ~3); the
+    // blend's weight, learnt from 60 noisy samples and clamped at 1, sits a little below 1 and
+    // costs it about 11 % (0.81 px): the known price of the blend where the model is right.
+    EXPECT_LT(rmse_on, 1.2 * rmse_off);
+  }
+  }
 }
 
 TEST(HoldBlend, ShrinkSigmasZeroIsThePlainForecastUnlessTheBlendIsGiven) {
