@@ -303,6 +303,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     Q[static_cast<size_t>(j)] = processNoise(j, dt);
   }
   const double keep = fc_tau_s_ > 0.0 ? std::exp(-dt / fc_tau_s_) : 0.0;  // forecast weights' forgetting
+  const double blend_keep = blend_tau_s_ > 0.0 ? std::exp(-dt / blend_tau_s_) : 0.0;  // the blend's
   for (int c = 0; c < channels(); ++c) {
     Channel& ch = chan_[static_cast<size_t>(c)];
     ch.innovation = Innovation{};
@@ -333,9 +334,8 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         f += fw[jj] * Vec<3>((F[jj] * forecastStartMean(ch, j)).eval())(0);
       }
       const double d = f - ch.z_hold, y = z(c) - ch.z_hold;
-      const double lambda = std::exp(-dt / blend_tau_s_);
-      ch.s_dd = lambda * ch.s_dd + d * d;
-      ch.s_dy = lambda * ch.s_dy + d * y;
+      ch.s_dd = blend_keep * ch.s_dd + d * d;
+      ch.s_dy = blend_keep * ch.s_dy + d * y;
       ch.w_blend = ch.s_dd > 0.0 ? std::clamp(ch.s_dy / ch.s_dd, 0.0, 1.0) : 1.0;
     }
     ch.last_measured = isMeasured(z(c));

@@ -109,6 +109,7 @@ class ChannelPredictor : public Predictor {
       throw std::invalid_argument(name() + ": measurement has " + std::to_string(z.size()) +
                                   " entries, expected " + std::to_string(channels()));
     const double dt = advanceClock(t_s);
+    const double blend_keep = blend_tau_s_ > 0.0 ? blendForgetting(dt) : 0.0;  // one exp per frame period
     for (int c = 0; c < channels(); ++c) {
       ChannelState& s = state_[c];
       s.innovation = Innovation{};
@@ -124,7 +125,7 @@ class ChannelPredictor : public Predictor {
       }
       if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) coast(s.g.x, dt, coast_tau_s_);
       step(c, dt, z(c));
-      if (blend_tau_s_ > 0.0) learnBlend(c, t_s, z(c), dt);
+      if (blend_tau_s_ > 0.0) learnBlend(c, t_s, z(c), blend_keep);
       if (!q_auto_.empty() && s.innovation.valid) q_auto_[static_cast<size_t>(c)].observe(s.innovation.eps, s.innovation.S, dt);
     }
   }
@@ -192,8 +193,17 @@ class ChannelPredictor : public Predictor {
     s.z_start[static_cast<size_t>(s.head)] = s.z_hold;
     s.run = std::min(s.run + 1, kMaxBlendFrames + 1);
   }
-  /// One regression sample of the blend (file comment) on channel c after the update at t_s.
-  void learnBlend(int c, double t_s, double z, double dt) {
+  /// exp(-dt / hold_blend_tau_s), kept for the last dt asked (a track's frame period repeats).
+  double blendForgetting(double dt) {
+    if (dt != blend_keep_dt_) {
+      blend_keep_dt_ = dt;
+      blend_keep_ = std::exp(-dt / blend_tau_s_);
+    }
+    return blend_keep_;
+  }
+  /// One regression sample of the blend (file comment) on channel c after the update at t_s;
+  /// lambda = blendForgetting(dt) of the update's dt.
+  void learnBlend(int c, double t_s, double z, double lambda) {
     ChannelState& s = state_[static_cast<size_t>(c)];
     if (!isMeasured(z)) {
       s.run = 0;
@@ -205,7 +215,6 @@ class ChannelPredictor : public Predictor {
       g.x = s.x_start[j];
       const double f = predictedPosition(g, transition(c, t_s - s.t_start[j]));
       const double d = f - s.z_start[j], y = z - s.z_start[j];
-      const double lambda = std::exp(-dt / blend_tau_s_);
       s.s_dd = lambda * s.s_dd + d * d;
       s.s_dy = lambda * s.s_dy + d * y;
       s.w_blend = s.s_dd > 0.0 ? std::clamp(s.s_dy / s.s_dd, 0.0, 1.0) : 1.0;
@@ -308,6 +317,8 @@ class ChannelPredictor : public Predictor {
   double shrink_a_sigmas_ = 0.0;  ///< 0 until readShrinkParams(): unweighted forecast
   double shrink_v_sigmas_ = 0.0;
   double blend_tau_s_ = 0.0;
+  double blend_keep_dt_ = std::numeric_limits<double>::quiet_NaN();  ///< blendForgetting's cache
+  double blend_keep_ = 0.0;
   int blend_frames_ = kDefaultHoldBlendFrames;
 };
 
