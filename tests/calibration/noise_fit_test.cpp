@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <tuple>
 
@@ -36,6 +37,18 @@ FitTrack cvModelTrack(double q, double r, double rate_hz, int frames, unsigned s
     }
   }
   return t;
+}
+
+/// A generated maneuvering track (servo/maneuver_tracks.h) as a two-channel fit track.
+FitTrack generatedTrack(ManeuverKind kind, double rate_hz, double noise_px, double duration_s, std::uint64_t seed) {
+  ManeuverTrackConfig c;
+  c.kind = kind;
+  c.rate_hz = rate_hz;
+  c.noise_px = noise_px;
+  c.duration_s = duration_s;
+  c.seed = seed;
+  const ManeuverTrack g = generateManeuverTrack(c);
+  return FitTrack{g.t_s, {g.u_px, g.v_px}};
 }
 
 const FittedValue& valueOf(const NoiseFitResult& f, const std::string& key) {
@@ -70,13 +83,7 @@ TEST(NoiseFit, RecoversKfCvNoiseOnItsOwnModelWithin10PercentOn2000Frames) {
 TEST(NoiseFit, RecoversMeasurementNoiseOnAGeneratedManeuveringTrack) {
   // GIVEN a generated maneuvering track (turns, 30 Hz, 2 px noise, dropped frames), 2,000 frames;
   // WHEN imm and kf-ca are fitted THEN r is within 10 % of 4 px^2.
-  ManeuverTrackConfig c;
-  c.kind = ManeuverKind::Turns;
-  c.rate_hz = 30.0;
-  c.noise_px = 2.0;
-  c.duration_s = 2000.0 / 30.0;
-  const ManeuverTrack g = generateManeuverTrack(c);
-  FitTrack t{g.t_s, {g.u_px, g.v_px}};
+  FitTrack t = generatedTrack(ManeuverKind::Turns, 30.0, 2.0, 2000.0 / 30.0, ManeuverTrackConfig{}.seed);
   for (const char* name : {"imm", "kf-ca"}) {
     const NoiseFitResult f = fitNoise(name, {}, t);
     EXPECT_NEAR(valueOf(f, "r").value / 4.0, 1.0, 0.10) << name;
@@ -87,16 +94,7 @@ TEST(NoiseFit, RecoversMeasurementNoiseOnAGeneratedManeuveringTrack) {
 TEST(NoiseFit, ChoosesTheStructureThatPredictsBestAndKeepsAPinnedOne) {
   // GIVEN stkf, which offers structural variants (model cv, cv with a short window, ca), and two
   // generated tracks at 30 Hz: a smooth one (kf-ca's kind) and one of stops (kf-cv's kind)
-  const auto track = [](ManeuverKind kind) {
-    ManeuverTrackConfig c;
-    c.kind = kind;
-    c.rate_hz = 30.0;
-    c.noise_px = 0.5;
-    c.duration_s = 10.0;
-    c.seed = 1;
-    const ManeuverTrack g = generateManeuverTrack(c);
-    return FitTrack{g.t_s, {g.u_px, g.v_px}};
-  };
+  const auto track = [](ManeuverKind kind) { return generatedTrack(kind, 30.0, 0.5, 10.0, 1); };
   NoiseFitOptions o;
   o.objective = FitObjective::Prediction;
   o.horizon_s = 2.0 / 30.0;
@@ -125,14 +123,7 @@ TEST(NoiseFit, ChoosesTheStructureThatPredictsBestAndKeepsAPinnedOne) {
 TEST(NoiseFit, ChoosesTheStructureOnHeldOutRowsWhenAsked) {
   // GIVEN a generated track of stops and st-akf, which offers four structures (cv, ca, each with
   // adaptation off)
-  ManeuverTrackConfig c;
-  c.kind = ManeuverKind::Stops;
-  c.rate_hz = 30.0;
-  c.noise_px = 1.0;
-  c.duration_s = 12.0;
-  c.seed = 2;
-  const ManeuverTrack g = generateManeuverTrack(c);
-  const FitTrack track{g.t_s, {g.u_px, g.v_px}};
+  const FitTrack track = generatedTrack(ManeuverKind::Stops, 30.0, 1.0, 12.0, 2);
   NoiseFitOptions o;
   o.objective = FitObjective::Prediction;
   o.horizon_s = 2.0 / 30.0;
@@ -179,13 +170,7 @@ TEST(NoiseFit, KeepsFixedKeysAndRejectsHold) {
 }
 
 TEST(NoiseFit, EveryFittablePredictorFitsWithoutLosingLikelihood) {
-  ManeuverTrackConfig c;
-  c.kind = ManeuverKind::Zigzag;
-  c.rate_hz = 15.0;
-  c.noise_px = 1.0;
-  c.duration_s = 30.0;
-  const ManeuverTrack g = generateManeuverTrack(c);
-  FitTrack t{g.t_s, {g.u_px, g.v_px}};
+  FitTrack t = generatedTrack(ManeuverKind::Zigzag, 15.0, 1.0, 30.0, ManeuverTrackConfig{}.seed);
   for (const char* name : {"kf-cv", "kf-ca", "cs-akf", "cs-akf-adaptive", "stkf", "st-akf", "st-akf-pm", "fakf-classic",
                            "fakf", "imm"}) {
     const NoiseFitResult f = fitNoise(name, {}, t);
@@ -203,17 +188,10 @@ TEST(NoiseFit, PredictionObjectiveLowersTheHStepErrorOnTheFitPart) {
   // ceiling) THEN the h-step RMSE against the later measurements went down by
   // over 1 % (far more than the solver's tolerance), r was held at the start-up noise estimate, and
   // predictionRmse() at the fitted params gives the reported figure.
-  ManeuverTrackConfig c;
-  c.kind = ManeuverKind::Turns;
-  c.rate_hz = 30.0;
-  c.noise_px = 1.0;
-  c.duration_s = 20.0;
-  c.seed = 5;
-  const ManeuverTrack g = generateManeuverTrack(c);
-  FitTrack t{g.t_s, {g.u_px, g.v_px}};
+  FitTrack t = generatedTrack(ManeuverKind::Turns, 30.0, 1.0, 20.0, 5);
   NoiseFitOptions o;
   o.objective = FitObjective::Prediction;
-  o.horizon_s = 2.0 / c.rate_hz;
+  o.horizon_s = 2.0 / 30.0;
   const std::tuple<const char*, const char*, double> starts[] = {
       {"kf-cv", "q", 100.0}, {"cs-akf-adaptive", "sigma_min_sq", 0.01}, {"stkf", "q_vel", 100.0}};
   for (const auto& [name, key, factor] : starts) {
@@ -257,16 +235,10 @@ TEST(NoiseFit, PredictionObjectiveIsTheHStepErrorAgainstInterpolatedMeasurements
 }
 
 TEST(NoiseFit, SeveralStartsNeverEndWorseThanOne) {
-  ManeuverTrackConfig c;
-  c.kind = ManeuverKind::Stops;
-  c.rate_hz = 15.0;
-  c.noise_px = 1.5;
-  c.duration_s = 20.0;
-  const ManeuverTrack g = generateManeuverTrack(c);
-  FitTrack t{g.t_s, {g.u_px, g.v_px}};
+  FitTrack t = generatedTrack(ManeuverKind::Stops, 15.0, 1.5, 20.0, ManeuverTrackConfig{}.seed);
   NoiseFitOptions o;
   o.objective = FitObjective::Prediction;
-  o.horizon_s = 2.0 / c.rate_hz;
+  o.horizon_s = 2.0 / 30.0;
   const NoiseFitResult one = fitNoise("stkf", {}, t, o);
   o.starts = 3;
   const NoiseFitResult three = fitNoise("stkf", {}, t, o);
