@@ -107,12 +107,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       fc_floor_(std::log(params.get("forecast_floor", kDefaultForecastFloor, 1e-12, 0.5))),
       shrink_a_sigmas_(params.get("shrink_sigmas", kDefaultShrinkSigmasKfCa, 0.0, 1e3)),
       shrink_v_sigmas_(params.get("shrink_v_sigmas", kDefaultShrinkVelocityKfCa ? shrink_a_sigmas_ : 0.0, 0.0, 1e3)),
-      // As every per-channel filter (channel_predictor.h): on by default, off when `shrink_sigmas: 0`
-      // is given (the papers' plain filters) unless hold_blend_tau_s is given too.
-      blend_tau_s_(params.get("hold_blend_tau_s",
-                              params.has("shrink_sigmas") && !(params.get("shrink_sigmas", 0.0) > 0.0) ? 0.0
-                                                                                                       : kDefaultHoldBlendTauS,
-                              0.0, 1e6)),
+      blend_tau_s_(holdBlendTauParam(params)),  // as every per-channel filter (channel_predictor.h)
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
   const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
@@ -321,7 +316,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         if (d > 2) g.P(2, 2) = p0_acc_;
       }
       ch.initialized = true;
-      ch.z_hold = z(c);
+      ch.blend.z_hold = z(c);
       ch.last_measured = true;
       continue;
     }
@@ -333,13 +328,10 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         const auto jj = static_cast<size_t>(j);
         f += fw[jj] * Vec<3>((F[jj] * forecastStartMean(ch, j)).eval())(0);
       }
-      const double d = f - ch.z_hold, y = z(c) - ch.z_hold;
-      ch.s_dd = blend_keep * ch.s_dd + d * d;
-      ch.s_dy = blend_keep * ch.s_dy + d * y;
-      ch.w_blend = ch.s_dd > 0.0 ? std::clamp(ch.s_dy / ch.s_dd, 0.0, 1.0) : 1.0;
+      ch.blend.learn(f - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep);
     }
     ch.last_measured = isMeasured(z(c));
-    if (ch.last_measured) ch.z_hold = z(c);
+    if (ch.last_measured) ch.blend.z_hold = z(c);
     // Mixing: c_j = sum_i p_ij mu_i, mu_i|j = p_ij mu_i / c_j, moments of the mixture.
     std::array<double, kMaxModes> cbar{};
     std::array<Gaussian<3>, kMaxModes> mixed;
@@ -512,9 +504,9 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
   }
   Gaussian<3> out = combine(g, w);
   if (blend_tau_s_ > 0.0) {
-    out.x(0) = ch.z_hold + ch.w_blend * (out.x(0) - ch.z_hold);
-    out.x(1) *= ch.w_blend;
-    out.x(2) *= ch.w_blend;
+    out.x(0) = ch.blend.position(out.x(0));
+    out.x(1) *= ch.blend.w;
+    out.x(2) *= ch.blend.w;
   }
   return toEstimate(out);
 }
@@ -536,7 +528,7 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
                                : Vec<3>((transition(j, dt) * forecastStartMean(ch, j)).eval())(0);
     p += w[jj] * pj;
   }
-  return blend_tau_s_ > 0.0 ? ch.z_hold + ch.w_blend * (p - ch.z_hold) : p;
+  return blend_tau_s_ > 0.0 ? ch.blend.position(p) : p;
 }
 
 NamedValues ImmPredictor::diagnostics() const {

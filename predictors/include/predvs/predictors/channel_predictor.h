@@ -79,6 +79,32 @@ inline constexpr double kDefaultHoldBlendTauS = 6.0;
 inline constexpr int kDefaultHoldBlendFrames = 1;
 inline constexpr int kMaxBlendFrames = 8;
 
+/// The `hold_blend_tau_s` parameter (s, >= 0; file comment): default kDefaultHoldBlendTauS, or 0
+/// when `shrink_sigmas: 0` is given explicitly (the papers' plain filters). Read by every
+/// per-channel filter (readShrinkParams) and by imm.
+inline double holdBlendTauParam(const Params& params) {
+  const bool plain_pinned = params.has("shrink_sigmas") && !(params.get("shrink_sigmas", 0.0) > 0.0);
+  return params.get("hold_blend_tau_s", plain_pinned ? 0.0 : kDefaultHoldBlendTauS, 0.0, 1e6);
+}
+
+/// The blend with hold on one channel (file comment): hold's forecast, the forgetting sums of the
+/// regression and the weight it gives.
+struct HoldBlend {
+  double z_hold = 0.0;  ///< last measurement (hold's forecast), px
+  double s_dd = 0.0;    ///< forgetting sums of the regression, px^2
+  double s_dy = 0.0;
+  double w = 1.0;       ///< weight of the model forecast against hold, [0, 1]
+  /// One sample: the model's forecast step d = f - z_hold against the measured step y = z - z_hold
+  /// (both from the hold of the frame the forecast was made at), lambda = exp(-dt / tau).
+  void learn(double d, double y, double lambda) {
+    s_dd = lambda * s_dd + d * d;
+    s_dy = lambda * s_dy + d * y;
+    w = s_dd > 0.0 ? std::clamp(s_dy / s_dd, 0.0, 1.0) : 1.0;
+  }
+  /// The blended position hold + w (f - hold).
+  double position(double f) const { return z_hold + w * (f - z_hold); }
+};
+
 /// The `coast_tau_s` parameter (s, >= 0, default kDefaultCoastTauS; 0 = no coasting).
 inline double coastTauParam(const Params& params) { return params.get("coast_tau_s", kDefaultCoastTauS, 0.0, 1e6); }
 
@@ -118,7 +144,7 @@ class ChannelPredictor : public Predictor {
         if (isMeasured(z(c))) {
           initialize(c, z(c));
           s.initialized = true;
-          s.z_hold = z(c);
+          s.blend.z_hold = z(c);
           if (blend_tau_s_ > 0.0) rememberForecastStart(c, t_s);
         }
         continue;
@@ -144,8 +170,8 @@ class ChannelPredictor : public Predictor {
     Gaussian<N> g = forecastWeightingOn() ? weightedForecastStart(channel) : s.g;
     timeUpdate(g, transition(channel, dt), processNoise(channel, dt));
     if (blend_tau_s_ > 0.0) {
-      g.x(0) = s.z_hold + s.w_blend * (g.x(0) - s.z_hold);
-      for (int i = 1; i < N; ++i) g.x(i) *= s.w_blend;
+      g.x(0) = s.blend.position(g.x(0));
+      for (int i = 1; i < N; ++i) g.x(i) *= s.blend.w;
     }
     return toEstimate(g);
   }
@@ -158,7 +184,7 @@ class ChannelPredictor : public Predictor {
     if (!(dt > 0.0)) return s.g.x(0);
     const double f = forecastWeightingOn() ? predictedPosition(weightedForecastStart(channel), transition(channel, dt))
                                            : predictedPosition(s.g, transition(channel, dt));
-    return blend_tau_s_ > 0.0 ? s.z_hold + s.w_blend * (f - s.z_hold) : f;
+    return blend_tau_s_ > 0.0 ? s.blend.position(f) : f;
   }
 
   Innovation innovation(int channel) const override { return state_.at(channel).innovation; }
@@ -172,10 +198,7 @@ class ChannelPredictor : public Predictor {
     Gaussian<N> g;
     bool initialized = false;
     Innovation innovation;
-    double z_hold = 0.0;   ///< last measurement (hold's forecast), px
-    double s_dd = 0.0;     ///< forgetting sums of the blend regression, px^2
-    double s_dy = 0.0;
-    double w_blend = 1.0;  ///< weight of the model forecast against hold, [0, 1]
+    HoldBlend blend;
     int run = 0;           ///< consecutive measured frames up to the last update
     /// The forecast starts of the last kMaxBlendFrames measured updates (ring, newest at head).
     std::array<Vec<N>, kMaxBlendFrames> x_start{};
@@ -190,7 +213,7 @@ class ChannelPredictor : public Predictor {
     s.head = (s.head + 1) % kMaxBlendFrames;
     s.x_start[static_cast<size_t>(s.head)] = forecastWeightingOn() ? weightedForecastStart(c).x : s.g.x;
     s.t_start[static_cast<size_t>(s.head)] = t_s;
-    s.z_start[static_cast<size_t>(s.head)] = s.z_hold;
+    s.z_start[static_cast<size_t>(s.head)] = s.blend.z_hold;
     s.run = std::min(s.run + 1, kMaxBlendFrames + 1);
   }
   /// exp(-dt / hold_blend_tau_s), kept for the last dt asked (a track's frame period repeats).
@@ -214,12 +237,9 @@ class ChannelPredictor : public Predictor {
       Gaussian<N> g;
       g.x = s.x_start[j];
       const double f = predictedPosition(g, transition(c, t_s - s.t_start[j]));
-      const double d = f - s.z_start[j], y = z - s.z_start[j];
-      s.s_dd = lambda * s.s_dd + d * d;
-      s.s_dy = lambda * s.s_dy + d * y;
-      s.w_blend = s.s_dd > 0.0 ? std::clamp(s.s_dy / s.s_dd, 0.0, 1.0) : 1.0;
+      s.blend.learn(f - s.z_start[j], z - s.z_start[j], lambda);
     }
-    s.z_hold = z;
+    s.blend.z_hold = z;
     rememberForecastStart(c, t_s);
   }
 
@@ -252,8 +272,7 @@ class ChannelPredictor : public Predictor {
     shrink_a_sigmas_ = params.get("shrink_sigmas", default_sigmas, 0.0, 1e3);
     shrink_v_sigmas_ = params.get("shrink_v_sigmas", weigh_velocity ? shrink_a_sigmas_ : 0.0, 0.0, 1e3);
     if constexpr (N == 2) shrink_a_sigmas_ = 0.0;
-    const bool plain_pinned = params.has("shrink_sigmas") && !(params.get("shrink_sigmas", 0.0) > 0.0);
-    blend_tau_s_ = params.get("hold_blend_tau_s", plain_pinned ? 0.0 : kDefaultHoldBlendTauS, 0.0, 1e6);
+    blend_tau_s_ = holdBlendTauParam(params);
     blend_frames_ = static_cast<int>(params.get("hold_blend_frames", kDefaultHoldBlendFrames, 1, kMaxBlendFrames));
     if (blend_frames_ != params.get("hold_blend_frames", kDefaultHoldBlendFrames))
       throw std::invalid_argument("hold_blend_frames: expected a whole number of frames from 1 to " + std::to_string(kMaxBlendFrames));

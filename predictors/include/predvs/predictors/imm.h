@@ -155,10 +155,7 @@ class ImmPredictor : public Predictor {
     bool initialized = false;
     Innovation innovation;
     StartupNoiseEstimator r_est;
-    // The blend with hold (channel_predictor.h): hold's forecast, the regression sums, the weight.
-    double z_hold = 0.0;
-    double s_dd = 0.0, s_dy = 0.0;
-    double w_blend = 1.0;
+    HoldBlend blend;  ///< the blend with hold (channel_predictor.h)
     bool last_measured = false;
   };
   Mat<3> transition(int j, double dt) const;
