@@ -285,7 +285,7 @@ CsAkfAdaptivePredictor::CsAkfAdaptivePredictor(int channels, const Params& param
       sigma_min_sq_(params.get("sigma_min_sq", std::min(kDefaultSigmaMinSq, sigma_max_sq_), 0.0, 1e12)),
       adapt_tau_s_(params.get("adapt_tau_s", 0.0, 0.0, 1e3)),
       adapt_(adaptationParam(params, "cs-akf-adaptive / fakf")),
-      sigma2_(static_cast<size_t>(channels), adapt_ ? sigma_max_sq_ : sigma_min_sq_),
+      sigma2_(static_cast<size_t>(channels), startVariance()),
       a_prev_(static_cast<size_t>(channels), 0.0) {
   if (!(sigma_min_sq_ <= sigma_max_sq_))
     throw std::invalid_argument("predictor parameter 'sigma_min_sq' must not exceed 'sigma_max_sq'");
@@ -314,14 +314,14 @@ std::vector<Params> CsAkfAdaptivePredictor::structuralVariants() const {
 }
 
 void CsAkfAdaptivePredictor::resetAdaptation() {
-  std::fill(sigma2_.begin(), sigma2_.end(), adapt_ ? sigma_max_sq_ : sigma_min_sq_);
+  std::fill(sigma2_.begin(), sigma2_.end(), startVariance());
   std::fill(a_prev_.begin(), a_prev_.end(), 0.0);
 }
 
 void CsAkfAdaptivePredictor::initialize(int c, double z) {
   CsKalmanPredictor::initialize(c, z);
   a_prev_[static_cast<size_t>(c)] = gaussian(c).x(2);
-  sigma2_[static_cast<size_t>(c)] = adapt_ ? sigma_max_sq_ : sigma_min_sq_;
+  sigma2_[static_cast<size_t>(c)] = startVariance();
 }
 
 }  // namespace predvs

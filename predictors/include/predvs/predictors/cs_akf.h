@@ -283,6 +283,9 @@ class CsAkfAdaptivePredictor : public CsKalmanPredictor {
 
  protected:
   bool adapt_;  ///< `adaptation` on (default) / off (kalman_math.h adaptationParam)
+  /// sigma^2 of a channel at its start: the ceiling (adapting down from it), or with adaptation off
+  /// the floor it stays at.
+  double startVariance() const { return adapt_ ? sigma_max_sq_ : sigma_min_sq_; }
 
  private:
   std::vector<double> sigma2_;  ///< per channel, (px/s^2)^2
