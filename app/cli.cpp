@@ -251,7 +251,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   if (!a.fit_select_holdout.empty()) {
     if (!a.fit) throw std::invalid_argument("--fit-select-holdout: needs --fit");
     fit_options.select_holdout = parseNumberArg("--fit-select-holdout", a.fit_select_holdout);
-    if (!(fit_options.select_holdout >= 0.0 && fit_options.select_holdout <= 0.9))
+    if (!validSelectHoldout(fit_options.select_holdout))
       throw std::invalid_argument("--fit-select-holdout: expected a fraction in [0, 0.9], got '" + a.fit_select_holdout + "'");
   }
   const int jobs = a.jobs.empty() ? hardwareJobs() : static_cast<int>(parseIntegerArg("--jobs", a.jobs, 1, 1024));

@@ -125,7 +125,7 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
   opt.burn_in_frames = a.burn_in;
   opt.horizon_s = a.horizon_frames * medianPeriod(track.t_s);
   opt.starts = a.starts;
-  if (!(a.select_holdout >= 0.0 && a.select_holdout <= 0.9))
+  if (!validSelectHoldout(a.select_holdout))
     throw std::invalid_argument("--select-holdout: expected a fraction in [0, 0.9]");
   opt.select_holdout = a.select_holdout;
   NoiseFitResult fit;

@@ -127,7 +127,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   if (a.fit_starts < 1 || a.fit_starts > 50) throw std::invalid_argument("--fit-starts: expected an integer in [1, 50]");
   if (a.jobs < 1 || a.jobs > 256) throw std::invalid_argument("--jobs: expected an integer in [1, 256]");
   fit_options.starts = a.fit_starts;
-  if (!(a.fit_select >= 0.0 && a.fit_select <= 0.9)) throw std::invalid_argument("--fit-select-holdout: expected a fraction in [0, 0.9]");
+  if (!validSelectHoldout(a.fit_select)) throw std::invalid_argument("--fit-select-holdout: expected a fraction in [0, 0.9]");
   fit_options.select_holdout = a.fit_select;
 
   struct Row {

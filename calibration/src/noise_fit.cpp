@@ -587,7 +587,7 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
   if (variants.empty()) return fitOneStructure(predictor, base, track, options);
 
   const bool by_prediction = options.objective == FitObjective::Prediction;
-  if (!(options.select_holdout >= 0.0 && options.select_holdout <= 0.9))
+  if (!validSelectHoldout(options.select_holdout))
     throw std::invalid_argument("noise fit: expected a structure hold-out fraction in [0, 0.9]");
   // The rows before the held-out part (select_holdout > 0), and the track cut there.
   const size_t rows = track.t_s.size();

@@ -377,7 +377,7 @@ PYBIND11_MODULE(_predvs, m) {
         if (max_iterations < 1) throw std::invalid_argument("max_iterations: expected an integer >= 1");
         if (!(horizon_s >= 0.0)) throw std::invalid_argument("horizon_s: expected a number >= 0");
         if (starts < 1) throw std::invalid_argument("starts: expected an integer >= 1");
-        if (!(select_holdout >= 0.0 && select_holdout <= 0.9))
+        if (!validSelectHoldout(select_holdout))
           throw std::invalid_argument("select_holdout: expected a fraction in [0, 0.9]");
         const Params base = checkedParams(name, params);
         fitParameters(name);        // unknown predictor, or nothing to fit (hold): its message

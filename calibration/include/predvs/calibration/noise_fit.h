@@ -89,6 +89,9 @@ std::string fitObjectiveName(FitObjective o);
 /// Parses "likelihood" / "prediction"; throws std::invalid_argument naming the expected words.
 FitObjective parseFitObjective(const std::string& text);
 
+/// True when f is a valid NoiseFitOptions::select_holdout: a fraction in [0, 0.9] (NaN is not).
+inline bool validSelectHoldout(double f) { return f >= 0.0 && f <= 0.9; }
+
 struct NoiseFitOptions {
   int burn_in_frames = 10;
   int max_iterations = 200;
