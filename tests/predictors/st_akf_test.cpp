@@ -171,7 +171,7 @@ TEST(StAkfModel, DefaultModelGivesTheNumbersOfBeforeTheModelKey) {
   for (const auto& e : expected) {
     for (bool spelt : {false, true}) {
       SCOPED_TRACE(std::string(e.name) + (spelt ? " model: ca" : " default"));
-      Params params{{"shrink_sigmas", 0.0}};  // pinned before the weighted forecast (channel_predictor.h)
+      Params params{{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};  // pinned before the weighted, blended forecast
       if (spelt) params.setText("model", "ca");
       auto f = makePredictor(e.name, 2, params);
       // WHEN they filter the scenario THEN the 2-frame predictions and the alarms are the pinned ones
