@@ -43,7 +43,7 @@ FUZZY_LAYERS := cs-akf-adaptive,fakf,fakf-fixed-r=fakf:r_min=0.9999:r_max=1.0001
 # stkf in the closed loop: the squared R, the self-tuning, R_0 and Q_0 changed one at a time.
 STKF_TUNING := hold,kf-cv,stkf,stkf-unsquared=stkf:squared=0,stkf-plain=stkf:window=0,stkf-r025=stkf:r=0.25,stkf-qpos0=stkf:q_pos=0,stkf-qvel200=stkf:q_vel=200
 PAPER000 := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf-classic,fakf,imm
-CLOSED := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf,stkf,st-akf,imm:q_cv=100:q_ca=1000:r=1:shrink_sigmas=0
+CLOSED := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf,stkf,st-akf,imm:q_cv=100:q_ca=1000:r=1:shrink_sigmas=0:hold_blend_tau_s=0
 # Predictors a line adds to scenarios that do not list them run with the defaults before issue 11.
 PRE11 := data/params/pre-issue-11.yaml
 # (imm in CLOSED: its CV and CA modes as the scenario's kf-cv and the kf-ca of PRE11, like for like;

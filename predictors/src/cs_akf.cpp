@@ -305,10 +305,7 @@ std::vector<Params> CsAkfAdaptivePredictor::structuralVariants() const {
   Params current, current_unweighted, zero;
   current.setText("mean", "current");
   current_unweighted.setText("mean", "current");
-  current_unweighted.set("shrink_sigmas", 0.0);
-  // the blend with hold stays as by default (a shrink_sigmas: 0 given alone also turns it off:
-  // channel_predictor.h): this structure differs from the first by its weighting only
-  current_unweighted.set("hold_blend_tau_s", kDefaultHoldBlendTauS);
+  current_unweighted.set("shrink_sigmas", 0.0);  // the blend with hold stays on (channel_predictor.h)
   zero.setText("mean", "zero");
   return withAdaptationOff({current, current_unweighted, zero});
 }

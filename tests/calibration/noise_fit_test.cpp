@@ -3,6 +3,8 @@
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/maneuver_tracks.h"
 
+#include "servo/maneuver_track_cell.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -41,13 +43,7 @@ FitTrack cvModelTrack(double q, double r, double rate_hz, int frames, unsigned s
 
 /// A generated maneuvering track (servo/maneuver_tracks.h) as a two-channel fit track.
 FitTrack generatedTrack(ManeuverKind kind, double rate_hz, double noise_px, double duration_s, std::uint64_t seed) {
-  ManeuverTrackConfig c;
-  c.kind = kind;
-  c.rate_hz = rate_hz;
-  c.noise_px = noise_px;
-  c.duration_s = duration_s;
-  c.seed = seed;
-  const ManeuverTrack g = generateManeuverTrack(c);
+  const ManeuverTrack g = maneuverTrackCell(kind, rate_hz, noise_px, duration_s, seed);
   return FitTrack{g.t_s, {g.u_px, g.v_px}};
 }
 

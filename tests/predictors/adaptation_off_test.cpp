@@ -50,6 +50,7 @@ Params fixedNoise(const std::string& model) {
   p.set("r", 1.5);
   p.set("p0_vel", 1e4);
   p.set("shrink_sigmas", 0.0);
+  p.set("hold_blend_tau_s", 0.0);
   return p;
 }
 
@@ -66,6 +67,7 @@ TEST(AdaptationOff, StAkfAndFakfClassicOffAreTheFixedKalmanFilterOfTheirModel) {
       kf.set("r", 1.5);
       kf.set("p0_vel", 1e4);
       kf.set("shrink_sigmas", 0.0);
+      kf.set("hold_blend_tau_s", 0.0);
       auto a = makePredictor(name, 2, off);
       auto b = makePredictor(model == "cv" ? "kf-cv" : "kf-ca", 2, kf);
       // WHEN both run along a manoeuvring track THEN their forecasts agree to rounding

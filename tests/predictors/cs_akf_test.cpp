@@ -1,4 +1,5 @@
 #include "predvs/predictors/cs_akf.h"
+#include "predictors/accelerating_feed.h"
 #include "predictors/eigen_test_utils.h"
 
 #include <unsupported/Eigen/MatrixFunctions>
@@ -142,7 +143,7 @@ TEST(CsModel, MeanPredictionWithCurrentAccelerationIsConstantAcceleration) {
 
 TEST(CsModel, FilterQueryUsesCaMeanAndSingerNoise) {
   // GIVEN a cs-akf (paper 000's model: no significance weighting) that has seen a few measurements
-  CsAkfPredictor f(1, {{"alpha", 0.7}, {"a_max", 50.0}, {"a_neg_max", 50.0}, {"shrink_sigmas", 0.0}});
+  CsAkfPredictor f(1, {{"alpha", 0.7}, {"a_max", 50.0}, {"a_neg_max", 50.0}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}});
   Eigen::VectorXd z(1);
   for (int k = 0; k < 10; ++k) {
     z << 3.0 * k * 0.05 + 0.5 * 4.0 * std::pow(k * 0.05, 2);
@@ -174,15 +175,9 @@ TEST(Significance, WeightIsHalfAtNSigmasAndOneWhenOff) {
 TEST(CsModel, ForecastExtrapolatesTheSignificantPartOfVelocityAndAcceleration) {
   // GIVEN cs-akf-adaptive with its defaults (shrink_sigmas = 2) after 1 s of a noisy accelerating
   // target at 10 Hz
+  // (accelerating_feed.h)
   CsAkfAdaptivePredictor f(1, {});
-  std::mt19937 rng(3);
-  std::normal_distribution<double> noise(0.0, 3.0);
-  Eigen::VectorXd z(1);
-  for (int k = 0; k <= 10; ++k) {
-    const double t = 0.1 * k;
-    z << 20.0 * t + 0.5 * 50.0 * t * t + noise(rng);
-    f.update(t, z);
-  }
+  feedAcceleratingTarget(f, 3);
   // WHEN the position is queried 0.2 s ahead
   const double h = 0.2;
   const Gaussian<3> g = f.gaussian(0);
@@ -197,15 +192,13 @@ TEST(CsModel, ForecastExtrapolatesTheSignificantPartOfVelocityAndAcceleration) {
   EXPECT_LT(w_a * w_v, 0.999);
   // and cs-akf weighs the acceleration only (shrink_v_sigmas defaults to 0 there)
   CsAkfPredictor cs(1, {});
-  for (int k = 0; k <= 10; ++k) {
-    z << 20.0 * 0.1 * k + 0.5 * 50.0 * std::pow(0.1 * k, 2);
-    cs.update(0.1 * k, z);
-  }
+  feedAcceleratingTarget(cs, 3, 0.0);  // without noise
   const Gaussian<3> gc = cs.gaussian(0);
   const double w_c = significanceWeight(gc.x(2), gc.P(2, 2), kDefaultShrinkSigmasCsAkf);
   EXPECT_NEAR(cs.predictPosition(0, cs.time() + h), gc.x(0) + gc.x(1) * h + 0.5 * w_c * gc.x(2) * h * h, 1e-9);
-  // and with shrink_sigmas = 0 it is paper 000's CA mean
-  CsAkfAdaptivePredictor paper(1, {{"shrink_sigmas", 0.0}});
+  // and with shrink_sigmas = 0 (and no blend with hold) it is paper 000's CA mean
+  CsAkfAdaptivePredictor paper(1, {{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}});
+  Eigen::VectorXd z(1);
   for (int k = 0; k <= 10; ++k) {
     z << 20.0 * 0.1 * k;
     paper.update(0.1 * k, z);
@@ -323,7 +316,7 @@ TEST(CsAdaptive, FloorDecidesSmoothMotionError) {
   // GIVEN the 200 px circle at 0.15 rad/s, error over [10, 60] s, for floors 1e-3 .. 100
   std::vector<double> rmse;
   for (double floor : {1e-3, 1e-2, 1e-1, 1.0, 10.0, 100.0}) {
-    CsAkfAdaptivePredictor f(2, {{"sigma_min_sq", floor}, {"shrink_sigmas", 0.0}});
+    CsAkfAdaptivePredictor f(2, {{"sigma_min_sq", floor}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}});
     rmse.push_back(predictionRmse(f, circle200, 60.0, 10.0, 60.0, 3));
     std::printf("  circle r=200: sigma_min_sq=%-6g rmse=%.3f px\n", floor, rmse.back());
   }
@@ -336,7 +329,7 @@ TEST(CsAdaptive, FloorDecidesSmoothMotionError) {
 TEST(CsAdaptive, LowPassedReferenceSoftensATooLowFloor) {
   // GIVEN the 200 px circle and the lowest floor of the sweep (1e-3, which over-smooths)
   auto rmse = [](double tau_s) {
-    CsAkfAdaptivePredictor f(2, {{"sigma_min_sq", 1e-3}, {"adapt_tau_s", tau_s}, {"shrink_sigmas", 0.0}});
+    CsAkfAdaptivePredictor f(2, {{"sigma_min_sq", 1e-3}, {"adapt_tau_s", tau_s}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}});
     return predictionRmse(f, circle200, 60.0, 10.0, 60.0, 3);
   };
   const double one_step = rmse(0.0), low_passed = rmse(3.0);
@@ -354,12 +347,13 @@ namespace predvs {
 namespace {
 
 /// cs-akf-adaptive fed 40 frames of a parabola at 30 Hz (no noise), with `mean` and alpha given and
-/// the significance weighting off, so the forecast extrapolates x(k|k) itself.
+/// the significance weighting and the blend with hold off, so the forecast extrapolates x(k|k) itself.
 std::unique_ptr<Predictor> csOnParabola(const std::string& mean, double alpha) {
   Params p;
   p.setText("mean", mean);
   p.set("alpha", alpha);
   p.set("shrink_sigmas", 0.0);
+  p.set("hold_blend_tau_s", 0.0);
   p.set("r", 1.0);
   auto f = makePredictor("cs-akf-adaptive", 1, p);
   for (int k = 0; k < 40; ++k) {
@@ -399,6 +393,7 @@ TEST(CsModel, AdaptiveFiltersOfferTheCsAndSingerMeansAsStructuresAndRejectABadWo
     EXPECT_EQ(variants[0].texts().at("mean"), "current");
     EXPECT_EQ(variants[1].texts().at("mean"), "current");
     EXPECT_EQ(variants[1].values().at("shrink_sigmas"), 0.0);
+    EXPECT_FALSE(variants[1].has("hold_blend_tau_s"));  // the blend with hold stays at its default
     EXPECT_EQ(variants[2].texts().at("mean"), "zero");
     // WHEN each is built and run THEN it predicts a finite position
     for (const auto& v : variants) {

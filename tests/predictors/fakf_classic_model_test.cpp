@@ -22,12 +22,13 @@ using namespace model_switch;
 TEST(FakfClassicModel, DefaultModelGivesTheNumbersOfBeforeTheModelKey) {
   // GIVEN fakf-classic with its defaults, with and without `model: cv` spelt out (reference: the
   // same scenario through main at b41f742, before `model` existed, printed with %.17g; without the
-  // significance-weighted forecast, which came later: shrink_sigmas 0, channel_predictor.h)
+  // significance-weighted forecast and the blend with hold, which came later: shrink_sigmas 0,
+  // hold_blend_tau_s 0, channel_predictor.h)
   const Pinned expected[2] = {{275.65671514078326, 19.259969196438178, 5.3110343284514707},
                               {3221.7393093856708, 546.09810957252671, 5.8619042444128189}};
   for (bool spelt : {false, true}) {
     SCOPED_TRACE(spelt ? "model: cv" : "default");
-    Params params{{"shrink_sigmas", 0.0}};
+    Params params{{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};
     if (spelt) params.setText("model", "cv");
     auto f = makePredictor("fakf-classic", 2, params);
     // WHEN it filters the scenario THEN the 2-frame predictions are the pinned ones
@@ -68,29 +69,9 @@ TEST(FakfClassicModel, OnCaTheFuzzyAdaptationStillRaisesR) {
 }
 
 TEST(FakfClassicModel, StructuralVariantsAreCvAndCaAndEachBuildsAndRuns) {
-  // GIVEN the variants of the default predictor
-  const auto variants = makePredictor("fakf-classic", 1, {})->structuralVariants();
-  ASSERT_EQ(variants.size(), 4u);  // cv, ca, then each with adaptation: off (adaptation_off_test.cpp)
-  EXPECT_EQ(variants[0].text("model", ""), "cv");
-  EXPECT_EQ(variants[1].text("model", ""), "ca");
-  for (const Params& v : variants) {
-    const bool cv = v.text("model", "") == "cv";
-    SCOPED_TRACE(cv ? "cv" : "ca");
-    // WHEN a predictor is built from the variant alone (plus r) and runs
-    Params p = v;
-    p.set("r", 2.0);
-    auto f = makePredictor("fakf-classic", 2, p);
-    const double t = runScenario(*f);
-    // THEN it has that model's state and noise keys, its default q, and a finite forecast
-    EXPECT_EQ(f->predict(0, t + 0.1).x.size(), cv ? 2 : 3);
-    EXPECT_TRUE(std::isfinite(f->predictPosition(1, t + 0.1)));
-    const auto noise = f->noiseParameters();
-    ASSERT_EQ(noise.size(), 2u);
-    EXPECT_EQ(noise[0].key, "q");
-    EXPECT_EQ(noise[0].value, cv ? kDefaultQCv : kDefaultQFakfClassicCa);
-    EXPECT_EQ(noise[0].hi, cv ? accelerationDensityParameter("q", 1.0).hi : jerkDensityParameter("q", 1.0).hi);
-    EXPECT_EQ(noise[1].key, "r");
-  }
+  // GIVEN the variants of the default predictor WHEN a predictor is built from each alone (plus r)
+  // and runs THEN it has that model's state and noise keys, its default q, and a finite forecast
+  expectModelVariantsBuildAndRun("fakf-classic", kDefaultQCv, kDefaultQFakfClassicCa);
 }
 
 TEST(FakfClassicModel, ABadModelIsAOneLineErrorNamingTheKey) { expectBadModelRejected("fakf-classic"); }

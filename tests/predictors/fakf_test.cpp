@@ -177,7 +177,7 @@ struct ScenarioFigures {
 Params paperEraParams(const std::string& name) {
   if (name == "kf-cv" || name == "fakf-classic") return {{"q", 100.0}, {"r", 1.0}};
   if (name == "fakf" || name == "cs-akf-adaptive")
-    return {{"sigma_min_sq", 10.0}, {"sigma_max_sq", 1000.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}};
+    return {{"sigma_min_sq", 10.0}, {"sigma_max_sq", 1000.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};
   return {};
 }
 

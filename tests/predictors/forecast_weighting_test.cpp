@@ -5,36 +5,29 @@
 #include "predvs/predictors/kalman_baselines.h"
 #include "predvs/predictors/st_akf.h"
 #include "predvs/predictors/stkf.h"
+#include "predictors/accelerating_feed.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
-#include <random>
 
 namespace predvs {
 namespace {
 
 bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-/// 1 s of a noisy accelerating target at 10 Hz, 3 px noise (the corner where the weights act).
+/// 1 s of a noisy accelerating target at 10 Hz, 3 px noise (accelerating_feed.h).
 template <class F>
 void feed(F& f) {
-  std::mt19937 rng(5);
-  std::normal_distribution<double> noise(0.0, 3.0);
-  Eigen::VectorXd z(1);
-  for (int k = 0; k <= 10; ++k) {
-    const double t = 0.1 * k;
-    z << 20.0 * t + 0.5 * 50.0 * t * t + noise(rng);
-    f.update(t, z);
-  }
+  feedAcceleratingTarget(f, 5);
 }
 
 constexpr double kH = 0.2;  // s, the 2-frame horizon at 10 Hz
 
 TEST(ForecastWeighting, ZeroIsTheUnweightedFilterBitForBit) {
-  // GIVEN kf-ca with shrink_sigmas 0 after 1 s of data
-  KfCaPredictor f(1, {{"shrink_sigmas", 0.0}, {"q", kDefaultQCa}, {"r", 9.0}});
+  // GIVEN kf-ca with shrink_sigmas 0 (and no blend with hold) after 1 s of data
+  KfCaPredictor f(1, {{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}, {"q", kDefaultQCa}, {"r", 9.0}});
   feed(f);
   // WHEN it forecasts kH ahead
   const Gaussian<3> g = f.gaussian(0);
@@ -90,7 +83,8 @@ TEST(ForecastWeighting, HalvesAccelerationAndVelocityAtNSigmas) {
 }
 
 TEST(ForecastWeighting, DefaultsWeighAndBothQueryPathsAgree) {
-  // GIVEN each weighted filter with its defaults, and the same filter with shrink_sigmas 0
+  // GIVEN each weighted filter with its defaults, and the same filter with shrink_sigmas 0 and
+  // hold_blend_tau_s 0 (the plain forecast: neither weighted nor blended with hold)
   auto check = [](Predictor& on, Predictor& off, const char* what, bool weighted = true) {
     feed(on);
     feed(off);
@@ -104,22 +98,20 @@ TEST(ForecastWeighting, DefaultsWeighAndBothQueryPathsAgree) {
       EXPECT_TRUE(sameBits(on.predictPosition(0, t), off.predictPosition(0, t))) << what;
     EXPECT_TRUE(sameBits(off.predictPosition(0, t), off.predict(0, t).position())) << what;
   };
-  const Params off{{"shrink_sigmas", 0.0}};
-  Params ca;
-  ca.setText("model", "ca");
-  Params ca_off = ca;
-  ca_off.set("shrink_sigmas", 0.0);
-  Params cv;
-  cv.setText("model", "cv");
-  Params cv_off = cv;
-  cv_off.set("shrink_sigmas", 0.0);
+  const Params off{{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};
+  const auto withModel = [](Params p, const char* model) {
+    p.setText("model", model);
+    return p;
+  };
+  const Params ca = withModel({}, "ca"), ca_off = withModel(off, "ca");
+  const Params cv = withModel({}, "cv"), cv_off = withModel(off, "cv");
   {
     KfCaPredictor a(1, {}), b(1, off);
     check(a, b, "kf-ca");
   }
   {
     KfCvPredictor a(1, {}), b(1, off);
-    check(a, b, "kf-cv");  // weighted by the blend with hold (shrink_sigmas 0 given: off)
+    check(a, b, "kf-cv");  // weighted by the blend with hold (hold_blend_tau_s 0 given: off)
   }
   {
     StAkfPredictor<3> a(1, {}), b(1, off);

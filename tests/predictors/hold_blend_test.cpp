@@ -119,26 +119,33 @@ TEST(HoldBlend, NoiseAroundAStillTargetMovesTheForecastTowardsHold) {
   }
 }
 
-TEST(HoldBlend, ShrinkSigmasZeroIsThePlainForecastUnlessTheBlendIsGiven) {
-  // GIVEN kf-ca with shrink_sigmas 0 (the papers' plain filter), and the same with the blend given
-  KfCaPredictor plain(1, {{"shrink_sigmas", 0.0}});
-  KfCaPredictor given(1, {{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", kDefaultHoldBlendTauS}});
-  KfCaPredictor off(1, {{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}});
-  std::mt19937 rng(2);
-  std::normal_distribution<double> noise(0.0, 3.0);
-  Eigen::VectorXd z(1);
-  bool differs = false;
-  for (int k = 0; k < 50; ++k) {
-    const double t = k / kRateHz;
-    z(0) = 10.0 * t + noise(rng);
-    plain.update(t, z);
-    given.update(t, z);
-    off.update(t, z);
-    // THEN the first is the unblended forecast bit for bit; the second blends
-    ASSERT_EQ(plain.predictPosition(0, t + kH), off.predictPosition(0, t + kH)) << k;
-    differs = differs || given.predictPosition(0, t + kH) != off.predictPosition(0, t + kH);
+TEST(HoldBlend, OnlyHoldBlendTauZeroTurnsTheBlendOffNotShrinkSigmasZero) {
+  for (const char* name : {"kf-ca", "cs-akf-adaptive", "imm"}) {
+    SCOPED_TRACE(name);
+    // GIVEN the filter with shrink_sigmas 0 alone, the same with the blend given at its default,
+    // and with it off (the papers' plain filter: shrink_sigmas 0 and hold_blend_tau_s 0)
+    auto alone = makePredictor(name, 1, {{"shrink_sigmas", 0.0}});
+    auto given = makePredictor(name, 1, {{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", kDefaultHoldBlendTauS}});
+    auto off = makePredictor(name, 1, {{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}});
+    // and kf-cv with its defaults and with its default shrink_sigmas (0) spelt out
+    auto cv_default = makePredictor("kf-cv", 1);
+    auto cv_spelt = makePredictor("kf-cv", 1, {{"shrink_sigmas", kDefaultShrinkSigmasKfCv}});
+    std::mt19937 rng(2);
+    std::normal_distribution<double> noise(0.0, 3.0);
+    Eigen::VectorXd z(1);
+    bool differs = false;
+    for (int k = 0; k < 50; ++k) {
+      const double t = k / kRateHz;
+      z(0) = 10.0 * t + noise(rng);
+      for (Predictor* f : {alone.get(), given.get(), off.get(), cv_default.get(), cv_spelt.get()}) f->update(t, z);
+      // THEN shrink_sigmas 0 alone keeps the blend at its default, bit for bit, and that blends
+      // (its forecast is not the unblended one); kf-cv's default spelt out is its default
+      ASSERT_EQ(alone->predictPosition(0, t + kH), given->predictPosition(0, t + kH)) << k;
+      ASSERT_EQ(cv_default->predictPosition(0, t + kH), cv_spelt->predictPosition(0, t + kH)) << k;
+      differs = differs || alone->predictPosition(0, t + kH) != off->predictPosition(0, t + kH);
+    }
+    EXPECT_TRUE(differs);
   }
-  EXPECT_TRUE(differs);
 }
 
 }  // namespace

@@ -213,10 +213,10 @@ double circleVelocityForecastRms(Predictor& p, double* w_ca = nullptr, double* m
 
 TEST(Imm, ForecastWeightsFindTheBetterModeWhereOneFrameLikelihoodsCannot) {
   // GIVEN the closed loop's pinning (docs/PERFORMANCE.md "IMM"): the CV mode as kf-cv q = 100, the
-  // CA mode as kf-ca q = 1000, r = 1 px^2 (4 times the true noise), no forecast weighting; a
-  // circle, where one frame of acceleration (0.03 px) is far below the noise.
-  const Params pinned{{"q_cv", 100.0}, {"q_ca", 1000.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}};
-  auto kf_ca = makePredictor("kf-ca", 1, Params{{"q", 1000.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}});
+  // CA mode as kf-ca q = 1000, r = 1 px^2 (4 times the true noise), no forecast weighting, no blend
+  // with hold; a circle, where one frame of acceleration (0.03 px) is far below the noise.
+  const Params pinned{{"q_cv", 100.0}, {"q_ca", 1000.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};
+  auto kf_ca = makePredictor("kf-ca", 1, Params{{"q", 1000.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}});
   const double ca_rms = circleVelocityForecastRms(*kf_ca);
   // WHEN the forecast combines the modes with their probabilities (forecast_tau_s = 0, before)
   Params by_mu = pinned;

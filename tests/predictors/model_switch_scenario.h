@@ -1,8 +1,10 @@
 // predvs tests — the scenario on which the `model: cv | ca` switch of st-akf, st-akf-pm and
 // fakf-classic is checked (tests/predictors/st_akf_test.cpp, fakf_classic_model_test.cpp):
-// pinned numbers of the default model, and "adaptation off = the plain KF of that model".
+// pinned numbers of the default model, "adaptation off = the plain KF of that model", and the
+// structures a noise fit tries build and run.
 #pragma once
 
+#include "predvs/predictors/kalman_math.h"
 #include "predvs/predictors/predictor.h"
 
 #include <gtest/gtest.h>
@@ -98,6 +100,35 @@ inline void expectBadModelRejected(const std::string& name) {
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
   }
   EXPECT_THROW(makePredictor(name, 1, {{"model", 2.0}}), std::invalid_argument) << name;
+}
+
+/// The structures of `name` with its defaults (structuralVariants()): cv, ca, then each with
+/// `adaptation: off` (adaptation_off_test.cpp). A predictor built from each alone (plus r = 2 px^2)
+/// runs the scenario with that model's state ([p, v] or [p, v, a]), a finite forecast, its own four
+/// structures, and the noise keys q (its default: q_cv px^2/s^3 on cv, q_ca px^2/s^5 on ca, within
+/// that model's density bounds, kalman_math.h) and r.
+inline void expectModelVariantsBuildAndRun(const std::string& name, double q_cv, double q_ca) {
+  const auto variants = makePredictor(name, 1, {})->structuralVariants();
+  ASSERT_EQ(variants.size(), 4u);
+  EXPECT_EQ(variants[0].text("model", ""), "cv");
+  EXPECT_EQ(variants[1].text("model", ""), "ca");
+  for (const Params& v : variants) {
+    const bool cv = v.text("model", "") == "cv";
+    SCOPED_TRACE(cv ? "cv" : "ca");
+    Params p = v;
+    p.set("r", 2.0);
+    auto f = makePredictor(name, 2, p);
+    const double t = runScenario(*f);
+    EXPECT_EQ(f->predict(0, t + 0.1).x.size(), cv ? 2 : 3);
+    EXPECT_TRUE(std::isfinite(f->predictPosition(1, t + 0.1)));
+    const auto noise = f->noiseParameters();
+    ASSERT_EQ(noise.size(), 2u);
+    EXPECT_EQ(noise[0].key, "q");
+    EXPECT_EQ(noise[0].value, cv ? q_cv : q_ca);
+    EXPECT_EQ(noise[0].hi, cv ? accelerationDensityParameter("q", 1.0).hi : jerkDensityParameter("q", 1.0).hi);
+    EXPECT_EQ(noise[1].key, "r");
+    EXPECT_EQ(f->structuralVariants().size(), 4u);
+  }
 }
 
 }  // namespace model_switch

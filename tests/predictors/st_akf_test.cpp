@@ -18,6 +18,12 @@ namespace {
 
 Eigen::VectorXd vec1(double v) { return Eigen::VectorXd::Constant(1, v); }
 
+/// The manoeuvre that makes a filter fade: 2 s at rest (50 frames, 25 Hz, z = 0), then a 100 px jump.
+void jumpAfterRest(Predictor& f) {
+  for (int n = 0; n < 50; ++n) f.update(0.04 * n, vec1(0.0));
+  f.update(50 * 0.04, vec1(100.0));
+}
+
 TEST(StAkf, NoFadingOnAModelMatchedSignalFadingAfterAManoeuvre) {
   // GIVEN a noise-free constant-acceleration signal, exactly the filter's model
   const double T = 0.04;
@@ -44,8 +50,7 @@ TEST(StAkf, MultipleFactorsFollowThePresetRatios) {
   // GIVEN preset ratios a = (1, 2, 4) and a manoeuvre that makes the filter fade
   // (r given: with `r: auto` there is no fading until the estimate is frozen, after 53 frames)
   StAkfPredictor<3> f(1, {{"q", 1.0}, {"r", 1.0}, {"a1", 1.0}, {"a2", 2.0}, {"a3", 4.0}});
-  for (int n = 0; n < 50; ++n) f.update(0.04 * n, vec1(0.0));
-  f.update(50 * 0.04, vec1(100.0));
+  jumpAfterRest(f);
   // THEN lambda_i = a_i c once a_1 c > 1
   const Vec<3> l = f.fadingFactors(0);
   ASSERT_GT(l(0), 1.0);
@@ -171,7 +176,7 @@ TEST(StAkfModel, DefaultModelGivesTheNumbersOfBeforeTheModelKey) {
   for (const auto& e : expected) {
     for (bool spelt : {false, true}) {
       SCOPED_TRACE(std::string(e.name) + (spelt ? " model: ca" : " default"));
-      Params params{{"shrink_sigmas", 0.0}};  // pinned before the weighted forecast (channel_predictor.h)
+      Params params{{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};  // pinned before the weighted, blended forecast
       if (spelt) params.setText("model", "ca");
       auto f = makePredictor(e.name, 2, params);
       // WHEN they filter the scenario THEN the 2-frame predictions and the alarms are the pinned ones
@@ -207,8 +212,7 @@ TEST(StAkfModel, WithoutFadingEachModelIsThePlainKalmanFilterOfThatModel) {
 TEST(StAkfModel, CvFadingFollowsThePresetRatiosOnTwoFactors) {
   // GIVEN the CV filter with ratios a = (1, 3) (a3 accepted and unused on cv) and a manoeuvre
   StAkfPredictor<2> f(1, {{"q", 1.0}, {"r", 1.0}, {"a1", 1.0}, {"a2", 3.0}, {"a3", 4.0}});
-  for (int n = 0; n < 50; ++n) f.update(0.04 * n, vec1(0.0));
-  f.update(50 * 0.04, vec1(100.0));
+  jumpAfterRest(f);
   // THEN lambda_p = c > 1 and lambda_v = 3 c, and P stays symmetric
   const Vec<2> l = f.fadingFactors(0);
   ASSERT_GT(l(0), 1.0);
@@ -220,29 +224,9 @@ TEST(StAkfModel, CvFadingFollowsThePresetRatiosOnTwoFactors) {
 TEST(StAkfModel, StructuralVariantsAreCvAndCaAndEachBuildsAndRuns) {
   for (const char* name : {"st-akf", "st-akf-pm"}) {
     SCOPED_TRACE(name);
-    // GIVEN the variants of the default predictor
-    const auto variants = makePredictor(name, 1, {})->structuralVariants();
-    ASSERT_EQ(variants.size(), 4u);  // cv, ca, then each with adaptation: off (adaptation_off_test.cpp)
-    EXPECT_EQ(variants[0].text("model", ""), "cv");
-    EXPECT_EQ(variants[1].text("model", ""), "ca");
-    for (const Params& v : variants) {
-      // WHEN a predictor is built from the variant alone (plus r) and runs
-      Params p = v;
-      p.set("r", 2.0);
-      auto f = makePredictor(name, 2, p);
-      const bool cv = v.text("model", "") == "cv";
-      const double t = runScenario(*f);
-      // THEN it has that model's state and noise keys, its default q, and a finite forecast
-      EXPECT_EQ(f->predict(0, t + 0.1).x.size(), cv ? 2 : 3);
-      EXPECT_TRUE(std::isfinite(f->predictPosition(1, t + 0.1)));
-      const auto noise = f->noiseParameters();
-      ASSERT_EQ(noise.size(), 2u);
-      EXPECT_EQ(noise[0].key, "q");
-      EXPECT_EQ(noise[0].value, cv ? kDefaultQStAkfCv : kDefaultQStAkf);
-      EXPECT_EQ(noise[0].hi, cv ? accelerationDensityParameter("q", 1.0).hi : jerkDensityParameter("q", 1.0).hi);
-      EXPECT_EQ(noise[1].key, "r");
-      EXPECT_EQ(f->structuralVariants().size(), 4u);
-    }
+    // GIVEN the variants of the default predictor WHEN a predictor is built from each alone (plus
+    // r) and runs THEN it has that model's state and noise keys, its default q, and a finite forecast
+    expectModelVariantsBuildAndRun(name, kDefaultQStAkfCv, kDefaultQStAkf);
   }
 }
 

@@ -5,6 +5,8 @@
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/maneuver_tracks.h"
 
+#include "servo/maneuver_track_cell.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -35,13 +37,7 @@ TEST(ImmOnTracks, WithinTenPercentOfTheBetterSingleModelAndNeverBelowHold) {
   for (ManeuverKind kind : maneuverKinds())
     for (double rate : {10.0, 60.0})
       for (double noise : {0.5, 3.0}) {
-        ManeuverTrackConfig c;
-        c.kind = kind;
-        c.rate_hz = rate;
-        c.noise_px = noise;
-        c.duration_s = 20.0;
-        c.seed = 7;
-        const ManeuverTrack t = generateManeuverTrack(c);
+        const ManeuverTrack t = maneuverTrackCell(kind, rate, noise, 20.0, 7);
         const double horizon = 2.0 / rate;
         // kf-cv and kf-ca with their defaults, as imm runs them as its modes (the CA mode's
         // forecast weighted as kf-ca's, channel_predictor.h).

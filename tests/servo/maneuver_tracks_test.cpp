@@ -5,6 +5,8 @@
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/maneuver_tracks.h"
 
+#include "servo/maneuver_track_cell.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -107,13 +109,7 @@ std::map<std::string, std::map<std::string, double>> lossesToHold(const std::vec
   for (ManeuverKind kind : maneuverKinds())
     for (double rate : rates)
       for (double noise : noises) {
-        ManeuverTrackConfig c;
-        c.kind = kind;
-        c.rate_hz = rate;
-        c.noise_px = noise;
-        c.duration_s = duration_s;
-        c.seed = seed;
-        const ManeuverTrack t = generateManeuverTrack(c);
+        const ManeuverTrack t = maneuverTrackCell(kind, rate, noise, duration_s, seed);
         const double horizon = 2.0 / rate;
         auto hold = makePredictor("hold", 2);
         const double hold_rmse = scoreOnTrack(t, *hold, horizon).rmse_truth_px;
@@ -197,13 +193,7 @@ TEST(DefaultsThatHold, WideGridLossesOf58fa0beAreWins) {
       {ManeuverKind::Hand, 10, 3, 405},    {ManeuverKind::Hand, 30, 3, 416},    {ManeuverKind::Hand, 10, 3, 424},
   };
   for (const Track& tr : tracks) {
-    ManeuverTrackConfig c;
-    c.kind = tr.kind;
-    c.rate_hz = tr.rate_hz;
-    c.noise_px = tr.noise_px;
-    c.duration_s = 15.0;
-    c.seed = tr.seed;
-    const ManeuverTrack t = generateManeuverTrack(c);
+    const ManeuverTrack t = maneuverTrackCell(tr.kind, tr.rate_hz, tr.noise_px, 15.0, tr.seed);
     const double horizon = 2.0 / tr.rate_hz;
     auto hold = makePredictor("hold", 2);
     const double hold_rmse = scoreOnTrack(t, *hold, horizon).rmse_truth_px;

@@ -22,10 +22,10 @@ namespace {
 /// 24 px against hold's 36 px instead of under half of it, and kf-cv's velocity on a static target
 /// is noisier: 16 px/s instead of under 5.)
 Params preIssue11(const std::string& name) {
-  if (name == "kf-cv" || name == "fakf-classic") return {{"q", 100.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}};
-  if (name == "kf-ca") return {{"q", 1000.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}};
+  if (name == "kf-cv" || name == "fakf-classic") return {{"q", 100.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};
+  if (name == "kf-ca") return {{"q", 1000.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};
   if (name == "cs-akf-adaptive" || name == "fakf")
-    return {{"sigma_min_sq", 10.0}, {"sigma_max_sq", 1000.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}};
+    return {{"sigma_min_sq", 10.0}, {"sigma_max_sq", 1000.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};
   return {};
 }
 

@@ -43,8 +43,9 @@
 // state. Only the forecast is blended: the filter (step(), gaussian()) is unchanged. Frames after a
 // gap are not learnt from (their forecast spans the gap, not one frame). Units: px, s; the weight
 // is dimensionless, so the rule holds at any frame rate and noise level. tau = 0 switches the blend
-// off; its default is kDefaultHoldBlendTauS, and 0 when the parameters give `shrink_sigmas: 0`
-// explicitly (the papers' plain filters, whose scenarios pin it) unless `hold_blend_tau_s` is given.
+// off; its default is kDefaultHoldBlendTauS whatever the other keys say (`shrink_sigmas: 0` turns
+// the weighting off, not the blend: the papers' plain filters give both, `shrink_sigmas: 0,
+// hold_blend_tau_s: 0`, as their scenarios and data/params do).
 #pragma once
 
 #include "predvs/predictors/kalman_math.h"
@@ -79,12 +80,10 @@ inline constexpr double kDefaultHoldBlendTauS = 6.0;
 inline constexpr int kDefaultHoldBlendFrames = 1;
 inline constexpr int kMaxBlendFrames = 8;
 
-/// The `hold_blend_tau_s` parameter (s, >= 0; file comment): default kDefaultHoldBlendTauS, or 0
-/// when `shrink_sigmas: 0` is given explicitly (the papers' plain filters). Read by every
-/// per-channel filter (readShrinkParams) and by imm.
+/// The `hold_blend_tau_s` parameter (s, >= 0, default kDefaultHoldBlendTauS; 0 = off; file
+/// comment). Read by every per-channel filter (readShrinkParams) and by imm.
 inline double holdBlendTauParam(const Params& params) {
-  const bool plain_pinned = params.has("shrink_sigmas") && !(params.get("shrink_sigmas", 0.0) > 0.0);
-  return params.get("hold_blend_tau_s", plain_pinned ? 0.0 : kDefaultHoldBlendTauS, 0.0, 1e6);
+  return params.get("hold_blend_tau_s", kDefaultHoldBlendTauS, 0.0, 1e6);
 }
 
 /// The blend with hold on one channel (file comment): hold's forecast, the forgetting sums of the
@@ -267,7 +266,7 @@ class ChannelPredictor : public Predictor {
   /// key) and `shrink_v_sigmas` (n of the velocity weight w_v, default: shrink_sigmas when
   /// weigh_velocity, else 0); see the file comment. Called by the derived constructors whose
   /// forecast is weighted; without the call the forecast is unweighted. Also reads `hold_blend_tau_s`
-  /// (s, >= 0; default kDefaultHoldBlendTauS, or 0 when `shrink_sigmas: 0` is given; file comment).
+  /// (s, >= 0, default kDefaultHoldBlendTauS, 0 = off; file comment).
   void readShrinkParams(const Params& params, double default_sigmas, bool weigh_velocity) {
     shrink_a_sigmas_ = params.get("shrink_sigmas", default_sigmas, 0.0, 1e3);
     shrink_v_sigmas_ = params.get("shrink_v_sigmas", weigh_velocity ? shrink_a_sigmas_ : 0.0, 0.0, 1e3);

@@ -131,7 +131,8 @@ inline constexpr double kDefaultShrinkSigmasAdaptive = 2.0;
 ///           acceleration the weighting removed, and a slow constant acceleration is followed like a
 ///           CV filter (fakf on E2, floor 10: final error 20 px instead of 1 px); use 0 there. The
 ///           papers' scenarios (data/scenarios, data/params) pin shrink_sigmas: 0, which also turns
-///           the other two off unless they are given.
+///           the other two off unless they are given, and hold_blend_tau_s: 0 (no blend with hold,
+///           channel_predictor.h; shrink_sigmas does not turn the blend off).
 class CsKalmanPredictor : public ChannelPredictor<3> {
  public:
   /// Acceleration correlation rate (1/s).
@@ -260,7 +261,7 @@ class CsAkfAdaptivePredictor : public CsKalmanPredictor {
     return {alphaParameter(), sigmaMinSqParameter(), {"sigma_max_sq", 1e-1, 1e10, sigma_max_sq_},
             measurementNoiseParameter()};
   }
-  /// {mean: current} (the CS model), the same unweighted (shrink_sigmas 0) and {mean: zero}
+  /// {mean: current} (the CS model), the same unweighted (shrink_sigmas 0, still blended with hold) and {mean: zero}
   /// (Singer's; see CsKalmanPredictor), each also with `adaptation: off` (kalman_math.h: sigma^2
   /// fixed at sigma_min_sq; for fakf also no fuzzy R or P): a fit keeps whichever predicts the
   /// track better (fakf inherits them).

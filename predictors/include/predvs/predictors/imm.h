@@ -77,7 +77,7 @@
 // single models; forecast_tau_s (s, default 30; 0 = forecast with mu), forecast_floor
 // (relative weight, default 0.01, in [1e-12, 0.5]); shrink_sigmas and shrink_v_sigmas (the CA
 // mode's forecast weighting, kf-ca's keys and defaults: 2 and 2; 0 = unweighted). hold_blend_tau_s (s,
-// default kDefaultHoldBlendTauS; 0 = off; off by default when `shrink_sigmas: 0` is given): the
+// default kDefaultHoldBlendTauS; 0 = off): the
 // combined forecast blended with hold by the least-squares weight of its one-frame forecasts, as
 // every per-channel filter's (channel_predictor.h). The initial
 // mode probabilities and forecast weights are equal. q_cp and the tau were chosen

@@ -79,7 +79,7 @@ namespace predvs {
 /// reinit_threshold_vel ((px/s)^2, +inf), reinit_threshold_acc ((px/s^2)^2, +inf).
 /// Both models: shrink_sigmas (significance weight of the forecast acceleration, default 0 on cv,
 /// 3 on ca; 0 = the unweighted filter), shrink_v_sigmas (velocity, default shrink_sigmas):
-/// channel_predictor.h. The paper-001 scenarios pin shrink_sigmas 0.
+/// channel_predictor.h. The paper-001 scenarios pin shrink_sigmas 0 (and hold_blend_tau_s 0).
 /// The ca defaults were chosen with `predvs track-study --predictors hold,stkf --param
 /// stkf.model=ca` (docs/PERFORMANCE.md "stkf on either motion model"): on the 216 generated
 /// tracks the self-tuned R costs at every window (k = 0, i.e. kf-ca: 214 beat hold, mean ratio
