@@ -100,8 +100,9 @@ inline constexpr int kMaxBlendFrames = 8;
 /// 46 on seeds 501-530 (5 % drops) and 8 / 9 of 29 on seeds 601-630 (8 %); 0.35 costs up to +0.007
 /// on a grid's mean ratio, 0.5 at most +0.004.
 inline constexpr double kDefaultCoastStopFraction = 0.5;
-/// The filter velocity's fall is measured over the measured frames of the last 0.2 s (the
-/// coasting time): at 10 Hz two frames, at 60 Hz the ring's eight.
+/// The filter velocity's fall is measured from the oldest remembered frame of the last 0.2 s (the
+/// coasting time) to the last: 0.2 s back at 10-30 Hz, 7 frames (0.12 s) at 60 Hz, where the ring of
+/// CoastStop::kFrames ends first.
 inline constexpr double kCoastStopWindowS = 0.2;
 /// ... and counts when larger than 1 standard deviation of the velocity (sqrt P_vv).
 inline constexpr double kCoastStopVelocitySigmas = 1.0;
