@@ -108,6 +108,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       shrink_a_sigmas_(params.get("shrink_sigmas", kDefaultShrinkSigmasKfCa, 0.0, 1e3)),
       shrink_v_sigmas_(params.get("shrink_v_sigmas", kDefaultShrinkVelocityKfCa ? shrink_a_sigmas_ : 0.0, 0.0, 1e3)),
       blend_tau_s_(holdBlendTauParam(params)),  // as every per-channel filter (channel_predictor.h)
+      coast_stop_fraction_(coastStopFractionParam(params)),
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
   const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
@@ -317,6 +318,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
       ch.initialized = true;
       ch.blend.z_hold = z(c);
+      ch.blend.recent.remember(t_s, z(c), 0.0);
       ch.last_measured = true;
       continue;
     }
@@ -330,6 +332,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
       ch.blend.learn(f - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep);
     }
+    const bool started_gap = ch.last_measured && !isMeasured(z(c));
     ch.last_measured = isMeasured(z(c));
     if (ch.last_measured) ch.blend.z_hold = z(c);
     // Mixing: c_j = sum_i p_ij mu_i, mu_i|j = p_ij mu_i / c_j, moments of the mixture.
@@ -345,9 +348,16 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
       mixInto(ch.g, w, j, mixed[jj]);
     }
-    // Coasting on an unmeasured frame (channel_predictor.h): velocity and acceleration decay.
-    if (coast_tau_s_ > 0.0 && !isMeasured(z(c)))
-      for (int j = 0; j < m; ++j) coast(mixed[static_cast<size_t>(j)].x, dt, coast_tau_s_);
+    // Coasting on an unmeasured frame (channel_predictor.h): velocity and acceleration decay; with
+    // the blend, a gap that begins after a stop coasts shorter (on the combined velocity's P_vv).
+    if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
+      double tau = coast_tau_s_;
+      if (blend_tau_s_ > 0.0) {
+        if (started_gap) ch.blend.startGap(coast_tau_s_, coast_stop_fraction_, combinedVelocityVariance(ch), R);
+        tau = ch.blend.gap_tau_s;
+      }
+      for (int j = 0; j < m; ++j) coast(mixed[static_cast<size_t>(j)].x, dt, tau);
+    }
     // Mode-matched filters (each zeroes the states its model does not have).
     for (int j = 0; j < m; ++j) {
       const auto jj = static_cast<size_t>(j);
@@ -427,7 +437,25 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
     }
     ch.g = mixed;
+    if (blend_tau_s_ > 0.0 && isMeasured(z(c))) ch.blend.recent.remember(t_s, z(c), combinedVelocity(ch));
   }
+}
+
+double ImmPredictor::combinedVelocity(const Channel& ch) const {
+  double v = 0.0;
+  for (int j = 0; j < modeCount(); ++j) v += ch.mu[static_cast<size_t>(j)] * ch.g[static_cast<size_t>(j)].x(1);
+  return v;
+}
+
+double ImmPredictor::combinedVelocityVariance(const Channel& ch) const {
+  const double v = combinedVelocity(ch);
+  double var = 0.0;
+  for (int j = 0; j < modeCount(); ++j) {
+    const auto jj = static_cast<size_t>(j);
+    const double d = ch.g[jj].x(1) - v;
+    var += ch.mu[jj] * (ch.g[jj].P(1, 1) + d * d);
+  }
+  return var;
 }
 
 

@@ -207,5 +207,41 @@ TEST(DefaultsThatHold, WideGridLossesOf58fa0beAreWins) {
   }
 }
 
+/// Tracks of the 5 %- and 8 %-drop wide grids (`predvs track-study --seed 501 --seeds 30
+/// --duration-s 10 --drop 0.05` and `--seed 601 --seeds 30 --duration-s 12 --drop 0.08`,
+/// docs/PERFORMANCE.md "A stop before the gap") on which some predictor lost to hold at e96250c: a
+/// burst's hard stop just before an occlusion, coasted on the lagging velocity. With the shorter
+/// coasting of a gap after a stop (channel_predictor.h, `coast_stop_fraction`) every predictor beats
+/// hold on each (at e96250c: 2 + 1 + 3 + 1 + 3 losses, up to x1.10).
+TEST(DefaultsThatHold, StopBeforeGapLossesOfE96250cAreWins) {
+  struct Track {
+    double rate_hz, noise_px, duration_s, drop;
+    std::uint64_t seed;
+  };
+  const std::vector<Track> tracks = {
+      {60, 0.5, 10, 0.05, 525}, {60, 1.5, 10, 0.05, 510}, {60, 0.5, 12, 0.08, 614},
+      {60, 0.5, 12, 0.08, 623}, {60, 1.5, 12, 0.08, 623},
+  };
+  for (const Track& tr : tracks) {
+    ManeuverTrackConfig c;
+    c.kind = ManeuverKind::Bursts;
+    c.rate_hz = tr.rate_hz;
+    c.noise_px = tr.noise_px;
+    c.duration_s = tr.duration_s;
+    c.drop_prob = tr.drop;
+    c.seed = tr.seed;
+    const ManeuverTrack t = generateManeuverTrack(c);
+    const double horizon = 2.0 / tr.rate_hz;
+    auto hold = makePredictor("hold", 2);
+    const double hold_rmse = scoreOnTrack(t, *hold, horizon).rmse_truth_px;
+    for (const auto& info : predictorRegistry()) {
+      if (info.name == "hold") continue;
+      auto p = makePredictor(info.name, 2);
+      const double ratio = scoreOnTrack(t, *p, horizon).rmse_truth_px / hold_rmse;
+      EXPECT_LT(ratio, 1.0) << info.name << " on bursts " << tr.rate_hz << " Hz " << tr.noise_px << " px #" << tr.seed;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace predvs

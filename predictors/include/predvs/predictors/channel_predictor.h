@@ -15,6 +15,18 @@
 // before). Every predictor with a motion state reads the key `coast_tau_s` (s, default
 // kDefaultCoastTauS) through readCoastParam(); `hold` has no velocity to decay.
 //
+// A stop before the gap (issue 11 item 3, docs/MODELS.md §15): when the blend with hold (below) is on,
+// a gap that begins while the target is decelerating coasts with a shorter time constant,
+//   tau_gap = min(tau, c t_stop),   c = coast_stop_fraction (default kDefaultCoastStopFraction),
+// t_stop the time the target would take to come to rest at the deceleration seen when the
+// measurements ended (CoastStop::stopTime(): the filter's own velocity fall over the last
+// kCoastStopWindowS, when larger than kCoastStopVelocitySigmas sqrt(P_vv); or the deceleration of a
+// quadratic fitted to the last kCoastStopFitFrames measurements, when larger than kCoastStopFitSigmas
+// of its standard error; the shorter). A filter's velocity lags a hard stop by a few frames, and a
+// gap that begins there otherwise coasts on v tau (50 px at 250 px/s) while the target stands still.
+// tau_gap is chosen on the gap's first frame and holds to its end; no significant deceleration, or
+// c = 0, leaves tau. Off with the blend (hold_blend_tau_s = 0, the papers' scenarios).
+//
 // Significance-weighted forecast (issue 11 item 3, docs/MODELS.md §15): a derived filter that calls
 // readShrinkParams() extrapolates the prediction horizon from
 //   [p, w_v v(, w_v w_a a)],   w_a = w(a, P_aa; shrink_sigmas),  w_v = w(v, P_vv; shrink_v_sigmas),
@@ -40,7 +52,8 @@
 // up), so w = 1 and the model forecast is handed out unchanged; where the model's steps are mostly
 // noise (a slow target under 3 px noise at 10 Hz) w falls towards 0 and the forecast towards hold.
 // The velocity (and acceleration) of predict() are scaled by w too, so the blended estimate is one
-// state. Only the forecast is blended: the filter (step(), gaussian()) is unchanged. Frames after a
+// state. Only the forecast is blended: the filter (step(), gaussian()) is unchanged (but for the
+// coasting time of a gap after a stop, above, which comes with the blend). Frames after a
 // gap are not learnt from (their forecast spans the gap, not one frame). Units: px, s; the weight
 // is dimensionless, so the rule holds at any frame rate and noise level. tau = 0 switches the blend
 // off; its default is kDefaultHoldBlendTauS whatever the other keys say (`shrink_sigmas: 0` turns
@@ -52,6 +65,8 @@
 #include "predvs/predictors/noise_estimate.h"
 #include "predvs/predictors/predictor.h"
 #include "predvs/predictors/process_noise_adapt.h"
+
+#include <Eigen/Cholesky>
 
 #include <algorithm>
 #include <array>
@@ -80,6 +95,75 @@ inline constexpr double kDefaultHoldBlendTauS = 6.0;
 inline constexpr int kDefaultHoldBlendFrames = 1;
 inline constexpr int kMaxBlendFrames = 8;
 
+/// Default `coast_stop_fraction` c (dimensionless, file comment): a gap that begins while the target
+/// decelerates coasts with min(coast_tau_s, c t_stop). Measured with `predvs track-study` on the wide
+/// grids (docs/PERFORMANCE.md "A stop before the gap"): 0.35 / 0.5 leave 34 / 39 losses to hold of the
+/// 46 on seeds 501-530 (5 % drops) and 8 / 9 of 29 on seeds 601-630 (8 %); 0.35 costs up to +0.007
+/// on a grid's mean ratio, 0.5 at most +0.004.
+inline constexpr double kDefaultCoastStopFraction = 0.5;
+/// The filter velocity's fall is measured from the oldest remembered frame of the last 0.2 s (the
+/// coasting time) to the last: 0.2 s back at 10-30 Hz, 7 frames (0.12 s) at 60 Hz, where the ring of
+/// CoastStop::kFrames ends first.
+inline constexpr double kCoastStopWindowS = 0.2;
+/// ... and counts when larger than 1 standard deviation of the velocity (sqrt P_vv).
+inline constexpr double kCoastStopVelocitySigmas = 1.0;
+/// The quadratic fit: the last 6 measured frames (the fewest that give its deceleration three
+/// degrees of freedom), counted when larger than 2 standard errors (sqrt(R (A'A)^-1_aa)).
+inline constexpr int kCoastStopFitFrames = 6;
+inline constexpr double kCoastStopFitSigmas = 2.0;
+
+/// The last measured frames of one channel (time s, measurement px, the filter's velocity px/s after
+/// the update) and the stop time they give when a gap begins (file comment, "A stop before the gap").
+struct CoastStop {
+  static constexpr int kFrames = 8;
+  std::array<double, kFrames> t{}, z{}, v{};
+  int n = 0, head = 0;
+  void remember(double t_s, double z_px, double v_px_s) {
+    head = (head + 1) % kFrames;
+    t[static_cast<size_t>(head)] = t_s;
+    z[static_cast<size_t>(head)] = z_px;
+    v[static_cast<size_t>(head)] = v_px_s;
+    n = std::min(n + 1, kFrames);
+  }
+  /// The time (s) the target takes to come to rest at its current deceleration, +inf when it is not
+  /// significantly decelerating; var_v = P_vv of the last velocity (px^2/s^2), r = R (px^2).
+  double stopTime(double var_v, double r) const {
+    double t_stop = std::numeric_limits<double>::infinity();
+    if (n < 2) return t_stop;
+    const double t_last = t[static_cast<size_t>(head)], v_last = v[static_cast<size_t>(head)];
+    // The filter's velocity fall over the last kCoastStopWindowS.
+    int oldest = -1;
+    for (int i = 1; i < n; ++i) {
+      const int j = (head - i + kFrames) % kFrames;
+      if (t[static_cast<size_t>(j)] < t_last - kCoastStopWindowS - 1e-9) break;
+      oldest = j;
+    }
+    if (oldest >= 0) {
+      const double dv = v_last - v[static_cast<size_t>(oldest)];
+      if (dv * v_last < 0.0 && dv * dv >= kCoastStopVelocitySigmas * kCoastStopVelocitySigmas * var_v)
+        t_stop = std::abs(v_last) * (t_last - t[static_cast<size_t>(oldest)]) / std::abs(dv);
+    }
+    // The quadratic p + v u + a u^2 / 2 (u = t - t_last) through the last kCoastStopFitFrames.
+    if (n >= kCoastStopFitFrames && r > 0.0) {
+      Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d b = Eigen::Vector3d::Zero();
+      for (int i = 0; i < kCoastStopFitFrames; ++i) {
+        const auto j = static_cast<size_t>((head - i + kFrames) % kFrames);
+        const double u = t[j] - t_last;
+        const Eigen::Vector3d phi(1.0, u, 0.5 * u * u);
+        A.noalias() += phi * phi.transpose();
+        b += phi * z[j];
+      }
+      const Eigen::LDLT<Eigen::Matrix3d> ldlt(A);
+      const Eigen::Vector3d c = ldlt.solve(b);
+      const double var_a = r * ldlt.solve(Eigen::Vector3d::UnitZ())(2);
+      if (c(1) * c(2) < 0.0 && c(2) * c(2) >= kCoastStopFitSigmas * kCoastStopFitSigmas * var_a)
+        t_stop = std::min(t_stop, std::abs(c(1) / c(2)));
+    }
+    return t_stop;
+  }
+};
+
 /// The `hold_blend_tau_s` parameter (s, >= 0, default kDefaultHoldBlendTauS; 0 = off; file
 /// comment). Read by every per-channel filter (readShrinkParams) and by imm.
 inline double holdBlendTauParam(const Params& params) {
@@ -93,6 +177,13 @@ struct HoldBlend {
   double s_dd = 0.0;    ///< forgetting sums of the regression, px^2
   double s_dy = 0.0;
   double w = 1.0;       ///< weight of the model forecast against hold, [0, 1]
+  CoastStop recent;     ///< the last measured frames, for the coasting time of a gap
+  double gap_tau_s = 0.0;  ///< coasting time of the current gap (s; file comment)
+  /// Chooses gap_tau_s on a gap's first frame: min(tau_s, fraction t_stop) (file comment).
+  void startGap(double tau_s, double fraction, double var_v, double r) {
+    gap_tau_s = fraction > 0.0 ? std::min(tau_s, fraction * recent.stopTime(var_v, r)) : tau_s;
+    gap_tau_s = std::max(gap_tau_s, 1e-6);  // coast() divides by it
+  }
   /// One sample: the model's forecast step d = f - z_hold against the measured step y = z - z_hold
   /// (both from the hold of the frame the forecast was made at), lambda = exp(-dt / tau).
   void learn(double d, double y, double lambda) {
@@ -106,6 +197,10 @@ struct HoldBlend {
 
 /// The `coast_tau_s` parameter (s, >= 0, default kDefaultCoastTauS; 0 = no coasting).
 inline double coastTauParam(const Params& params) { return params.get("coast_tau_s", kDefaultCoastTauS, 0.0, 1e6); }
+/// The `coast_stop_fraction` parameter (>= 0, default kDefaultCoastStopFraction; 0 = off; file comment).
+inline double coastStopFractionParam(const Params& params) {
+  return params.get("coast_stop_fraction", kDefaultCoastStopFraction, 0.0, 1e3);
+}
 
 /// The coasting decay of an unmeasured frame (above) on a state [p, v(, a)]:
 /// v <- v e, a <- a e^2, e = exp(-dt / tau_s); tau_s > 0.
@@ -144,11 +239,19 @@ class ChannelPredictor : public Predictor {
           initialize(c, z(c));
           s.initialized = true;
           s.blend.z_hold = z(c);
+          s.blend.recent.remember(t_s, z(c), s.g.x(1));
           if (blend_tau_s_ > 0.0) rememberForecastStart(c, t_s);
         }
         continue;
       }
-      if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) coast(s.g.x, dt, coast_tau_s_);
+      if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
+        if (blend_tau_s_ > 0.0) {  // the blend's coasting: a gap after a stop coasts shorter (file comment)
+          if (s.run > 0) s.blend.startGap(coast_tau_s_, coast_stop_fraction_, s.g.P(1, 1), measurementNoise(c));
+          coast(s.g.x, dt, s.blend.gap_tau_s);
+        } else {
+          coast(s.g.x, dt, coast_tau_s_);
+        }
+      }
       step(c, dt, z(c));
       if (blend_tau_s_ > 0.0) learnBlend(c, t_s, z(c), blend_keep);
       if (!q_auto_.empty() && s.innovation.valid) q_auto_[static_cast<size_t>(c)].observe(s.innovation.eps, s.innovation.S, dt);
@@ -239,6 +342,7 @@ class ChannelPredictor : public Predictor {
       s.blend.learn(f - s.z_start[j], z - s.z_start[j], lambda);
     }
     s.blend.z_hold = z;
+    s.blend.recent.remember(t_s, z, s.g.x(1));
     rememberForecastStart(c, t_s);
   }
 
@@ -257,9 +361,13 @@ class ChannelPredictor : public Predictor {
   /// when its `r` parameter is absent or `auto`. The estimate's prior is
   /// r0_.
   void enableAutoNoise() { r_est_.assign(state_.size(), StartupNoiseEstimator(r0_)); }
-  /// Reads `coast_tau_s` (s, >= 0, default kDefaultCoastTauS); called by every derived constructor
-  /// whose state has a velocity.
-  void readCoastParam(const Params& params) { coast_tau_s_ = coastTauParam(params); }
+  /// Reads `coast_tau_s` (s, >= 0, default kDefaultCoastTauS) and `coast_stop_fraction` (>= 0,
+  /// default kDefaultCoastStopFraction; used with the blend only); called by every derived
+  /// constructor whose state has a velocity.
+  void readCoastParam(const Params& params) {
+    coast_tau_s_ = coastTauParam(params);
+    coast_stop_fraction_ = coastStopFractionParam(params);
+  }
   double coastTauS() const { return coast_tau_s_; }
   /// Reads `shrink_sigmas` (n of the acceleration weight w_a, dimensionless >= 0, default
   /// default_sigmas; with N = 2 there is no acceleration and it only sets the default of the next
@@ -332,6 +440,7 @@ class ChannelPredictor : public Predictor {
   double p0_vel_;
   double p0_acc_;
   double coast_tau_s_ = 0.0;  ///< 0 until readCoastParam(): hold never coasts
+  double coast_stop_fraction_ = 0.0;  ///< coast_stop_fraction (with the blend only)
   double shrink_a_sigmas_ = 0.0;  ///< 0 until readShrinkParams(): unweighted forecast
   double shrink_v_sigmas_ = 0.0;
   double blend_tau_s_ = 0.0;

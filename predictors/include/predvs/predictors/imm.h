@@ -79,7 +79,9 @@
 // mode's forecast weighting, kf-ca's keys and defaults: 2 and 2; 0 = unweighted). hold_blend_tau_s (s,
 // default kDefaultHoldBlendTauS; 0 = off): the
 // combined forecast blended with hold by the least-squares weight of its one-frame forecasts, as
-// every per-channel filter's (channel_predictor.h). The initial
+// every per-channel filter's (channel_predictor.h); with it, coast_stop_fraction (default 0.5; 0 = off):
+// a gap that begins while the mu-combined velocity falls coasts with a shorter time constant
+// (channel_predictor.h, "A stop before the gap"). The initial
 // mode probabilities and forecast weights are equal. q_cp and the tau were chosen
 // on the generated tracks (servo/maneuver_tracks.h) and the paper scenarios E1-E4, E7 together
 // (docs/PERFORMANCE.md "IMM against its single models"); they are not sharp optima (one at a
@@ -172,6 +174,10 @@ class ImmPredictor : public Predictor {
   double fc_floor_;     ///< log of forecast_floor: the lowest log forecast weight relative to the best
   double shrink_a_sigmas_, shrink_v_sigmas_;  ///< the CA mode's forecast weighting (kf-ca's); 0 = off
   double blend_tau_s_;  ///< s; the forecast's blend with hold (hold_blend_tau_s, channel_predictor.h); 0 = off
+  double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
+  /// The mu-combined velocity of channel ch's posterior (px/s) and its variance (spread included).
+  double combinedVelocity(const Channel& ch) const;
+  double combinedVelocityVariance(const Channel& ch) const;
   /// Mode j's posterior on channel ch as its forecast starts from: the CA mode's v and a weighted
   /// as kf-ca weighs them (channel_predictor.h), the other modes' unchanged.
   Gaussian<3> forecastStart(const Channel& ch, int j) const;
