@@ -105,6 +105,14 @@ struct HoldBlend {
   double position(double f) const { return z_hold + w * (f - z_hold); }
 };
 
+/// An array of N copies of v (a member initialiser).
+template <int N>
+constexpr std::array<double, N> filledArray(double v) {
+  std::array<double, N> a{};
+  for (auto& x : a) x = v;
+  return a;
+}
+
 /// The `coast_tau_s` parameter (s, >= 0, default kDefaultCoastTauS; 0 = no coasting).
 inline double coastTauParam(const Params& params) { return params.get("coast_tau_s", kDefaultCoastTauS, 0.0, 1e6); }
 
@@ -135,7 +143,7 @@ class ChannelPredictor : public Predictor {
       throw std::invalid_argument(name() + ": measurement has " + std::to_string(z.size()) +
                                   " entries, expected " + std::to_string(channels()));
     const double dt = advanceClock(t_s);
-    const double blend_keep = blend_tau_s_ > 0.0 ? blendForgetting(dt) : 0.0;  // one exp per frame period
+    const double blend_keep = blend_tau_s_ > 0.0 ? blendForgetting(dt) : 0.0;  // kept per frame period
     for (int c = 0; c < channels(); ++c) {
       ChannelState& s = state_[c];
       s.innovation = Innovation{};
@@ -216,13 +224,18 @@ class ChannelPredictor : public Predictor {
     s.z_start[static_cast<size_t>(s.head)] = s.blend.z_hold;
     s.run = std::min(s.run + 1, kMaxBlendFrames + 1);
   }
-  /// exp(-dt / hold_blend_tau_s), kept for the last dt asked (a track's frame period repeats).
+  /// exp(-dt / hold_blend_tau_s), kept for the last kBlendKeepCache distinct dt asked, replaced in
+  /// turn: a recorded track's frame period takes a handful of values that vary in their last bits
+  /// (a new dt on 9 frames in 10 of the 2-million-row track of docs/PERFORMANCE.md, 54 in all, a
+  /// few at a time), so one entry missed nearly every frame. The same bits as std::exp.
   double blendForgetting(double dt) {
-    if (dt != blend_keep_dt_) {
-      blend_keep_dt_ = dt;
-      blend_keep_ = std::exp(-dt / blend_tau_s_);
-    }
-    return blend_keep_;
+    for (int k = 0; k < kBlendKeepCache; ++k)
+      if (blend_keep_dt_[static_cast<size_t>(k)] == dt) return blend_keep_[static_cast<size_t>(k)];
+    const auto slot = static_cast<size_t>(blend_keep_next_);
+    blend_keep_next_ = (blend_keep_next_ + 1) % kBlendKeepCache;
+    blend_keep_dt_[slot] = dt;
+    blend_keep_[slot] = std::exp(-dt / blend_tau_s_);
+    return blend_keep_[slot];
   }
   /// One regression sample of the blend (file comment) on channel c after the update at t_s;
   /// lambda = blendForgetting(dt) of the update's dt.
@@ -336,8 +349,10 @@ class ChannelPredictor : public Predictor {
   double shrink_a_sigmas_ = 0.0;  ///< 0 until readShrinkParams(): unweighted forecast
   double shrink_v_sigmas_ = 0.0;
   double blend_tau_s_ = 0.0;
-  double blend_keep_dt_ = std::numeric_limits<double>::quiet_NaN();  ///< blendForgetting's cache
-  double blend_keep_ = 0.0;
+  static constexpr int kBlendKeepCache = 8;  ///< blendForgetting's cache: dt (NaN = empty) and exp
+  std::array<double, kBlendKeepCache> blend_keep_dt_ = filledArray<kBlendKeepCache>(std::numeric_limits<double>::quiet_NaN());
+  std::array<double, kBlendKeepCache> blend_keep_{};
+  int blend_keep_next_ = 0;
   int blend_frames_ = kDefaultHoldBlendFrames;
 };
 
