@@ -147,6 +147,7 @@ class ChannelPredictor : public Predictor {
     for (int c = 0; c < channels(); ++c) {
       ChannelState& s = state_[c];
       s.innovation = Innovation{};
+      s.start_now = false;
       if (!r_est_.empty()) r_est_[static_cast<size_t>(c)].push(t_s, z(c));
       if (!s.initialized) {
         if (isMeasured(z(c))) {
@@ -190,8 +191,15 @@ class ChannelPredictor : public Predictor {
     if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
     const double dt = t_s - time();
     if (!(dt > 0.0)) return s.g.x(0);
-    const double f = forecastWeightingOn() ? predictedPosition(weightedForecastStart(channel), transition(channel, dt))
-                                           : predictedPosition(s.g, transition(channel, dt));
+    double f;
+    if (s.start_now) {  // the forecast start this update kept for the blend: the same x, the same bits
+      Gaussian<N> g;
+      g.x = s.x_start[static_cast<size_t>(s.head)];
+      f = predictedPosition(g, transition(channel, dt));
+    } else {
+      f = forecastWeightingOn() ? predictedPosition(weightedForecastStart(channel), transition(channel, dt))
+                                : predictedPosition(s.g, transition(channel, dt));
+    }
     return blend_tau_s_ > 0.0 ? s.blend.position(f) : f;
   }
 
@@ -213,6 +221,9 @@ class ChannelPredictor : public Predictor {
     std::array<double, kMaxBlendFrames> t_start{};
     std::array<double, kMaxBlendFrames> z_start{};
     int head = 0;
+    /// x_start[head] is the forecast start of g as it is now: kept by the last update (cleared at
+    /// the start of every update, set by rememberForecastStart), so predictPosition reuses it.
+    bool start_now = false;
   };
 
   /// Keeps the forecast start (x(k|k), significance-weighted) of channel c at t_s for the blend.
@@ -223,6 +234,7 @@ class ChannelPredictor : public Predictor {
     s.t_start[static_cast<size_t>(s.head)] = t_s;
     s.z_start[static_cast<size_t>(s.head)] = s.blend.z_hold;
     s.run = std::min(s.run + 1, kMaxBlendFrames + 1);
+    s.start_now = true;
   }
   /// exp(-dt / hold_blend_tau_s), kept for the last kBlendKeepCache distinct dt asked, replaced in
   /// turn: a recorded track's frame period takes a handful of values that vary in their last bits
