@@ -106,10 +106,14 @@ char* writeGeneral(char* buf, double x, int precision) {
     std::memcpy(p, &digits, 16);
     return p + X + 1;
   }
-  const int at = 8 * (X + 1);  // bit offset of the '.'
-  const u128 low = digits & ((static_cast<u128>(1) << at) - 1);
-  const u128 with_point = low | (static_cast<u128>('.') << at) | ((digits >> at) << (at + 8));
-  std::memcpy(p, &with_point, 16);
+  // The X + 1 digits before the point, the '.', and the rest from byte X + 1 of the digits: three
+  // unaligned stores (16 bytes from p, the point, 16 bytes from p + X + 2 <= p + 11, within the 32
+  // bytes of room) instead of building the text in a 128-bit word with shifts by a variable amount.
+  char d[32] = {};
+  std::memcpy(d, &digits, 16);
+  std::memcpy(p, d, 16);
+  p[X + 1] = '.';
+  std::memcpy(p + X + 2, d + X + 1, 16);
   p += X + 2 + frac;
   return p;
 }
