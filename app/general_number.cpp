@@ -32,6 +32,14 @@ char* slow(char* buf, double x, int precision) {
 /// round(m 5^k 2^-s) to the nearest integer; false on an exact tie.
 inline bool roundScaled(uint64_t m, int k, int s, uint64_t& q) {
   const u128 M = static_cast<u128>(m) * kPow5[k];
+  if (s < 64) {  // the usual case: the remainder is in the low word (the same q and tie test in 64 bits)
+    const uint64_t lo = static_cast<uint64_t>(M), hi = static_cast<uint64_t>(M >> 64);
+    const uint64_t mask64 = (uint64_t{1} << s) - 1, half64 = uint64_t{1} << (s - 1);
+    const uint64_t rem64 = lo & mask64;
+    if (rem64 == half64) return false;
+    q = ((hi << (63 - s)) << 1 | (lo >> s)) + (rem64 > half64 ? 1 : 0);  // (M >> s), s in [1, 63]
+    return true;
+  }
   const u128 mask = (static_cast<u128>(1) << s) - 1, half = static_cast<u128>(1) << (s - 1);
   const u128 rem = M & mask;
   if (rem == half) return false;
@@ -93,7 +101,7 @@ char* writeGeneral(char* buf, double x, int precision) {
   // then cut by the length.
   int frac = P - 1 - X;  // digits after the point (for X < 0, the -X - 1 zeros included)
   for (uint64_t r = q; frac > 0 && r % 10 == 0; r /= 10) --frac;
-  const u128 digits = digitBytes(q) >> (8 * (10 - P));  // P bytes
+  const u128 digits = P == 10 ? digitBytes(q) : digitBytes(q) >> (8 * (10 - P));  // P bytes
   char* p = buf;
   if (bits >> 63) *p++ = '-';
   if (X < 0) {
