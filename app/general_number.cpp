@@ -32,6 +32,14 @@ char* slow(char* buf, double x, int precision) {
 /// round(m 5^k 2^-s) to the nearest integer; false on an exact tie.
 inline bool roundScaled(uint64_t m, int k, int s, uint64_t& q) {
   const u128 M = static_cast<u128>(m) * kPow5[k];
+  if (s < 64) {  // the usual case: the remainder is in the low word (the same q and tie test in 64 bits)
+    const uint64_t lo = static_cast<uint64_t>(M), hi = static_cast<uint64_t>(M >> 64);
+    const uint64_t mask64 = (uint64_t{1} << s) - 1, half64 = uint64_t{1} << (s - 1);
+    const uint64_t rem64 = lo & mask64;
+    if (rem64 == half64) return false;
+    q = ((hi << (63 - s)) << 1 | (lo >> s)) + (rem64 > half64 ? 1 : 0);  // (M >> s), s in [1, 63]
+    return true;
+  }
   const u128 mask = (static_cast<u128>(1) << s) - 1, half = static_cast<u128>(1) << (s - 1);
   const u128 rem = M & mask;
   if (rem == half) return false;
@@ -93,7 +101,7 @@ char* writeGeneral(char* buf, double x, int precision) {
   // then cut by the length.
   int frac = P - 1 - X;  // digits after the point (for X < 0, the -X - 1 zeros included)
   for (uint64_t r = q; frac > 0 && r % 10 == 0; r /= 10) --frac;
-  const u128 digits = digitBytes(q) >> (8 * (10 - P));  // P bytes
+  const u128 digits = P == 10 ? digitBytes(q) : digitBytes(q) >> (8 * (10 - P));  // P bytes
   char* p = buf;
   if (bits >> 63) *p++ = '-';
   if (X < 0) {
@@ -106,10 +114,14 @@ char* writeGeneral(char* buf, double x, int precision) {
     std::memcpy(p, &digits, 16);
     return p + X + 1;
   }
-  const int at = 8 * (X + 1);  // bit offset of the '.'
-  const u128 low = digits & ((static_cast<u128>(1) << at) - 1);
-  const u128 with_point = low | (static_cast<u128>('.') << at) | ((digits >> at) << (at + 8));
-  std::memcpy(p, &with_point, 16);
+  // The X + 1 digits before the point, the '.', and the rest from byte X + 1 of the digits: three
+  // unaligned stores (16 bytes from p, the point, 16 bytes from p + X + 2 <= p + 11, within the 32
+  // bytes of room) instead of building the text in a 128-bit word with shifts by a variable amount.
+  char d[32] = {};
+  std::memcpy(d, &digits, 16);
+  std::memcpy(p, d, 16);
+  p[X + 1] = '.';
+  std::memcpy(p + X + 2, d + X + 1, 16);
   p += X + 2 + frac;
   return p;
 }

@@ -20,6 +20,9 @@ constexpr double kDefaultForecastTauS = 30.0;
 /// Default floor of a forecast weight relative to the largest (docs/MODELS.md §14).
 constexpr double kDefaultForecastFloor = 0.01;
 
+/// std::exp(x) without the call for x = 0 (+0 or -0), whose exp is exactly 1: the same bits.
+inline double expOrOne(double x) { return x == 0.0 ? 1.0 : std::exp(x); }
+
 // The mode-matched filters of the CP and CV modes on their own states. Their state is the common
 // [p, v, a] with the states the model lacks at zero (mixInto leaves them 0, their F zeroes them),
 // and these are timeUpdate<3> / measurementUpdate<3> (kalman_math.h) written out for that pattern:
@@ -126,6 +129,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       rates_(i, j) = i == j ? -1.0 / modes_[static_cast<size_t>(i)].tau_s
                             : 1.0 / (modes_[static_cast<size_t>(i)].tau_s * (m - 1));
   chain_dt_.fill(std::numeric_limits<double>::quiet_NaN());  // equal to no dt: every entry empty
+  fc_floor_exp_ = std::exp(fc_floor_);
   reset();
 }
 
@@ -189,16 +193,23 @@ Mat<3> ImmPredictor::processNoise(int j, double dt) const {
   return Q;
 }
 
-ImmPredictor::ModeMatrix ImmPredictor::chain(double dt) const { return cachedChain(dt); }
+ImmPredictor::ModeMatrix ImmPredictor::chain(double dt) const { return periodModels(dt).chain; }
 
-const ImmPredictor::ModeMatrix& ImmPredictor::cachedChain(double dt) const {
+const ImmPredictor::PeriodModels& ImmPredictor::periodModels(double dt) const {
   for (int k = 0; k < kChainCacheSize; ++k)
     if (chain_dt_[static_cast<size_t>(k)] == dt) return chain_[static_cast<size_t>(k)];
   const auto slot = static_cast<size_t>(chain_next_);
   chain_next_ = (chain_next_ + 1) % kChainCacheSize;
-  chain_[slot] = computeChain(dt);
+  PeriodModels& e = chain_[slot];
+  e.chain = computeChain(dt);
+  for (int j = 0; j < modeCount(); ++j) {
+    e.F[static_cast<size_t>(j)] = transition(j, dt);
+    e.Q[static_cast<size_t>(j)] = processNoise(j, dt);
+  }
+  e.keep = fc_tau_s_ > 0.0 ? std::exp(-dt / fc_tau_s_) : 0.0;
+  e.blend_keep = blend_tau_s_ > 0.0 ? std::exp(-dt / blend_tau_s_) : 0.0;
   chain_dt_[slot] = dt;
-  return chain_[slot];
+  return e;
 }
 
 ImmPredictor::ModeMatrix ImmPredictor::computeChain(double dt) const {
@@ -225,11 +236,14 @@ ImmPredictor::ModeMatrix ImmPredictor::computeChain(double dt) const {
 
 namespace {
 
-/// mixInto on D states (a template so that the loops over the states unroll).
-template <int D>
+/// mixInto on D states of mode j, the M source modes of dimensions D0, D1(, D2) (a template so
+/// that the loops over the states and the modes unroll and the tests on the dimensions fold away:
+/// the same operations in the same order as with the dimensions known at run time).
+template <int D, int M, int D0, int D1, int D2>
 void mixStates(const std::array<Gaussian<3>, ImmPredictor::kMaxModes>& g,
-               const std::array<double, ImmPredictor::kMaxModes>& w, const std::array<int, ImmPredictor::kMaxModes>& dims,
-               int m, int j, Gaussian<3>& out) {
+               const std::array<double, ImmPredictor::kMaxModes>& w, int j, Gaussian<3>& out) {
+  constexpr int m = M;
+  constexpr int dims[ImmPredictor::kMaxModes] = {D0, D1, D2};
   const Gaussian<3>& own = g[static_cast<size_t>(j)];
   double sx[ImmPredictor::kMaxModes][D];
   double x[D];
@@ -276,12 +290,17 @@ void ImmPredictor::mixInto(const std::array<Gaussian<3>, kMaxModes>& g, const st
   // lacks is mode j's own estimate, uncorrelated with the rest), entry by entry in its order (so
   // the same bits), on the d_j states mode j has only: the others are left 0, as mode j's F zeroes
   // them in the time update that follows (coasting scales them only).
-  std::array<int, kMaxModes> dims{};
-  for (int i = 0; i < modeCount(); ++i) dims[static_cast<size_t>(i)] = modes_[static_cast<size_t>(i)].dim;
-  switch (modes_[static_cast<size_t>(j)].dim) {
-    case 1: mixStates<1>(g, w, dims, modeCount(), j, out); break;
-    case 2: mixStates<2>(g, w, dims, modeCount(), j, out); break;
-    default: mixStates<3>(g, w, dims, modeCount(), j, out);
+  // The modes are CP, CV, CA (dimensions 1, 2, 3) or, without CP, CV, CA (2, 3): the constructor's.
+  if (modeCount() == 3) {
+    switch (j) {
+      case 0: mixStates<1, 3, 1, 2, 3>(g, w, j, out); break;
+      case 1: mixStates<2, 3, 1, 2, 3>(g, w, j, out); break;
+      default: mixStates<3, 3, 1, 2, 3>(g, w, j, out);
+    }
+  } else if (j == 0) {
+    mixStates<2, 2, 2, 3, 0>(g, w, j, out);
+  } else {
+    mixStates<3, 2, 2, 3, 0>(g, w, j, out);
   }
 }
 
@@ -291,15 +310,14 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
                                 std::to_string(channels()));
   const double dt = advanceClock(t_s);
   const int m = modeCount();
-  const ModeMatrix& Pi = cachedChain(dt);
-  // Each mode's F and Q over dt, the same for every channel.
-  std::array<Mat<3>, kMaxModes> F, Q;
-  for (int j = 0; j < m; ++j) {
-    F[static_cast<size_t>(j)] = transition(j, dt);
-    Q[static_cast<size_t>(j)] = processNoise(j, dt);
-  }
-  const double keep = fc_tau_s_ > 0.0 ? std::exp(-dt / fc_tau_s_) : 0.0;  // forecast weights' forgetting
-  const double blend_keep = blend_tau_s_ > 0.0 ? std::exp(-dt / blend_tau_s_) : 0.0;  // the blend's
+  // The chain, each mode's F and Q over dt and the two forgetting factors: the same for every channel.
+  const PeriodModels& fm = periodModels(dt);
+  const ModeMatrix& Pi = fm.chain;
+  const std::array<Mat<3>, kMaxModes>& F = fm.F;
+  const std::array<Mat<3>, kMaxModes>& Q = fm.Q;
+  const double keep = fm.keep;              // forecast weights' forgetting, exp(-dt / forecast_tau_s)
+  const double blend_keep = fm.blend_keep;  // the blend's, exp(-dt / hold_blend_tau_s)
+  const int ca = m - 1;  // the CA mode is the last (constructor)
   for (int c = 0; c < channels(); ++c) {
     Channel& ch = chan_[static_cast<size_t>(c)];
     ch.innovation = Innovation{};
@@ -322,13 +340,23 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       ch.last_measured = true;
       continue;
     }
-    // The blend with hold learns from the one-frame forecast of the previous update (channel_predictor.h).
-    if (blend_tau_s_ > 0.0 && isMeasured(z(c)) && ch.last_measured) {
+    // The CA mode's forecast start from its posterior of the last update (ch.g, replaced at the
+    // end), shared by the blend's sample and the forecast weights' evidence below.
+    const bool measured = isMeasured(z(c));
+    Vec<3> x_ca = Vec<3>::Zero();
+    if (measured && ((blend_tau_s_ > 0.0 && ch.last_measured) || fc_tau_s_ > 0.0)) x_ca = forecastStartMean(ch, ca);
+    // The blend with hold learns from the one-frame forecast of the previous update (channel_predictor.h):
+    // each mode's (F x)(0), for CP and CV written out as in predictPosition (the same bits).
+    if (blend_tau_s_ > 0.0 && measured && ch.last_measured) {
       const std::array<double, kMaxModes>& fw = forecastWeights(ch);
       double f = 0.0;
       for (int j = 0; j < m; ++j) {
         const auto jj = static_cast<size_t>(j);
-        f += fw[jj] * Vec<3>((F[jj] * forecastStartMean(ch, j)).eval())(0);
+        const int d = modes_[jj].dim;
+        const double pj = d == 1   ? ch.g[jj].x(0)
+                          : d == 2 ? ch.g[jj].x(0) + F[jj](0, 1) * ch.g[jj].x(1)
+                                   : Vec<3>((F[jj] * x_ca).eval())(0);
+        f += fw[jj] * pj;
       }
       ch.blend.learn(f - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep);
     }
@@ -388,7 +416,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       double sum = 0.0;
       for (int j = 0; j < m; ++j) {
         const auto jj = static_cast<size_t>(j);
-        w[jj] = cbar[jj] * std::exp(loglik[jj] - maxll);
+        w[jj] = cbar[jj] * expOrOne(loglik[jj] - maxll);
         sum += w[jj];
       }
       if (fc_tau_s_ > 0.0) {
@@ -396,12 +424,30 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         for (int j = 0; j < m; ++j) {
           // Mode j's forecast of z from its posterior of the last update (ch.g, not yet replaced):
           // mean f x and variance f P f' + Q(0, 0) + R, f = row 0 of F (only the measured entry
-          // of the time update).
+          // of the time update). For CP (f = [1, 0, 0]) and CV (f = [1, T, 0]) written out: the
+          // states they lack are 0 in x and P, so every sum of the products has at most two
+          // non-zero terms and P is exactly symmetric (the same bits as the generic products).
           const auto jj = static_cast<size_t>(j);
-          const Gaussian<3> g = forecastStart(ch, j);
-          const Eigen::Matrix<double, 1, 3> f = F[jj].row(0);
-          const double e = z(c) - f.dot(g.x.transpose());
-          const double S_h = f * g.P * f.transpose() + Q[jj](0, 0) + R;
+          const Gaussian<3>& g = ch.g[jj];
+          double e, fpf;
+          switch (modes_[jj].dim) {
+            case 1:
+              e = z(c) - g.x(0);
+              fpf = g.P(0, 0);
+              break;
+            case 2: {
+              const double T = F[jj](0, 1);
+              e = z(c) - (g.x(0) + T * g.x(1));
+              fpf = (g.P(0, 0) + T * g.P(1, 0)) + (g.P(0, 1) + T * g.P(1, 1)) * T;
+              break;
+            }
+            default: {
+              const Eigen::Matrix<double, 1, 3> f = F[jj].row(0);
+              e = z(c) - f.dot(x_ca.transpose());
+              fpf = f * g.P * f.transpose();
+            }
+          }
+          const double S_h = fpf + Q[jj](0, 0) + R;
           ev[jj] = -0.5 * (std::log(S_h) + e * e / S_h);
         }
         double mev = -std::numeric_limits<double>::infinity();
@@ -487,10 +533,12 @@ Gaussian<3> ImmPredictor::combine(const std::array<Gaussian<3>, kMaxModes>& g, c
 }
 
 void ImmPredictor::normaliseForecastWeights(Channel& ch) const {
+  // exp of the best mode's 0 is 1, of a floored one exp(fc_floor_) (kept): the same bits as exp.
   double sum = 0.0;
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);
-    ch.fw[jj] = std::exp(ch.logw[jj]);
+    const double l = ch.logw[jj];
+    ch.fw[jj] = l == fc_floor_ ? fc_floor_exp_ : expOrOne(l);
     sum += ch.fw[jj];
   }
   for (int j = 0; j < modeCount(); ++j) ch.fw[static_cast<size_t>(j)] /= sum;

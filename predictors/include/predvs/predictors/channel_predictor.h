@@ -195,6 +195,14 @@ struct HoldBlend {
   double position(double f) const { return z_hold + w * (f - z_hold); }
 };
 
+/// An array of N copies of v (a member initialiser).
+template <int N>
+constexpr std::array<double, N> filledArray(double v) {
+  std::array<double, N> a{};
+  for (auto& x : a) x = v;
+  return a;
+}
+
 /// The `coast_tau_s` parameter (s, >= 0, default kDefaultCoastTauS; 0 = no coasting).
 inline double coastTauParam(const Params& params) { return params.get("coast_tau_s", kDefaultCoastTauS, 0.0, 1e6); }
 /// The `coast_stop_fraction` parameter (>= 0, default kDefaultCoastStopFraction; 0 = off; file comment).
@@ -229,10 +237,11 @@ class ChannelPredictor : public Predictor {
       throw std::invalid_argument(name() + ": measurement has " + std::to_string(z.size()) +
                                   " entries, expected " + std::to_string(channels()));
     const double dt = advanceClock(t_s);
-    const double blend_keep = blend_tau_s_ > 0.0 ? blendForgetting(dt) : 0.0;  // one exp per frame period
+    const double blend_keep = blend_tau_s_ > 0.0 ? blendForgetting(dt) : 0.0;  // kept per frame period
     for (int c = 0; c < channels(); ++c) {
       ChannelState& s = state_[c];
       s.innovation = Innovation{};
+      s.start_now = false;
       if (!r_est_.empty()) r_est_[static_cast<size_t>(c)].push(t_s, z(c));
       if (!s.initialized) {
         if (isMeasured(z(c))) {
@@ -284,8 +293,15 @@ class ChannelPredictor : public Predictor {
     if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
     const double dt = t_s - time();
     if (!(dt > 0.0)) return s.g.x(0);
-    const double f = forecastWeightingOn() ? predictedPosition(weightedForecastStart(channel), transition(channel, dt))
-                                           : predictedPosition(s.g, transition(channel, dt));
+    double f;
+    if (s.start_now) {  // the forecast start this update kept for the blend: the same x, the same bits
+      Gaussian<N> g;
+      g.x = s.x_start[static_cast<size_t>(s.head)];
+      f = predictedPosition(g, transition(channel, dt));
+    } else {
+      f = forecastWeightingOn() ? predictedPosition(weightedForecastStart(channel), transition(channel, dt))
+                                : predictedPosition(s.g, transition(channel, dt));
+    }
     return blend_tau_s_ > 0.0 ? s.blend.position(f) : f;
   }
 
@@ -307,6 +323,9 @@ class ChannelPredictor : public Predictor {
     std::array<double, kMaxBlendFrames> t_start{};
     std::array<double, kMaxBlendFrames> z_start{};
     int head = 0;
+    /// x_start[head] is the forecast start of g as it is now: kept by the last update (cleared at
+    /// the start of every update, set by rememberForecastStart), so predictPosition reuses it.
+    bool start_now = false;
   };
 
   /// Keeps the forecast start (x(k|k), significance-weighted) of channel c at t_s for the blend.
@@ -317,14 +336,20 @@ class ChannelPredictor : public Predictor {
     s.t_start[static_cast<size_t>(s.head)] = t_s;
     s.z_start[static_cast<size_t>(s.head)] = s.blend.z_hold;
     s.run = std::min(s.run + 1, kMaxBlendFrames + 1);
+    s.start_now = true;
   }
-  /// exp(-dt / hold_blend_tau_s), kept for the last dt asked (a track's frame period repeats).
+  /// exp(-dt / hold_blend_tau_s), kept for the last kBlendKeepCache distinct dt asked, replaced in
+  /// turn: a recorded track's frame period takes a handful of values that vary in their last bits
+  /// (a new dt on 9 frames in 10 of the 2-million-row track of docs/PERFORMANCE.md, 54 in all, a
+  /// few at a time), so one entry missed nearly every frame. The same bits as std::exp.
   double blendForgetting(double dt) {
-    if (dt != blend_keep_dt_) {
-      blend_keep_dt_ = dt;
-      blend_keep_ = std::exp(-dt / blend_tau_s_);
-    }
-    return blend_keep_;
+    for (int k = 0; k < kBlendKeepCache; ++k)
+      if (blend_keep_dt_[static_cast<size_t>(k)] == dt) return blend_keep_[static_cast<size_t>(k)];
+    const auto slot = static_cast<size_t>(blend_keep_next_);
+    blend_keep_next_ = (blend_keep_next_ + 1) % kBlendKeepCache;
+    blend_keep_dt_[slot] = dt;
+    blend_keep_[slot] = std::exp(-dt / blend_tau_s_);
+    return blend_keep_[slot];
   }
   /// One regression sample of the blend (file comment) on channel c after the update at t_s;
   /// lambda = blendForgetting(dt) of the update's dt.
@@ -444,8 +469,10 @@ class ChannelPredictor : public Predictor {
   double shrink_a_sigmas_ = 0.0;  ///< 0 until readShrinkParams(): unweighted forecast
   double shrink_v_sigmas_ = 0.0;
   double blend_tau_s_ = 0.0;
-  double blend_keep_dt_ = std::numeric_limits<double>::quiet_NaN();  ///< blendForgetting's cache
-  double blend_keep_ = 0.0;
+  static constexpr int kBlendKeepCache = 8;  ///< blendForgetting's cache: dt (NaN = empty) and exp
+  std::array<double, kBlendKeepCache> blend_keep_dt_ = filledArray<kBlendKeepCache>(std::numeric_limits<double>::quiet_NaN());
+  std::array<double, kBlendKeepCache> blend_keep_{};
+  int blend_keep_next_ = 0;
   int blend_frames_ = kDefaultHoldBlendFrames;
 };
 

@@ -101,6 +101,7 @@
 #include "predvs/predictors/predictor.h"
 
 #include <array>
+#include <limits>
 #include <vector>
 
 namespace predvs {
@@ -192,18 +193,28 @@ class ImmPredictor : public Predictor {
   bool r_auto_;
   std::vector<Mode> modes_;
   ModeMatrix rates_;
-  // chain(dt) of the last kChainCacheSize distinct dt asked, replaced in turn: the frame period
-  // of a recorded track takes a handful of values (times written with 10 significant digits give
-  // differences that vary in their last bits, 54 distinct ones on the 2-million-row track of
-  // docs/PERFORMANCE.md, a few at a time), so one entry is too few. Each entry is the matrix
-  // computeChain(dt) returns, so the results are the same bits. Mutable cache of a const
-  // function; an instance is used by one thread at a time.
+  // Everything of a frame period dt that is the same for every channel: the chain's p_ij(dt), each
+  // mode's F and Q, the forecast weights' forgetting exp(-dt / forecast_tau_s) and the blend's
+  // exp(-dt / hold_blend_tau_s). Kept for the last kChainCacheSize distinct dt asked, replaced in
+  // turn: the frame period of a recorded track takes a handful of values (times written with 10
+  // significant digits give differences that vary in their last bits, 54 distinct ones on the
+  // 2-million-row track of docs/PERFORMANCE.md, a few at a time: a new dt on 92 % of its frames),
+  // so one entry is too few. Each entry is what computeChain(dt), transition(), processNoise() and
+  // std::exp return for dt, so the results are the same bits. Mutable cache of a const function;
+  // an instance is used by one thread at a time.
   static constexpr int kChainCacheSize = 8;
+  struct PeriodModels {
+    ModeMatrix chain;
+    std::array<Mat<3>, kMaxModes> F, Q;
+    double keep = 0.0, blend_keep = 0.0;
+  };
   ModeMatrix computeChain(double dt) const;
-  const ModeMatrix& cachedChain(double dt) const;
+  const PeriodModels& periodModels(double dt) const;
   mutable std::array<double, kChainCacheSize> chain_dt_;
-  mutable std::array<ModeMatrix, kChainCacheSize> chain_;
+  mutable std::array<PeriodModels, kChainCacheSize> chain_;
   mutable int chain_next_ = 0;
+  /// exp(log forecast_floor): the forecast weight of a floored mode before normalising.
+  double fc_floor_exp_ = 0.0;
   std::vector<Channel> chan_;
 };
 
