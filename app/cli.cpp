@@ -269,6 +269,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   // --fit-split), then run on the whole track; with --fit-split only the rest is scored.
   const auto fit_rows = static_cast<size_t>(std::floor(fit_split * static_cast<double>(track.size())));
   std::ostringstream fit_log;
+  if (a.fit && a.fit_split.empty()) fit_options = inSampleFitOptions(fit_options);  // every row is scored
   if (a.fit)
     for (auto& s : specs) {
       if (s.name == "hold") continue;

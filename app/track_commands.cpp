@@ -171,7 +171,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     head.t_s.assign(track.t_s.begin(), track.t_s.begin() + static_cast<long>(split));
     head.channels = {std::vector<double>(track.u_px.begin(), track.u_px.begin() + static_cast<long>(split)),
                      std::vector<double>(track.v_px.begin(), track.v_px.begin() + static_cast<long>(split))};
-    NoiseFitOptions fo = fit_options;
+    NoiseFitOptions fo = whole_track ? inSampleFitOptions(fit_options) : fit_options;
     fo.horizon_s = horizon;  // the command's own horizon: the score is what is fitted
     for (const auto& name : names) {
       Params params = fixed.count(name) ? fixed.at(name) : Params{};
