@@ -269,6 +269,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   // --fit-split), then run on the whole track; with --fit-split only the rest is scored.
   const auto fit_rows = static_cast<size_t>(std::floor(fit_split * static_cast<double>(track.size())));
   std::ostringstream fit_log;
+  if (a.fit && a.fit_split.empty()) fit_options = inSampleFitOptions(fit_options);  // every row is scored
   if (a.fit)
     for (auto& s : specs) {
       if (s.name == "hold") continue;
@@ -712,8 +713,14 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   track_study->add_option("--delay-frames", tsa.delay_frames, "prediction horizon in frames")->capture_default_str()->type_name("H");
   track_study->add_option("--predictors", ts_predictors, "comma list of predictors or 'all'")->capture_default_str()->type_name("A,B|all");
   track_study->add_option("--param", tsa.params, "parameter of one predictor (repeatable)")->type_name("PREDICTOR.KEY=VALUE");
-  track_study->add_flag("--fit", tsa.fit, "fit each predictor's noise on the first part of each track (fit-noise), score on the rest");
-  track_study->add_option("--fit-split", tsa.fit_split, "fraction of each track used for fitting with --fit")->capture_default_str()->type_name("F");
+  track_study->add_flag("--fit", tsa.fit,
+                        "fit each predictor's noise on each track (fit-noise): on its first part, scored on the rest "
+                        "(--fit-split F < 1), or on the whole track, scored on the whole track (--fit-split 1)");
+  track_study->add_option("--fit-split", tsa.fit_split,
+                          "with --fit: fraction F in (0, 1] of each track used for fitting; F < 1 scores only the rest "
+                          "(out of sample); 1 fits and scores the whole track, as `predict --fit` without --fit-split")
+      ->capture_default_str()
+      ->type_name("F");
   track_study->add_option("--fit-objective", tsa.fit_objective,
                           "with --fit: prediction (squared error of the --delay-frames prediction against the later "
                           "measurements of the fit part: the score is what is fitted) or likelihood (innovation log-likelihood)")

@@ -115,8 +115,12 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
       throw std::invalid_argument(std::string("--param: ") + e.what());
     }
   }
-  if (a.fit && !(a.fit_split > 0.0 && a.fit_split < 1.0))
-    throw std::invalid_argument("--fit-split: expected a fraction in (0, 1)");
+  if (a.fit && !(a.fit_split > 0.0 && a.fit_split <= 1.0))
+    throw std::invalid_argument("--fit-split: expected a fraction in (0, 1] (1 = fit and score the whole track)");
+  // --fit-split 1: each predictor fitted on every row of the track and scored on every row, as
+  // `predict --fit` without --fit-split does (the issue's --fit, in sample); F < 1: fitted on the
+  // first F of the rows and scored on the rest only (out of sample, the stricter check).
+  const bool whole_track = a.fit && a.fit_split >= 1.0;
 
   NoiseFitOptions fit_options;
   try {
@@ -161,12 +165,13 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     const ManeuverTrack track = generateManeuverTrack(c);
     const double horizon = a.delay_frames / c.rate_hz;
     double hold_rmse = std::numeric_limits<double>::quiet_NaN();
-    const size_t split = a.fit ? static_cast<size_t>(a.fit_split * static_cast<double>(track.size())) : 0;
+    const size_t split = a.fit ? (whole_track ? track.size() : static_cast<size_t>(a.fit_split * static_cast<double>(track.size()))) : 0;
+    const size_t first_scored = whole_track ? 0 : split;
     FitTrack head;
     head.t_s.assign(track.t_s.begin(), track.t_s.begin() + static_cast<long>(split));
     head.channels = {std::vector<double>(track.u_px.begin(), track.u_px.begin() + static_cast<long>(split)),
                      std::vector<double>(track.v_px.begin(), track.v_px.begin() + static_cast<long>(split))};
-    NoiseFitOptions fo = fit_options;
+    NoiseFitOptions fo = whole_track ? inSampleFitOptions(fit_options) : fit_options;
     fo.horizon_s = horizon;  // the command's own horizon: the score is what is fitted
     for (const auto& name : names) {
       Params params = fixed.count(name) ? fixed.at(name) : Params{};
@@ -177,7 +182,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
         variant = fit.variant;
       }
       auto p = makePredictor(name, 2, params);
-      const TrackScore sc = scoreOnTrack(track, *p, horizon, split);
+      const TrackScore sc = scoreOnTrack(track, *p, horizon, first_scored);
       if (name == "hold") hold_rmse = sc.rmse_truth_px;
       per_track[i].push_back({maneuverKindName(c.kind), c.rate_hz, c.noise_px, static_cast<long>(c.seed), name, sc,
                               sc.rmse_truth_px / hold_rmse, variant});
@@ -327,12 +332,18 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
       }
     }
   }
-  if (a.fit)
-    out << "fitted on the first " << a.fit_split << " of each track by " << fitObjectiveName(fit_options.objective)
+  if (a.fit) {
+    if (whole_track)
+      out << "fitted on the whole of each track";
+    else
+      out << "fitted on the first " << a.fit_split << " of each track";
+    out << " by " << fitObjectiveName(fit_options.objective)
         << (fit_options.objective == FitObjective::Prediction
                 ? " (squared error of the " + std::to_string(a.delay_frames) + "-frame prediction vs the later measurements)"
                 : " (innovation log-likelihood)")
-        << ", " << a.fit_starts << " start" << (a.fit_starts > 1 ? "s" : "") << "; scored on the rest\n";
+        << ", " << a.fit_starts << " start" << (a.fit_starts > 1 ? "s" : "")
+        << (whole_track ? "; scored on the whole track (in sample, as predict --fit)\n" : "; scored on the rest\n");
+  }
   if (a.fit) {
     // Which structure the fit kept, per predictor that offers several (Predictor::structuralVariants).
     std::map<std::string, std::map<std::string, int>> kept;

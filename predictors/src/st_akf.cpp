@@ -143,6 +143,7 @@ MonitorConfig monitorConfig(const Params& params) {
 template <int N>
 StAkfPmPredictor<N>::StAkfPmPredictor(int channels, const Params& params)
     : Base(channels, params),
+      monitor_on_(adaptationParam(params, "st-akf-pm")),
       on_alarm_steady_(params.get("pm_on_alarm", 0.0, 0.0, 1.0) != 0.0),
       ss_frames_(static_cast<int>(params.get("pm_ss_frames", 25.0, 1.0, 1e6))),
       monitors_(static_cast<size_t>(channels), DiscontinuityMonitor(monitorConfig(params))),
@@ -210,7 +211,7 @@ void StAkfPmPredictor<N>::step(int c, double dt, double z) {
     dxp = z - (this->transition(c, t_now - p.t_s) * p.g.x)(0);
   }
   Base::step(c, dt, z);
-  if (isMeasured(z)) {
+  if (isMeasured(z) && monitor_on_) {
     const Innovation& in = this->state_[i].innovation;
     const bool alarm = mon.config().statistic == MonitorConfig::Statistic::kChiSquare
                            ? mon.observe(t_now, in.eps, this->unfadedS(c))

@@ -159,6 +159,10 @@ inline SteadyStateCa steadyStateCa(double q, double r, double dt) { return stead
 /// pm_window (n, default 20), pm_band (lambda_b, default 6; see MonitorConfig), pm_floor (band floor, signal units,
 /// default 1e-6), pm_chi2 (threshold, default 15.13, false-alarm prob. 1e-4 per sample),
 /// pm_on_alarm (0 = re-initialise, default; 1 = steady-state KF), pm_ss_frames (default 25).
+/// `adaptation: off` turns the monitor off too (no alarm, no re-initialisation): the monitor is
+/// part of the adaptive layer, and off leaves the fixed Kalman filter underneath (kalman_math.h),
+/// the structure the noise fit compares with the adaptive ones (docs/PERFORMANCE.md "--fit on the
+/// whole track": with the monitor left on, that structure lost to kf-cv on bursts and stops).
 template <int N>
 class StAkfPmPredictor : public StAkfPredictor<N> {
   using Base = StAkfPredictor<N>;
@@ -192,6 +196,7 @@ class StAkfPmPredictor : public StAkfPredictor<N> {
   };
   const SteadyStateKf<N>& steadyState(double dt);
 
+  bool monitor_on_;  ///< false with `adaptation: off`
   bool on_alarm_steady_;
   int ss_frames_;
   std::vector<DiscontinuityMonitor> monitors_;
