@@ -104,20 +104,24 @@ void singerQSeries(double x, double dt, double out[6]) {
   out[5] = 0.5 * dt * acc[5];         // p = 1
 }
 
-/// The last two values of a function of (alpha, dt), kept per thread by its caller: on a uniformly
-/// sampled track the same two (the frame period and a prediction horizon) are asked alternately,
-/// so the function is evaluated once for each (the same bits, no exp per frame).
+/// The last kEntries values of a function of (alpha, dt), kept per thread by its caller: a uniformly
+/// sampled track asks the same two (the frame period and a prediction horizon) alternately, and a
+/// track with jittered timestamps cycles through a few frame periods (the 2-million-row track of
+/// docs/PERFORMANCE.md: two entries missed on about 30 % of the calls, as imm's one-entry cache
+/// did), so the function is evaluated once for each (the same bits, no exp per frame). The oldest
+/// entry is replaced.
 template <class T>
-class LastTwo {
+class RecentValues {
  public:
+  static constexpr int kEntries = 8;
   const T* find(double alpha, double dt) const {
     for (const Entry& e : entries_)
       if (alpha == e.alpha && dt == e.dt) return &e.value;
     return nullptr;
   }
   void put(double alpha, double dt, const T& value) {
-    entries_[older_] = Entry{alpha, dt, value};
-    older_ = 1 - older_;
+    entries_[oldest_] = Entry{alpha, dt, value};
+    oldest_ = (oldest_ + 1) % kEntries;
   }
 
  private:
@@ -125,14 +129,14 @@ class LastTwo {
     double alpha = std::numeric_limits<double>::quiet_NaN(), dt = alpha;
     T value;
   };
-  Entry entries_[2];
-  int older_ = 0;  // the entry replaced next
+  Entry entries_[kEntries];
+  int oldest_ = 0;  // the entry replaced next
 };
 
 }  // namespace
 
 Mat<3> singerTransition(double alpha, double dt) {
-  thread_local LastTwo<Mat<3>> cache;  // LastTwo: the same bits, no exp per frame
+  thread_local RecentValues<Mat<3>> cache;  // the same bits, no exp per frame
   if (const Mat<3>* F = cache.find(alpha, dt)) return *F;
   const double x = alpha * dt;
   Mat<3> F = Mat<3>::Identity();
@@ -165,8 +169,8 @@ Vec<3> singerInput(double alpha, double dt) {
 }
 
 Mat<3> singerProcessNoise(double alpha, double sigma2, double dt) {
-  // [q_ij] depends on (alpha, dt) only (LastTwo: kept for the last two per thread).
-  thread_local LastTwo<Mat<3>> cache;
+  // [q_ij] depends on (alpha, dt) only (RecentValues: kept for the last few per thread).
+  thread_local RecentValues<Mat<3>> cache;
   if (const Mat<3>* q = cache.find(alpha, dt)) return (2.0 * alpha * sigma2) * *q;
   const double x = alpha * dt;
   double q11, q12, q13, q22, q23, q33;
