@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -174,6 +175,27 @@ TEST(DefaultsThatHold, HeldOutGridEveryPredictorBeatsHoldEverywhere) {
   }
 }
 
+/// "kind rate Hz noise px #seed", as track-study names a track.
+std::string cellLabel(ManeuverKind kind, double rate_hz, double noise_px, std::uint64_t seed) {
+  std::ostringstream os;
+  os << maneuverKindName(kind) << " " << rate_hz << " Hz " << noise_px << " px #" << seed;
+  return os.str();
+}
+
+/// Every registered predictor but hold, with its defaults, predicts the track 2 frames ahead with a
+/// smaller RMSE against the truth than hold.
+void expectEveryPredictorBeatsHold(const ManeuverTrack& t, double rate_hz, const std::string& label) {
+  const double horizon = 2.0 / rate_hz;
+  auto hold = makePredictor("hold", 2);
+  const double hold_rmse = scoreOnTrack(t, *hold, horizon).rmse_truth_px;
+  for (const auto& info : predictorRegistry()) {
+    if (info.name == "hold") continue;
+    auto p = makePredictor(info.name, 2);
+    const double ratio = scoreOnTrack(t, *p, horizon).rmse_truth_px / hold_rmse;
+    EXPECT_LT(ratio, 1.0) << info.name << " on " << label;
+  }
+}
+
 /// The tracks of the wide held-out grid (`predvs track-study --seed 401 --seeds 30 --duration-s 15`,
 /// 2160 tracks, docs/PERFORMANCE.md "Defaults that hold", wide grids) on which some predictor lost
 /// to hold at 58fa0be, before the forecast's blend with hold (channel_predictor.h): a slow Lissajous
@@ -192,19 +214,9 @@ TEST(DefaultsThatHold, WideGridLossesOf58fa0beAreWins) {
       {ManeuverKind::Bursts, 60, 3, 423},  {ManeuverKind::Bursts, 60, 3, 409},  {ManeuverKind::Hand, 10, 0.5, 405},
       {ManeuverKind::Hand, 10, 3, 405},    {ManeuverKind::Hand, 30, 3, 416},    {ManeuverKind::Hand, 10, 3, 424},
   };
-  for (const Track& tr : tracks) {
-    const ManeuverTrack t = maneuverTrackCell(tr.kind, tr.rate_hz, tr.noise_px, 15.0, tr.seed);
-    const double horizon = 2.0 / tr.rate_hz;
-    auto hold = makePredictor("hold", 2);
-    const double hold_rmse = scoreOnTrack(t, *hold, horizon).rmse_truth_px;
-    for (const auto& info : predictorRegistry()) {
-      if (info.name == "hold") continue;
-      auto p = makePredictor(info.name, 2);
-      const double ratio = scoreOnTrack(t, *p, horizon).rmse_truth_px / hold_rmse;
-      EXPECT_LT(ratio, 1.0) << info.name << " on " << maneuverKindName(tr.kind) << " " << tr.rate_hz << " Hz "
-                            << tr.noise_px << " px #" << tr.seed;
-    }
-  }
+  for (const Track& tr : tracks)
+    expectEveryPredictorBeatsHold(maneuverTrackCell(tr.kind, tr.rate_hz, tr.noise_px, 15.0, tr.seed), tr.rate_hz,
+                                  cellLabel(tr.kind, tr.rate_hz, tr.noise_px, tr.seed));
 }
 
 /// Tracks of the 5 %- and 8 %-drop wide grids (`predvs track-study --seed 501 --seeds 30
@@ -222,25 +234,10 @@ TEST(DefaultsThatHold, StopBeforeGapLossesOfE96250cAreWins) {
       {60, 0.5, 10, 0.05, 525}, {60, 1.5, 10, 0.05, 510}, {60, 0.5, 12, 0.08, 614},
       {60, 0.5, 12, 0.08, 623}, {60, 1.5, 12, 0.08, 623},
   };
-  for (const Track& tr : tracks) {
-    ManeuverTrackConfig c;
-    c.kind = ManeuverKind::Bursts;
-    c.rate_hz = tr.rate_hz;
-    c.noise_px = tr.noise_px;
-    c.duration_s = tr.duration_s;
-    c.drop_prob = tr.drop;
-    c.seed = tr.seed;
-    const ManeuverTrack t = generateManeuverTrack(c);
-    const double horizon = 2.0 / tr.rate_hz;
-    auto hold = makePredictor("hold", 2);
-    const double hold_rmse = scoreOnTrack(t, *hold, horizon).rmse_truth_px;
-    for (const auto& info : predictorRegistry()) {
-      if (info.name == "hold") continue;
-      auto p = makePredictor(info.name, 2);
-      const double ratio = scoreOnTrack(t, *p, horizon).rmse_truth_px / hold_rmse;
-      EXPECT_LT(ratio, 1.0) << info.name << " on bursts " << tr.rate_hz << " Hz " << tr.noise_px << " px #" << tr.seed;
-    }
-  }
+  for (const Track& tr : tracks)
+    expectEveryPredictorBeatsHold(
+        maneuverTrackCell(ManeuverKind::Bursts, tr.rate_hz, tr.noise_px, tr.duration_s, tr.seed, tr.drop), tr.rate_hz,
+        cellLabel(ManeuverKind::Bursts, tr.rate_hz, tr.noise_px, tr.seed));
 }
 
 }  // namespace
