@@ -1,4 +1,5 @@
 #include "predvs/predictors/cs_akf.h"
+#include "predvs/predictors/recent_values.h"
 
 #include <algorithm>
 #include <array>
@@ -104,40 +105,12 @@ void singerQSeries(double x, double dt, double out[6]) {
   out[5] = 0.5 * dt * acc[5];         // p = 1
 }
 
-/// The last kEntries values of a function of (alpha, dt), kept per thread by its caller: a uniformly
-/// sampled track asks the same two (the frame period and a prediction horizon) alternately, and a
-/// track with jittered timestamps cycles through a few frame periods (the 2-million-row track of
-/// docs/PERFORMANCE.md: two entries missed on about 30 % of the calls, as imm's one-entry cache
-/// did), so the function is evaluated once for each (the same bits, no exp per frame). The oldest
-/// entry is replaced.
-template <class T>
-class RecentValues {
- public:
-  static constexpr int kEntries = 8;
-  const T* find(double alpha, double dt) const {
-    for (const Entry& e : entries_)
-      if (alpha == e.alpha && dt == e.dt) return &e.value;
-    return nullptr;
-  }
-  void put(double alpha, double dt, const T& value) {
-    entries_[oldest_] = Entry{alpha, dt, value};
-    oldest_ = (oldest_ + 1) % kEntries;
-  }
-
- private:
-  struct Entry {
-    double alpha = std::numeric_limits<double>::quiet_NaN(), dt = alpha;
-    T value;
-  };
-  Entry entries_[kEntries];
-  int oldest_ = 0;  // the entry replaced next
-};
-
 }  // namespace
 
-Mat<3> singerTransition(double alpha, double dt) {
-  thread_local RecentValues<Mat<3>> cache;  // the same bits, no exp per frame
-  if (const Mat<3>* F = cache.find(alpha, dt)) return *F;
+namespace {
+
+/// F(alpha, dt) of the Singer model (singerTransition computes it once per (alpha, dt) and thread).
+Mat<3> computeSingerTransition(double alpha, double dt) {
   const double x = alpha * dt;
   Mat<3> F = Mat<3>::Identity();
   F(0, 1) = dt;
@@ -151,8 +124,14 @@ Mat<3> singerTransition(double alpha, double dt) {
     F(1, 2) = (1.0 - e) / alpha;
   }
   F(2, 2) = std::exp(-x);
-  cache.put(alpha, dt, F);
   return F;
+}
+
+}  // namespace
+
+Mat<3> singerTransition(double alpha, double dt) {
+  thread_local RecentValues<Mat<3>, 8, 2> cache;  // recent_values.h: the same bits, no exp per frame
+  return cache.get({alpha, dt}, [&] { return computeSingerTransition(alpha, dt); });
 }
 
 Vec<3> singerInput(double alpha, double dt) {
@@ -168,10 +147,11 @@ Vec<3> singerInput(double alpha, double dt) {
   return U;
 }
 
-Mat<3> singerProcessNoise(double alpha, double sigma2, double dt) {
-  // [q_ij] depends on (alpha, dt) only (RecentValues: kept for the last few per thread).
-  thread_local RecentValues<Mat<3>> cache;
-  if (const Mat<3>* q = cache.find(alpha, dt)) return (2.0 * alpha * sigma2) * *q;
+namespace {
+
+/// [q_ij](alpha, dt) of the Singer model, Q / (2 alpha sigma^2) (singerProcessNoise computes it once
+/// per (alpha, dt) and thread).
+Mat<3> computeSingerQ(double alpha, double dt) {
   const double x = alpha * dt;
   double q11, q12, q13, q22, q23, q33;
   if (x < kSingerSeriesThreshold) {
@@ -195,8 +175,15 @@ Mat<3> singerProcessNoise(double alpha, double sigma2, double dt) {
   }
   Mat<3> Q;
   Q << q11, q12, q13, q12, q22, q23, q13, q23, q33;
-  cache.put(alpha, dt, Q);
-  return (2.0 * alpha * sigma2) * Q;
+  return Q;
+}
+
+}  // namespace
+
+Mat<3> singerProcessNoise(double alpha, double sigma2, double dt) {
+  // [q_ij] depends on (alpha, dt) only (recent_values.h: kept for the last few per thread).
+  thread_local RecentValues<Mat<3>, 8, 2> cache;
+  return (2.0 * alpha * sigma2) * cache.get({alpha, dt}, [&] { return computeSingerQ(alpha, dt); });
 }
 
 double rayleighVariance(double abar, double a_max, double a_neg_max, double sigma0_sq) {

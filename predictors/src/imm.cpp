@@ -128,7 +128,6 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
     for (int j = 0; j < m; ++j)
       rates_(i, j) = i == j ? -1.0 / modes_[static_cast<size_t>(i)].tau_s
                             : 1.0 / (modes_[static_cast<size_t>(i)].tau_s * (m - 1));
-  chain_dt_.fill(std::numeric_limits<double>::quiet_NaN());  // equal to no dt: every entry empty
   fc_floor_exp_ = std::exp(fc_floor_);
   reset();
 }
@@ -196,20 +195,17 @@ Mat<3> ImmPredictor::processNoise(int j, double dt) const {
 ImmPredictor::ModeMatrix ImmPredictor::chain(double dt) const { return periodModels(dt).chain; }
 
 const ImmPredictor::PeriodModels& ImmPredictor::periodModels(double dt) const {
-  for (int k = 0; k < kChainCacheSize; ++k)
-    if (chain_dt_[static_cast<size_t>(k)] == dt) return chain_[static_cast<size_t>(k)];
-  const auto slot = static_cast<size_t>(chain_next_);
-  chain_next_ = (chain_next_ + 1) % kChainCacheSize;
-  PeriodModels& e = chain_[slot];
-  e.chain = computeChain(dt);
-  for (int j = 0; j < modeCount(); ++j) {
-    e.F[static_cast<size_t>(j)] = transition(j, dt);
-    e.Q[static_cast<size_t>(j)] = processNoise(j, dt);
-  }
-  e.keep = fc_tau_s_ > 0.0 ? std::exp(-dt / fc_tau_s_) : 0.0;
-  e.blend_keep = blend_tau_s_ > 0.0 ? std::exp(-dt / blend_tau_s_) : 0.0;
-  chain_dt_[slot] = dt;
-  return e;
+  return period_models_.get({dt}, [&] {
+    PeriodModels e;
+    e.chain = computeChain(dt);
+    for (int j = 0; j < modeCount(); ++j) {
+      e.F[static_cast<size_t>(j)] = transition(j, dt);
+      e.Q[static_cast<size_t>(j)] = processNoise(j, dt);
+    }
+    e.keep = fc_tau_s_ > 0.0 ? std::exp(-dt / fc_tau_s_) : 0.0;
+    e.blend_keep = blend_tau_s_ > 0.0 ? std::exp(-dt / blend_tau_s_) : 0.0;
+    return e;
+  });
 }
 
 ImmPredictor::ModeMatrix ImmPredictor::computeChain(double dt) const {
@@ -360,9 +356,9 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
       ch.blend.learn(f - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep);
     }
-    const bool started_gap = ch.last_measured && !isMeasured(z(c));
-    ch.last_measured = isMeasured(z(c));
-    if (ch.last_measured) ch.blend.z_hold = z(c);
+    const bool started_gap = ch.last_measured && !measured;
+    ch.last_measured = measured;
+    if (measured) ch.blend.z_hold = z(c);
     // Mixing: c_j = sum_i p_ij mu_i, mu_i|j = p_ij mu_i / c_j, moments of the mixture.
     std::array<double, kMaxModes> cbar{};
     std::array<Gaussian<3>, kMaxModes> mixed;

@@ -65,6 +65,7 @@
 #include "predvs/predictors/noise_estimate.h"
 #include "predvs/predictors/predictor.h"
 #include "predvs/predictors/process_noise_adapt.h"
+#include "predvs/predictors/recent_values.h"
 
 #include <Eigen/Cholesky>
 
@@ -194,14 +195,6 @@ struct HoldBlend {
   /// The blended position hold + w (f - hold).
   double position(double f) const { return z_hold + w * (f - z_hold); }
 };
-
-/// An array of N copies of v (a member initialiser).
-template <int N>
-constexpr std::array<double, N> filledArray(double v) {
-  std::array<double, N> a{};
-  for (auto& x : a) x = v;
-  return a;
-}
 
 /// The `coast_tau_s` parameter (s, >= 0, default kDefaultCoastTauS; 0 = no coasting).
 inline double coastTauParam(const Params& params) { return params.get("coast_tau_s", kDefaultCoastTauS, 0.0, 1e6); }
@@ -338,18 +331,10 @@ class ChannelPredictor : public Predictor {
     s.run = std::min(s.run + 1, kMaxBlendFrames + 1);
     s.start_now = true;
   }
-  /// exp(-dt / hold_blend_tau_s), kept for the last kBlendKeepCache distinct dt asked, replaced in
-  /// turn: a recorded track's frame period takes a handful of values that vary in their last bits
-  /// (a new dt on 9 frames in 10 of the 2-million-row track of docs/PERFORMANCE.md, 54 in all, a
-  /// few at a time), so one entry missed nearly every frame. The same bits as std::exp.
+  /// exp(-dt / hold_blend_tau_s), kept for the last few distinct dt (recent_values.h): the same bits
+  /// as std::exp.
   double blendForgetting(double dt) {
-    for (int k = 0; k < kBlendKeepCache; ++k)
-      if (blend_keep_dt_[static_cast<size_t>(k)] == dt) return blend_keep_[static_cast<size_t>(k)];
-    const auto slot = static_cast<size_t>(blend_keep_next_);
-    blend_keep_next_ = (blend_keep_next_ + 1) % kBlendKeepCache;
-    blend_keep_dt_[slot] = dt;
-    blend_keep_[slot] = std::exp(-dt / blend_tau_s_);
-    return blend_keep_[slot];
+    return blend_keep_.get({dt}, [&] { return std::exp(-dt / blend_tau_s_); });
   }
   /// One regression sample of the blend (file comment) on channel c after the update at t_s;
   /// lambda = blendForgetting(dt) of the update's dt.
@@ -469,10 +454,7 @@ class ChannelPredictor : public Predictor {
   double shrink_a_sigmas_ = 0.0;  ///< 0 until readShrinkParams(): unweighted forecast
   double shrink_v_sigmas_ = 0.0;
   double blend_tau_s_ = 0.0;
-  static constexpr int kBlendKeepCache = 8;  ///< blendForgetting's cache: dt (NaN = empty) and exp
-  std::array<double, kBlendKeepCache> blend_keep_dt_ = filledArray<kBlendKeepCache>(std::numeric_limits<double>::quiet_NaN());
-  std::array<double, kBlendKeepCache> blend_keep_{};
-  int blend_keep_next_ = 0;
+  RecentValues<double> blend_keep_;  ///< blendForgetting(dt) of the last few dt
   int blend_frames_ = kDefaultHoldBlendFrames;
 };
 

@@ -99,9 +99,9 @@
 #include "predvs/predictors/kalman_math.h"
 #include "predvs/predictors/noise_estimate.h"
 #include "predvs/predictors/predictor.h"
+#include "predvs/predictors/recent_values.h"
 
 #include <array>
-#include <limits>
 #include <vector>
 
 namespace predvs {
@@ -199,9 +199,9 @@ class ImmPredictor : public Predictor {
   // turn: the frame period of a recorded track takes a handful of values (times written with 10
   // significant digits give differences that vary in their last bits, 54 distinct ones on the
   // 2-million-row track of docs/PERFORMANCE.md, a few at a time: a new dt on 92 % of its frames),
-  // so one entry is too few. Each entry is what computeChain(dt), transition(), processNoise() and
-  // std::exp return for dt, so the results are the same bits. Mutable cache of a const function;
-  // an instance is used by one thread at a time.
+  // so one entry is too few (recent_values.h). Each entry is what computeChain(dt), transition(),
+  // processNoise() and std::exp return for dt, so the results are the same bits. Mutable cache of a
+  // const function; an instance is used by one thread at a time.
   static constexpr int kChainCacheSize = 8;
   struct PeriodModels {
     ModeMatrix chain;
@@ -210,9 +210,7 @@ class ImmPredictor : public Predictor {
   };
   ModeMatrix computeChain(double dt) const;
   const PeriodModels& periodModels(double dt) const;
-  mutable std::array<double, kChainCacheSize> chain_dt_;
-  mutable std::array<PeriodModels, kChainCacheSize> chain_;
-  mutable int chain_next_ = 0;
+  mutable RecentValues<PeriodModels, kChainCacheSize> period_models_;
   /// exp(log forecast_floor): the forecast weight of a floored mode before normalising.
   double fc_floor_exp_ = 0.0;
   std::vector<Channel> chan_;
