@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace predvs {
@@ -78,5 +79,66 @@ std::vector<std::vector<size_t>> groupByPrefix(const std::vector<std::string>& n
 }
 
 int dashType(size_t k) { return static_cast<int>(k % 5) + 1; }
+
+// The envelope of a long table (plots.h): per slice of the x span (at most a pixel column), the
+// time columns' first and last value and every other column's min and max, in the order the data
+// reached them; slices of 1 or 2 rows are copied.
+std::vector<double> plotEnvelope(const std::vector<double>& x, const std::vector<EnvelopeColumn>& columns,
+                                 size_t slices) {
+  const size_t rows = x.size(), width = columns.size();
+  std::vector<double> out;
+  if (rows == 0) return out;
+  slices = std::max<size_t>(1, slices);
+  out.reserve(std::min(rows, 2 * slices) * width);
+  const double x0 = x.front(), span = x.back() - x.front();
+  const double scale = span > 0.0 ? static_cast<double>(slices) / span : 0.0;
+  auto sliceOf = [&](size_t i) {
+    const double b = std::floor((x[i] - x0) * scale);
+    return b >= static_cast<double>(slices - 1) ? slices - 1 : static_cast<size_t>(std::max(0.0, b));
+  };
+  auto copyRow = [&](size_t i) {
+    for (const EnvelopeColumn& c : columns) out.push_back(c.values[i]);
+  };
+  const double kNaN = std::numeric_limits<double>::quiet_NaN();
+  size_t begin = 0;
+  while (begin < rows) {
+    const size_t b = sliceOf(begin);
+    size_t end = begin + 1;
+    while (end < rows && sliceOf(end) == b) ++end;
+    if (end - begin <= 2) {
+      for (size_t i = begin; i < end; ++i) copyRow(i);
+      begin = end;
+      continue;
+    }
+    const size_t first_row = out.size();
+    out.resize(first_row + 2 * width);
+    double* row_a = out.data() + first_row;
+    double* row_b = row_a + width;
+    for (size_t c = 0; c < width; ++c) {
+      const double* v = columns[c].values;
+      if (columns[c].is_x) {
+        row_a[c] = v[begin];
+        row_b[c] = v[end - 1];
+        continue;
+      }
+      // min and max with NaN skipped (a comparison with NaN is false); the loop vectorises
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (size_t i = begin; i < end; ++i) {
+        lo = v[i] < lo ? v[i] : lo;
+        hi = v[i] > hi ? v[i] : hi;
+      }
+      if (!(lo <= hi)) {  // no number in the slice
+        row_a[c] = row_b[c] = kNaN;
+        continue;
+      }
+      size_t i = begin;
+      while (v[i] != lo && v[i] != hi) ++i;  // which extreme the data reaches first
+      row_a[c] = v[i];
+      row_b[c] = v[i] == lo ? hi : lo;
+    }
+    begin = end;
+  }
+  return out;
+}
 
 }  // namespace predvs

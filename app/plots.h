@@ -56,4 +56,17 @@ std::vector<std::vector<size_t>> groupByPrefix(const std::vector<std::string>& n
 /// Dash type of the k-th curve of a group: solid, then dashed patterns.
 int dashType(size_t k);
 
+/// One column of a table given to plotEnvelope(): `rows` values (not owned).
+struct EnvelopeColumn {
+  const double* values = nullptr;
+  bool is_x = false;  ///< true: a time column (first and last row of a slice); false: min and max
+};
+
+/// The envelope of a table (see the file comment): x (finite, non-decreasing, one per row) decides
+/// the slice of each row, slice b = min(B - 1, floor((x_i - x_first) / (x_last - x_first) * B))
+/// (one slice when x_last == x_first); returns the thinned rows, row-major, columns.size() numbers
+/// per row. B = `slices` >= 1.
+std::vector<double> plotEnvelope(const std::vector<double>& x, const std::vector<EnvelopeColumn>& columns,
+                                 size_t slices);
+
 }  // namespace predvs

@@ -6,6 +6,7 @@
 #include "gnuplot.h"
 #include "output_dir.h"
 #include "parallel_for.h"
+#include "plots.h"
 
 #include "predvs/predictors/predictor.h"
 
@@ -61,8 +62,6 @@ void writeWhole(const std::string& path, const std::string& text) {
 }
 
 }  // namespace
-
-size_t plotStride(size_t rows) { return rows <= kMaxPlotRows ? 1 : (rows + kMaxPlotRows - 1) / kMaxPlotRows; }
 
 namespace {
 
@@ -401,18 +400,17 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
   const int n = track.points();
   const bool single = n == 1;
   // Plot data (the first point): measured points at their time, predictions at the time they are
-  // made for; every plotStride()-th row only (all of them up to kMaxPlotRows rows). The text file
+  // made for; beyond kMaxPlotRows rows, the envelope of kPlotSlices time slices (plotEnvelope(),
+  // plots.h: per slice the first and last time, every other column's min and max). The text file
   // is for the user; predictions.gp reads the same numbers from predictions_plot.bin (the values of
   // the text, as doubles), which gnuplot takes in once per series without parsing text.
-  const size_t stride = plotStride(track.size());
+  const bool envelope = track.size() > kMaxPlotRows;
   const size_t plot_columns = 6 + 2 * report.runs.size();
+  size_t plot_rows = track.size();
   {
     std::string dat = "# t_s u_px v_px t_target_s u_true_px v_true_px";
     for (const auto& run : report.runs) dat += " " + run.spec.name + ".u_pred " + run.spec.name + ".v_pred";
-    if (stride > 1) dat += "\n# 1 row in " + std::to_string(stride) + " of " + std::to_string(track.size());
-    dat += '\n';
     std::vector<double> bin;
-    bin.reserve((track.size() / stride + 1) * plot_columns);
     auto num = [&](double x) {  // datNumber's format; the binary value is the text's
       if (!std::isfinite(x)) {
         dat += "NaN";
@@ -424,25 +422,58 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
       dat.append(buf, end);
       bin.push_back(textValue(buf, end));
     };
-    for (size_t i = 0; i < track.size(); i += stride) {
-      num(track.t_s[i]);
-      dat += ' ';
-      num(track.u_px[0][i]);
-      dat += ' ';
-      num(track.v_px[0][i]);
-      dat += ' ';
-      num(track.t_s[i] + report.horizon_s);
-      dat += ' ';
-      num(track.hasTruth() ? track.u_true_px[0][i] : kNaN);
-      dat += ' ';
-      num(track.hasTruth() ? track.v_true_px[0][i] : kNaN);
+    if (envelope) {
+      std::vector<double> t_target(track.size()), none;
+      for (size_t i = 0; i < track.size(); ++i) t_target[i] = track.t_s[i] + report.horizon_s;
+      if (!track.hasTruth()) none.assign(track.size(), kNaN);
+      std::vector<EnvelopeColumn> columns{{track.t_s.data(), true},
+                                          {track.u_px[0].data(), false},
+                                          {track.v_px[0].data(), false},
+                                          {t_target.data(), true},
+                                          {track.hasTruth() ? track.u_true_px[0].data() : none.data(), false},
+                                          {track.hasTruth() ? track.v_true_px[0].data() : none.data(), false}};
       for (const auto& run : report.runs) {
-        dat += ' ';
-        num(run.points[0].u_pred_px[i]);
-        dat += ' ';
-        num(run.points[0].v_pred_px[i]);
+        columns.push_back({run.points[0].u_pred_px.data(), false});
+        columns.push_back({run.points[0].v_pred_px.data(), false});
       }
+      const std::vector<double> table = plotEnvelope(track.t_s, columns, kPlotSlices);
+      plot_rows = table.size() / plot_columns;
+      dat += "\n# " + std::to_string(track.size()) + " rows in " + std::to_string(kPlotSlices) +
+             " equal time slices: per slice, t_s and t_target_s of its first and last row, every other column's"
+             " min and max (the one reached first in the first row)";
       dat += '\n';
+      dat.reserve(dat.size() + table.size() * 16);
+      bin.reserve(table.size());
+      for (size_t r = 0; r < plot_rows; ++r) {
+        for (size_t c = 0; c < plot_columns; ++c) {
+          if (c) dat += ' ';
+          num(table[r * plot_columns + c]);
+        }
+        dat += '\n';
+      }
+    } else {
+      dat += '\n';
+      bin.reserve(track.size() * plot_columns);
+      for (size_t i = 0; i < track.size(); ++i) {
+        num(track.t_s[i]);
+        dat += ' ';
+        num(track.u_px[0][i]);
+        dat += ' ';
+        num(track.v_px[0][i]);
+        dat += ' ';
+        num(track.t_s[i] + report.horizon_s);
+        dat += ' ';
+        num(track.hasTruth() ? track.u_true_px[0][i] : kNaN);
+        dat += ' ';
+        num(track.hasTruth() ? track.v_true_px[0][i] : kNaN);
+        for (const auto& run : report.runs) {
+          dat += ' ';
+          num(run.points[0].u_pred_px[i]);
+          dat += ' ';
+          num(run.points[0].v_pred_px[i]);
+        }
+        dat += '\n';
+      }
     }
     writeWhole(dir.file("predictions_plot.dat"), dat);
     writeWhole(dir.file("predictions_plot.bin"),
@@ -453,7 +484,7 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
   title << "Prediction " << std::setprecision(4) << report.horizon_s << " s ahead";
   if (delay_frames >= 0) title << " (" << delay_frames << " frames)";
   if (!single) title << ", point " << track.point_names[0] << " of " << n << " (all in predictions.csv)";
-  if (stride > 1) title << ", 1 row in " << stride << " of " << track.size() << " drawn";
+  if (envelope) title << ", " << track.size() << " rows drawn as the min and max of " << kPlotSlices << " time slices";
   // The binary data and how to read it: the same columns as predictions_plot.dat, doubles in the
   // machine's byte order. Drawing from the text instead gives the same PNG (same values).
   const std::string binary = "binary format='%" + std::to_string(plot_columns) + "float64'";

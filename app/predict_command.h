@@ -84,13 +84,14 @@ PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vec
                                   const std::vector<double>& v_pred, double horizon_s,
                                   const std::vector<double>& u_ref, const std::vector<double>& v_ref);
 
-/// The plot data (predictions_plot.dat, hence predictions.png) of a long track is thinned: at most
-/// kMaxPlotRows rows are drawn, every plotStride(rows)-th row from the first, stride =
-/// ceil(rows / kMaxPlotRows) (1 up to kMaxPlotRows rows: a normal track is drawn whole). A plot of
-/// millions of points is unreadable and takes gnuplot minutes; predictions.csv and every error figure
-/// keep every row.
+/// The plot data (predictions_plot.dat, hence predictions.png) of a long track is thinned: beyond
+/// kMaxPlotRows rows it is the envelope of kPlotSlices equal time slices (plotEnvelope(), plots.h:
+/// per slice two rows, the first and last time, every other column's min and max), which draws the
+/// ink of every row at the PNG's resolution (1200 px wide: a slice is at most one pixel column of
+/// the plot); up to kMaxPlotRows rows (11 min at 30 Hz) every row is drawn, as it is.
+/// predictions.csv and every error figure keep every row.
 constexpr size_t kMaxPlotRows = 20000;
-size_t plotStride(size_t rows);
+constexpr size_t kPlotSlices = 1200;
 
 /// Writes predictions.csv, summary.json and (if plots) predictions.png + its gnuplot script/data.
 ///  predictions.csv: one point: t,u,v,t_target,NAME.u_pred,NAME.v_pred[,...] (one column pair per
@@ -103,8 +104,8 @@ size_t plotStride(size_t rows);
 ///                    {"rmse_px","rmse_u_px","rmse_v_px","n"}, "vs_truth": {...} or null (both
 ///                    overall), "per_point": [{"point", "vs_measurement", "vs_truth"}]}]}
 ///  predictions.png: u and v versus time of the first point (for N > 1 its title says so; every
-///                   point is in predictions.csv and its errors in summary.json); thinned beyond
-///                   kMaxPlotRows rows (its title then says so). Drawn by predictions.gp from
+///                   point is in predictions.csv and its errors in summary.json); the envelope of
+///                   kPlotSlices time slices beyond kMaxPlotRows rows (its title then says so). Drawn by predictions.gp from
 ///                   predictions_plot.bin: the numbers of the text predictions_plot.dat (same rows
 ///                   and columns: t_s u_px v_px t_target_s u_true_px v_true_px, then u_pred v_pred
 ///                   per predictor) as doubles in the machine's byte order (NaN for "NaN"), which

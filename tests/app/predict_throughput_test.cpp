@@ -62,15 +62,6 @@ TEST(PredictThroughput, RejectsWhatStrtodRejectsWithTheSameMessages) {
   EXPECT_NE(message("two.csv", "1 2").find(":3: column 'u': expected a number, got '1 2'"), std::string::npos);
 }
 
-TEST(PredictThroughput, PlotDataIsThinnedBeyondTheLimitOnly) {
-  EXPECT_EQ(predvs::plotStride(1), 1u);
-  EXPECT_EQ(predvs::plotStride(predvs::kMaxPlotRows), 1u);
-  EXPECT_EQ(predvs::plotStride(predvs::kMaxPlotRows + 1), 2u);
-  EXPECT_EQ(predvs::plotStride(2000011), 101u);
-  for (size_t rows : {20001u, 123457u, 2000011u})
-    EXPECT_LE((rows + predvs::plotStride(rows) - 1) / predvs::plotStride(rows), predvs::kMaxPlotRows) << rows;
-}
-
 TEST(PredictThroughput, SummaryTableStaysAlignedForSevenDigitCounts) {
   predvs::FeatureTrack track;
   track.point_names = {"0"};
@@ -188,8 +179,11 @@ TEST(PredictThroughput, ParallelRunGivesTheSameOutputsAsOneThread) {
 }
 
 TEST(PredictThroughput, PlotBinaryHoldsTheNumbersOfThePlotText) {
-  // GIVEN a one-point track with empty cells, thinned for the plot (stride 2), and three predictors
-  const predvs::FeatureTrack track = syntheticTrack(predvs::kMaxPlotRows + 3001, 1);
+  // GIVEN a one-point track with empty cells, thinned for the plot (its envelope), and three predictors
+  // (and no measurement for 100 rows: slices with no number, NaN in the plot)
+  predvs::FeatureTrack track = syntheticTrack(predvs::kMaxPlotRows + 3001, 1);
+  std::fill(track.u_px[0].begin() + 5000, track.u_px[0].begin() + 5100, std::nan(""));
+  std::fill(track.v_px[0].begin() + 5000, track.v_px[0].begin() + 5100, std::nan(""));
   const std::vector<predvs::PredictorSpec> specs{{"hold", {}}, {"kf-cv", {}}, {"fakf", {}}};
   const predvs::PredictionReport report = predvs::predictTrack(track, specs, 2.0 / 30.0, 2);
   const auto out = std::filesystem::temp_directory_path() / "predvs_throughput_plot_bin";
@@ -227,13 +221,45 @@ TEST(PredictThroughput, PlotBinaryHoldsTheNumbersOfThePlotText) {
     ASSERT_EQ(c, columns) << "row " << rows;
     ++rows;
   }
-  EXPECT_EQ(rows, (track.size() + 1) / 2);
+  EXPECT_GT(rows, predvs::kPlotSlices);  // two rows per slice of about 19 rows
+  EXPECT_LE(rows, 2 * predvs::kPlotSlices);
   EXPECT_EQ(at, bin.size());
   EXPECT_GT(nans, 0u);
   const std::string gp = readAll(out / "predictions.gp");
   EXPECT_NE(gp.find("data = 'predictions_plot.bin'"), std::string::npos) << gp;
   EXPECT_NE(gp.find("binary format='%" + std::to_string(columns) + "float64'"), std::string::npos) << gp;
   EXPECT_TRUE(std::filesystem::exists(out / "predictions.png"));
+  std::filesystem::remove_all(out);
+}
+
+TEST(PredictThroughput, PlotDataOfATrackUpToTheLimitHasEveryRow) {
+  // GIVEN a one-point track of kMaxPlotRows rows and one predictor
+  const predvs::FeatureTrack track = syntheticTrack(predvs::kMaxPlotRows, 1);
+  const predvs::PredictionReport report = predvs::predictTrack(track, {{"hold", {}}}, 2.0 / 30.0, 2);
+  const auto out = std::filesystem::temp_directory_path() / "predvs_throughput_plot_whole";
+  std::filesystem::remove_all(out);
+  // WHEN the outputs are written with the plot
+  {
+    predvs::StagedOutputDir dir(out);
+    predvs::writePredictionOutputs(track, report, 2, "predvs predict (test)", /*plots=*/true, dir, 2);
+    dir.commit();
+  }
+  // THEN predictions_plot.dat has every row, each row's time the track's, and the title no thinning
+  std::ifstream dat(out / "predictions_plot.dat");
+  std::string line;
+  size_t rows = 0, comments = 0;
+  while (std::getline(dat, line)) {
+    if (line.empty() || line[0] == '#') {
+      ++comments;
+      continue;
+    }
+    ASSERT_LT(rows, track.size());
+    EXPECT_NEAR(std::strtod(line.c_str(), nullptr), track.t_s[rows], 1e-7 * (1.0 + track.t_s[rows])) << rows;
+    ++rows;
+  }
+  EXPECT_EQ(rows, track.size());
+  EXPECT_EQ(comments, 1u);
+  EXPECT_EQ(readAll(out / "predictions.gp").find("slices"), std::string::npos);
   std::filesystem::remove_all(out);
 }
 
