@@ -14,6 +14,7 @@ DiscontinuityMonitor::DiscontinuityMonitor(const MonitorConfig& config) : config
         "discontinuity monitor: need band_factor > 0, chi2_threshold > 0, band_floor >= 0, 0 < centre_gain <= 1, "
         "warmup >= 0");
   history_.assign(static_cast<size_t>(config_.window), 0.0);
+  prefix_.assign(static_cast<size_t>(config_.window) + 1, 0.0);
 }
 
 void DiscontinuityMonitor::restart() {
@@ -43,10 +44,9 @@ bool DiscontinuityMonitor::observe(double t_s, double error, double variance) {
   } else {
     const int n = config_.window;
     if (count_ >= n) {
-      // sigma_n^2 of the n previous errors (population variance about their mean, eq. 26).
-      double mean = 0.0;
-      for (double e : history_) mean += e;
-      mean /= n;
+      // sigma_n^2 of the n previous errors (population variance about their mean, eq. 26). The sum
+      // of the mean is prefix_[n]: history_[0] + ... + history_[n-1] added left to right from 0.0.
+      const double mean = prefix_[static_cast<size_t>(n)] / n;
       double var = 0.0;
       for (double e : history_) var += (e - mean) * (e - mean);
       var /= n;
@@ -58,6 +58,9 @@ bool DiscontinuityMonitor::observe(double t_s, double error, double variance) {
     }
     centre_ = count_ == 0 ? error : (1.0 - config_.centre_gain) * centre_ + config_.centre_gain * error;
     history_[static_cast<size_t>(head_)] = error;
+    // The sums before head_ keep their value; those after it are added again from there, in the
+    // same order (so prefix_[n] has the bits of the loop over history_, half of it on average).
+    for (size_t k = static_cast<size_t>(head_); k < static_cast<size_t>(n); ++k) prefix_[k + 1] = prefix_[k] + history_[k];
     head_ = (head_ + 1) % n;
     ++count_;
   }

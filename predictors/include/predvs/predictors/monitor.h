@@ -65,6 +65,7 @@ class DiscontinuityMonitor {
  private:
   MonitorConfig config_;
   std::vector<double> history_;  // ring buffer of the last `window` errors
+  std::vector<double> prefix_;   // prefix_[k] = history_[0] + ... + history_[k-1], left to right from 0.0
   int count_ = 0;                // samples since (re)start
   int head_ = 0;
   double centre_ = 0.0;
