@@ -11,49 +11,47 @@ namespace predvs {
 InnovationWindow::InnovationWindow(int length) {
   if (length < 1) throw std::invalid_argument("innovation window length must be >= 1");
   buf_.assign(static_cast<size_t>(length), 0.0);
-  sum_.assign(static_cast<size_t>(length) + 1, 0.0);
-  sum2_.assign(static_cast<size_t>(length) + 1, 0.0);
 }
 
 void InnovationWindow::push(double eps) {
-  const size_t at = static_cast<size_t>(next_);
-  buf_[at] = eps;
-  // The prefix sums before `at` keep their value; those after it are added again from there, in
-  // the loop's order (the same bits as summing the whole window, half of it on average).
-  for (size_t i = at; i < buf_.size(); ++i) {
-    sum_[i + 1] = sum_[i] + buf_[i];
-    sum2_[i + 1] = sum2_[i] + buf_[i] * buf_[i];
-  }
+  buf_[static_cast<size_t>(next_)] = eps;
   next_ = (next_ + 1) % length();
   count_ = std::min(count_ + 1, length());
 }
 
 void InnovationWindow::clear() {
   std::fill(buf_.begin(), buf_.end(), 0.0);
-  std::fill(sum_.begin(), sum_.end(), 0.0);
-  std::fill(sum2_.begin(), sum2_.end(), 0.0);
   next_ = 0;
   count_ = 0;
 }
 
-// Sums over the (short) window, not running sums, which would accumulate rounding over long runs:
-// sum_[k] is buf_[0] + ... + buf_[k-1] added left to right from 0.0 (likewise sum2_ of the
-// squares), the sum of the first `count_` slots the loop over them gave.
+// Sums are recomputed over the (short) window rather than kept as running sums, which would
+// accumulate rounding over long runs.
 double InnovationWindow::mean() const {
   if (count_ == 0) return 0.0;
-  return sum_[static_cast<size_t>(count_)] / count_;
+  double s = 0.0;
+  for (int i = 0; i < count_; ++i) s += buf_[static_cast<size_t>(i)];
+  return s / count_;
 }
 
 double InnovationWindow::meanSquare() const {
   if (count_ == 0) return 0.0;
-  return sum2_[static_cast<size_t>(count_)] / count_;
+  double s = 0.0;
+  for (int i = 0; i < count_; ++i) s += buf_[static_cast<size_t>(i)] * buf_[static_cast<size_t>(i)];
+  return s / count_;
 }
 
 InnovationWindow::Moments InnovationWindow::moments() const {
   Moments m;
   if (count_ == 0) return m;
-  m.mean = sum_[static_cast<size_t>(count_)] / count_;
-  m.mean_square = sum2_[static_cast<size_t>(count_)] / count_;
+  double s = 0.0, s2 = 0.0;
+  for (int i = 0; i < count_; ++i) {
+    const double e = buf_[static_cast<size_t>(i)];
+    s += e;
+    s2 += e * e;
+  }
+  m.mean = s / count_;
+  m.mean_square = s2 / count_;
   return m;
 }
 

@@ -42,8 +42,8 @@ class InnovationWindow {
   double mean() const;
   /// C = mean of the squared stored innovations (0 when empty).
   double meanSquare() const;
-  /// E' and C together (the same sums as mean() and meanSquare(), so bit-identical to them). The
-  /// sums are kept as prefix sums over the window's slots, re-added from the slot push() writes.
+  /// E' and C from one pass over the window (same sums, same order, so bit-identical to mean()
+  /// and meanSquare(); half the loop overhead on the filter's hot path).
   struct Moments {
     double mean = 0.0, mean_square = 0.0;
   };
@@ -51,7 +51,6 @@ class InnovationWindow {
 
  private:
   std::vector<double> buf_;
-  std::vector<double> sum_, sum2_;  ///< [k]: buf_[0] + ... + buf_[k-1] (of squares), left to right
   int next_ = 0;
   int count_ = 0;
 };
