@@ -2,6 +2,20 @@
 // primitive: a figure is a grid of panels, a panel a list of lines read from data files in the
 // output directory. Every figure is BASE.gp (the script, re-runnable by hand with `gnuplot
 // BASE.gp` in that directory) drawing BASE.png.
+//
+// Long series: plotEnvelope() thins a table of series sampled at common times to what a PNG can
+// show. The x span [x_first, x_last] is cut into B equal slices (B at least the plot's width in
+// pixels, so a slice is at most one pixel column wide); a slice of n > 2 rows becomes two rows: the
+// x-like columns (time) take the slice's first and its last row's value, every other column takes
+// its minimum and its maximum over the slice (NaN cells skipped; NaN if the slice has none), the
+// one the data reached first in the first row. A line through these two rows covers, in that
+// pixel column, the same span of y as the line through all n rows (the ink a person sees), and
+// goes on to the next slice from the extreme the data reached last; a spike of one row stays
+// (taking every k-th row would drop it). A point series keeps its two extreme points per slice
+// only: predictions.png draws a line as wide as its points under them, which inks the band that
+// hundreds of points per pixel column make. Slices of 1 or 2 rows are copied as they are, so a
+// table with at most 2 rows per slice comes back unchanged. (Who calls it decides when: `predvs
+// predict` beyond 20,000 rows, with 1200 slices for its 1200-pixel-wide PNG.)
 #pragma once
 
 #include "output_dir.h"

@@ -505,8 +505,12 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
     const char* name = axis == 0 ? "u" : "v";
     gp << "set title " << gnuplotQuote(std::string("image coordinate ") + name + " (measured vs predicted)") << "\n"
        << "set ylabel '" << name << " [px]'\n"
-       << "plot data @fmt using 1:" << (2 + axis)
-       << " with points pt 7 ps 0.5 lc rgb 'black' title 'measured'";
+       << "plot data @fmt using 1:" << (2 + axis);
+    // The envelope keeps the measured points at each slice's extremes only; the points of every row,
+    // hundreds per pixel column, ink the whole span between them: a black line as wide as a point
+    // (5 px, pt 7 ps 0.5) under the points draws that band.
+    if (envelope) gp << " with lines lw 5 lc rgb 'black' notitle, '' @fmt using 1:" << (2 + axis);
+    gp << " with points pt 7 ps 0.5 lc rgb 'black' title 'measured'";
     for (size_t k = 0; k < report.runs.size(); ++k)
       gp << ", '' @fmt using 4:" << (7 + 2 * k + static_cast<size_t>(axis)) << " with lines lw 1.5 lc rgb '"
          << seriesColor(k) << "' title " << gnuplotQuote(report.runs[k].spec.name);
