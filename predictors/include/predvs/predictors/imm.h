@@ -155,6 +155,10 @@ class ImmPredictor : public Predictor {
     std::array<double, kMaxModes> mu{};
     std::array<double, kMaxModes> logw{};  ///< forecast log weights (forgetting evidence), max 0
     std::array<double, kMaxModes> fw{};    ///< forecast weights: exp(logw) normalised
+    /// Calibration of each mode's forecast variance: the forgetting mean of e_j^2 / s_j (a prior
+    /// ratio of 1 counted once), and the forgetting count of the ratios it holds.
+    std::array<double, kMaxModes> fc_cal{};
+    double fc_cal_n = 1.0;
     bool initialized = false;
     Innovation innovation;
     StartupNoiseEstimator r_est;
@@ -173,6 +177,7 @@ class ImmPredictor : public Predictor {
   double coast_tau_s_;  ///< s; 0 = no coasting
   double fc_tau_s_;     ///< s; forgetting time of the forecast weights' evidence; 0 = forecast with mu
   double fc_floor_;     ///< log of forecast_floor: the lowest log forecast weight relative to the best
+  bool fc_calibrate_;   ///< forecast_calibration: score with v_j = min(1, c_j) s_j instead of s_j
   double shrink_a_sigmas_, shrink_v_sigmas_;  ///< the CA mode's forecast weighting (kf-ca's); 0 = off
   double blend_tau_s_;  ///< s; the forecast's blend with hold (hold_blend_tau_s, channel_predictor.h); 0 = off
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
