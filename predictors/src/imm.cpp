@@ -20,6 +20,12 @@ constexpr double kMuFloor = 1e-6;
 constexpr double kDefaultForecastTauS = 30.0;
 /// Default floor of a forecast weight relative to the largest (docs/MODELS.md §14).
 constexpr double kDefaultForecastFloor = 0.01;
+/// Lowest calibration factor of a forecast variance (imm.h, "Calibration"): keeps v_j > 0 where a
+/// mode's forecasts are exact for long (a still target without noise: its mean ratio e^2 / s can
+/// reach 0), where log 0 and 0 / 0 would make its score NaN (which the floor's std::max then turns
+/// into the floor: the exact mode would get the least weight). Far below the factors on the
+/// generated tracks: the study grids give the same bits with and without it.
+constexpr double kMinForecastCalibration = 1e-12;
 
 /// std::exp(x) without the call for x = 0 (+0 or -0), whose exp is exactly 1: the same bits.
 inline double expOrOne(double x) { return x == 0.0 ? 1.0 : std::exp(x); }
@@ -454,7 +460,8 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
           // model overstates it (calibration, imm.h): v_j = min(1, c_j) s_j, c_j from the frames
           // before this one; then this frame's ratio e^2 / s_j joins c_j.
           const double S_h = fpf + Q[jj](0, 0) + R;
-          const double v = fc_calibrate_ ? std::min(1.0, ch.fc_cal[jj]) * S_h : S_h;
+          const double v =
+              fc_calibrate_ ? std::clamp(ch.fc_cal[jj], kMinForecastCalibration, 1.0) * S_h : S_h;
           ev[jj] = -0.5 * (std::log(v) + e * e / v);
           ratio[jj] = e * e / S_h;
         }

@@ -45,7 +45,7 @@
 //   e_j(k) = z_k - (F_j(dt) x^_j(k-1))(0),  s_j(k) = (F_j P_j(k-1) F_j' + Q_j)(0, 0) + R
 //            (the forecast of this measurement made from mode j's own posterior of the previous
 //            update, x^_j its forecast start as above; scored before mixing),
-//   v_j(k) = min(1, c_j(k-1)) s_j(k),  c_j(k) = sum_i lambda^(k-i) r_j(i) / sum_i lambda^(k-i),
+//   v_j(k) = clamp(c_j(k-1), 1e-12, 1) s_j(k),  c_j(k) = sum_i lambda^(k-i) r_j(i) / sum_i lambda^(k-i),
 //            r_j = e_j^2 / s_j  (c_j: how far the realised squared errors are from the stated
 //            variance, a prior ratio of 1 counted once at the start; calibration, below),
 //   L_j(k) = lambda L_j(k-1) + l_j(k) - max_i l_i(k),  l_j = -(log v_j + e_j^2 / v_j) / 2,
