@@ -3,6 +3,7 @@
 #include "predvs/predictors/cs_akf.h"
 #include "predvs/predictors/kalman_baselines.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -19,6 +20,12 @@ constexpr double kMuFloor = 1e-6;
 constexpr double kDefaultForecastTauS = 30.0;
 /// Default floor of a forecast weight relative to the largest (docs/MODELS.md §14).
 constexpr double kDefaultForecastFloor = 0.01;
+/// Lowest calibration factor of a forecast variance (imm.h, "Calibration"): keeps v_j > 0 where a
+/// mode's forecasts are exact for long (a still target without noise: its mean ratio e^2 / s can
+/// reach 0), where log 0 and 0 / 0 would make its score NaN (which the floor's std::max then turns
+/// into the floor: the exact mode would get the least weight). Far below the factors on the
+/// generated tracks: the study grids give the same bits with and without it.
+constexpr double kMinForecastCalibration = 1e-12;
 
 /// std::exp(x) without the call for x = 0 (+0 or -0), whose exp is exactly 1: the same bits.
 inline double expOrOne(double x) { return x == 0.0 ? 1.0 : std::exp(x); }
@@ -108,6 +115,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       coast_tau_s_(coastTauParam(params)),
       fc_tau_s_(params.get("forecast_tau_s", kDefaultForecastTauS, 0.0, 1e6)),
       fc_floor_(std::log(params.get("forecast_floor", kDefaultForecastFloor, 1e-12, 0.5))),
+      fc_calibrate_(params.get("forecast_calibration", 1.0, 0.0, 1.0) >= 0.5),
       shrink_a_sigmas_(params.get("shrink_sigmas", kDefaultShrinkSigmasKfCa, 0.0, 1e3)),
       shrink_v_sigmas_(params.get("shrink_v_sigmas", kDefaultShrinkVelocityKfCa ? shrink_a_sigmas_ : 0.0, 0.0, 1e3)),
       blend_tau_s_(holdBlendTauParam(params)),  // as every per-channel filter (channel_predictor.h)
@@ -138,6 +146,7 @@ void ImmPredictor::reset() {
   init.mu.fill(0.0);
   for (int j = 0; j < modeCount(); ++j) init.mu[static_cast<size_t>(j)] = 1.0 / modeCount();
   init.fw = init.mu;
+  init.fc_cal.fill(1.0);
   chan_.assign(static_cast<size_t>(channels()), init);
 }
 
@@ -343,18 +352,22 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     if (measured && ((blend_tau_s_ > 0.0 && ch.last_measured) || fc_tau_s_ > 0.0)) x_ca = forecastStartMean(ch, ca);
     // The blend with hold learns from the one-frame forecast of the previous update (channel_predictor.h):
     // each mode's (F x)(0), for CP and CV written out as in predictPosition (the same bits).
+    // The step of the combination is the combination of the modes' steps, sum_j w_j (p_j - z_hold):
+    // exactly 0 when every mode forecasts z_hold (the first sample after the start, all velocities
+    // 0), where sum_j w_j p_j - z_hold would leave a rounding residual of either sign whose
+    // regression weight y / d is clamped to 0 or 1 (imm.h, "The blend's step").
     if (blend_tau_s_ > 0.0 && measured && ch.last_measured) {
       const std::array<double, kMaxModes>& fw = forecastWeights(ch);
-      double f = 0.0;
+      double d_step = 0.0;
       for (int j = 0; j < m; ++j) {
         const auto jj = static_cast<size_t>(j);
         const int d = modes_[jj].dim;
         const double pj = d == 1   ? ch.g[jj].x(0)
                           : d == 2 ? ch.g[jj].x(0) + F[jj](0, 1) * ch.g[jj].x(1)
                                    : Vec<3>((F[jj] * x_ca).eval())(0);
-        f += fw[jj] * pj;
+        d_step += fw[jj] * (pj - ch.blend.z_hold);
       }
-      ch.blend.learn(f - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep);
+      ch.blend.learn(d_step, z(c) - ch.blend.z_hold, blend_keep);
     }
     const bool started_gap = ch.last_measured && !measured;
     ch.last_measured = measured;
@@ -416,7 +429,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         sum += w[jj];
       }
       if (fc_tau_s_ > 0.0) {
-        std::array<double, kMaxModes> ev{};
+        std::array<double, kMaxModes> ev{}, ratio{};
         for (int j = 0; j < m; ++j) {
           // Mode j's forecast of z from its posterior of the last update (ch.g, not yet replaced):
           // mean f x and variance f P f' + Q(0, 0) + R, f = row 0 of F (only the measured entry
@@ -443,8 +456,21 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
               fpf = f * g.P * f.transpose();
             }
           }
+          // The forecast's variance as the model states it, lowered to the realised one where the
+          // model overstates it (calibration, imm.h): v_j = min(1, c_j) s_j, c_j from the frames
+          // before this one; then this frame's ratio e^2 / s_j joins c_j.
           const double S_h = fpf + Q[jj](0, 0) + R;
-          ev[jj] = -0.5 * (std::log(S_h) + e * e / S_h);
+          const double v =
+              fc_calibrate_ ? std::clamp(ch.fc_cal[jj], kMinForecastCalibration, 1.0) * S_h : S_h;
+          ev[jj] = -0.5 * (std::log(v) + e * e / v);
+          ratio[jj] = e * e / S_h;
+        }
+        if (fc_calibrate_) {
+          ch.fc_cal_n = keep * ch.fc_cal_n + 1.0;  // forgetting count of the ratios (prior: 1 of 1)
+          for (int j = 0; j < m; ++j) {
+            const auto jj = static_cast<size_t>(j);
+            ch.fc_cal[jj] += (ratio[jj] - ch.fc_cal[jj]) / ch.fc_cal_n;
+          }
         }
         double mev = -std::numeric_limits<double>::infinity();
         for (int j = 0; j < m; ++j) mev = std::max(mev, ev[static_cast<size_t>(j)]);

@@ -268,6 +268,34 @@ TEST(Imm, ForecastWeightsFollowASwitchWithinAFewFrames) {
   EXPECT_LE(t_switch, 0.3);
 }
 
+TEST(Imm, BlendLearnsNoStepWhereEveryModeForecastsTheLastMeasurement) {
+  // GIVEN imm with its defaults (blend with hold on), frames at k / 10 s, a target that starts at
+  // z0 and moves 150 px/s from the first frame on. On the second frame every mode still forecasts
+  // z0 (all velocities 0): the blend's first sample is a step d = 0, which must not set its weight.
+  // (Learnt from sum_j w_j p_j - z0 instead, three thirds of z0 left a rounding residual whose sign
+  // set the weight to 0 or 1: imm then held the first frames on about half of these start values.)
+  const double rate_hz = 10.0, v_pxps = 150.0;
+  int held = 0, starts = 0;
+  for (int i = 0; i < 200; ++i) {
+    const double z0 = 100.0 + 1.37 * i + 1e-3 * i * i;
+    ImmPredictor imm(1, Params{});
+    double last = z0;
+    for (int k = 0; k < 2; ++k) {
+      Eigen::VectorXd z(1);
+      last = z0 + v_pxps * k / rate_hz;
+      z << last;
+      imm.update(k / rate_hz, z);
+    }
+    // THEN the forecast two frames after the second measurement goes on (measured: about 29 px
+    // beyond it, the velocity of two frames), not hold's last value (0 px beyond it).
+    const double p = imm.predictPosition(0, 3.0 / rate_hz);
+    ++starts;
+    if (p - last < 0.5 * v_pxps * 2.0 / rate_hz) ++held;
+  }
+  std::printf("[ imm ] blend start: %d of %d start values held the second frame\n", held, starts);
+  EXPECT_EQ(held, 0);
+}
+
 TEST(StartupNoiseEstimator, RecoversNoiseOnAcceleratingMotionAndIgnoresAJump) {
   // GIVEN a constant-acceleration motion with a jump of the acceleration (a jerk spike) and 2 px
   // noise at 30 Hz; THEN the frozen estimate (50 differences) is within a factor 0.4..1.6 of

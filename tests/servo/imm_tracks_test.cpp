@@ -2,6 +2,7 @@
 // the better of kf-cv and kf-ca everywhere, never below hold). The full grid (216 tracks) is
 // `predvs track-study` (docs/PERFORMANCE.md "IMM against its single models"); this is the
 // test-sized grid of DefaultsThatHold (6 kinds x {10, 60} Hz x {0.5, 3} px, 20 s, seed 7).
+#include "predvs/predictors/imm.h"
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/maneuver_tracks.h"
 
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 
@@ -27,9 +29,11 @@ namespace {
 // Since kf-cv's and kf-ca's forecasts are blended with hold (channel_predictor.h, branch wipD; imm's
 // is not), the reference is stronger: imm within 10 % on 21 of 24 tracks, worst 1.173, geometric
 // mean 1.027, still better than hold on all 24; the bound follows the measurement.
-constexpr int kMinWithinTenPercent = 21;
-constexpr double kMaxRatio = 1.2;
-constexpr double kMaxGeometricMeanRatio = 1.03;
+// With the calibrated forecast scores and the blend's step as the combination of the modes' steps
+// (imm.h; wipI): 24 of 24, worst 1.085, geometric mean 1.012 (the old code: 23/24, 1.169, 1.025).
+constexpr int kMinWithinTenPercent = 24;
+constexpr double kMaxRatio = 1.1;
+constexpr double kMaxGeometricMeanRatio = 1.02;
 
 TEST(ImmOnTracks, WithinTenPercentOfTheBetterSingleModelAndNeverBelowHold) {
   int within = 0, tracks = 0;
@@ -59,6 +63,73 @@ TEST(ImmOnTracks, WithinTenPercentOfTheBetterSingleModelAndNeverBelowHold) {
               within, tracks, worst, mean_ratio);
   EXPECT_GE(within, kMinWithinTenPercent);
   EXPECT_LE(mean_ratio, kMaxGeometricMeanRatio);
+}
+
+// The tracks of the study grids where imm missed 10 % at main 13b32f0 (docs/PERFORMANCE.md "IMM
+// against its single models", "Calibrated forecast scores"): the tuning grid's three 10/15 Hz
+// 0.5 px misses, the two of seeds 101-103 (15 s) and the 5 %-drop grid's stops 10 Hz 0.5 px #504.
+// Measured at wipI: 1.013, 1.039, 1.016, 1.070, 1.005, 0.998 times the better of kf-cv and kf-ca
+// (before 1.121, 1.118, 1.105, 1.178, 1.101, 1.175).
+struct MissedCell {
+  ManeuverKind kind;
+  double rate_hz, noise_px, duration_s;
+  std::uint64_t seed;
+  double drop_prob;
+};
+const MissedCell kMissedAtMain[] = {
+    {ManeuverKind::Turns, 10.0, 0.5, 20.0, 1, 0.02},   {ManeuverKind::Smooth, 10.0, 0.5, 20.0, 2, 0.02},
+    {ManeuverKind::Turns, 15.0, 0.5, 20.0, 1, 0.02},   {ManeuverKind::Smooth, 10.0, 0.5, 15.0, 103, 0.02},
+    {ManeuverKind::Turns, 10.0, 0.5, 15.0, 101, 0.02}, {ManeuverKind::Stops, 10.0, 0.5, 10.0, 504, 0.05},
+};
+
+TEST(ImmOnTracks, TheStudyMissesOfMainAreWithinTenPercent) {
+  for (const MissedCell& m : kMissedAtMain) {
+    // GIVEN the track of that cell, 2 frames ahead as track-study scores it
+    const ManeuverTrack t = maneuverTrackCell(m.kind, m.rate_hz, m.noise_px, m.duration_s, m.seed, m.drop_prob);
+    const double horizon = 2.0 / m.rate_hz;
+    const auto score = [&](const char* name, const Params& params = Params{}) {
+      auto p = makePredictor(name, 2, params);
+      return scoreOnTrack(t, *p, horizon).rmse_truth_px;
+    };
+    const double hold = score("hold"), best = std::min(score("kf-cv"), score("kf-ca")), imm = score("imm");
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s %g Hz %g px #%d", maneuverKindName(m.kind).c_str(), m.rate_hz, m.noise_px,
+                  static_cast<int>(m.seed));
+    const std::string cell = buf;
+    std::printf("[ imm ] %s: imm / best %.3f\n", cell.c_str(), imm / best);
+    // THEN imm is within 10 % of the better single model and better than hold
+    EXPECT_LE(imm, 1.1 * best) << cell;
+    EXPECT_LT(imm, hold) << cell;
+  }
+}
+
+TEST(ImmOnTracks, CalibratedScoresPickTheModeWithTheSmallerErrorsNotTheSmallerStatedVariance) {
+  // GIVEN turns, 10 Hz, 0.5 px #1 of the tuning grid, where kf-cv forecasts better than kf-ca
+  // (5.10 against 5.89 px) but the CV mode states a variance about 3.5 times its squared errors
+  // and the CA mode about 2 times (imm.h, "Calibration")
+  const ManeuverTrack t = maneuverTrackCell(ManeuverKind::Turns, 10.0, 0.5, 20.0, 1);
+  const double horizon = 0.2;
+  const auto run = [&](const Params& params, double* w_cv) {
+    ImmPredictor imm(2, params);
+    const double rmse = scoreOnTrack(t, imm, horizon).rmse_truth_px;
+    *w_cv = 0.5 * (imm.forecastWeight(0, ImmMode::Cv) + imm.forecastWeight(1, ImmMode::Cv));
+    return rmse;
+  };
+  auto cv = makePredictor("kf-cv", 2);
+  const double cv_rmse = scoreOnTrack(t, *cv, horizon).rmse_truth_px;
+  // WHEN the forecast weights score each mode with its stated variance (before)
+  double w_stated = 0.0, w_cal = 0.0;
+  const double stated = run(Params{{"forecast_calibration", 0.0}}, &w_stated);
+  // AND WHEN with the variance lowered to the realised one (the default)
+  const double calibrated = run(Params{}, &w_cal);
+  std::printf("[ imm ] turns 10 Hz 0.5 px #1: kf-cv %.3f, imm stated %.3f (CV weight %.2f), calibrated %.3f (%.2f)\n",
+              cv_rmse, stated, w_stated, calibrated, w_cal);
+  // THEN the stated variances give the CA mode the forecast (measured: CV weight 0.01 at the end,
+  // 1.104 times kf-cv), the calibrated ones the CV mode (0.84, 1.013 times kf-cv)
+  EXPECT_LT(w_stated, 0.5);
+  EXPECT_GT(stated, 1.08 * cv_rmse);
+  EXPECT_GT(w_cal, 0.5);
+  EXPECT_LE(calibrated, 1.03 * cv_rmse);
 }
 
 }  // namespace

@@ -45,9 +45,35 @@
 //   e_j(k) = z_k - (F_j(dt) x^_j(k-1))(0),  s_j(k) = (F_j P_j(k-1) F_j' + Q_j)(0, 0) + R
 //            (the forecast of this measurement made from mode j's own posterior of the previous
 //            update, x^_j its forecast start as above; scored before mixing),
-//   L_j(k) = lambda L_j(k-1) + l_j(k) - max_i l_i(k),  l_j = -(log s_j + e_j^2 / s_j) / 2,
+//   v_j(k) = clamp(c_j(k-1), 1e-12, 1) s_j(k),  c_j(k) = sum_i lambda^(k-i) r_j(i) / sum_i lambda^(k-i),
+//            r_j = e_j^2 / s_j  (c_j: how far the realised squared errors are from the stated
+//            variance, a prior ratio of 1 counted once at the start; calibration, below),
+//   L_j(k) = lambda L_j(k-1) + l_j(k) - max_i l_i(k),  l_j = -(log v_j + e_j^2 / v_j) / 2,
 //            lambda = exp(-dt / forecast_tau_s), then L_j <- max(L_j - max_i L_i, log forecast_floor),
 //   w_j = exp(L_j) / sum_i exp(L_i);  without a measurement only the forgetting: L_j <- lambda L_j.
+// Calibration (forecast_calibration, default 1; 0 scores with s_j, as before issue 11 item 4's
+// second pass): the Gaussian score ranks modes by their squared errors only when each s_j is the
+// variance its errors really have; where a mode states a larger variance than it has, the score
+// pays it log s_j for nothing and favours the mode that states less. The CV and CA modes overstate
+// theirs by different factors that depend on the frame period (q_cv T^3 / 3 against q_ca T^5 / 20:
+// at 10 Hz the CA mode's one-frame Q is 0.15 px^2, the CV mode's 3.3 px^2): on `turns` 10 Hz
+// 0.5 px #1 the CV mode's one-frame errors are 0.28 of its s (squared errors 4.1 px^2), the CA
+// mode's 0.52 of its s (5.3 px^2); the score gave CA 0.86 of the forecast although its forecasts
+// were the worse ones, at one frame (2.9 against 3.3 px) and at two (5.1 against 5.9 px).
+// Lowering s_j to the realised c_j s_j makes the expected score -(log(E e_j^2) + 1) / 2, a ranking
+// by squared error (there imm 5.17 px, kf-cv 5.10, before 5.72). A variance is only lowered,
+// never raised (min(1, c_j)): the CP mode's squared errors on a moving target are 5 to over 100
+// times its s, and that factor, carried into the next standstill, would keep it from taking over
+// there (raising too, measured without the step fix below: 188 of the 216 tracks within 10 %
+// instead of 215). c_j forgets with the weights' lambda (forecast_tau_s).
+// The blend's step: the blend with hold (below) learns from d = sum_j w_j (p_j - z_hold), the
+// combination of the modes' one-frame steps, which is exactly 0 when every mode forecasts z_hold
+// (the first sample after the start); sum_j w_j p_j - z_hold was a rounding residual there (three
+// thirds of z do not sum to z), whose least-squares weight y / d is clamped to 0 or 1 by its sign:
+// imm then held the first frames of a fast start on a channel where the residual was negative
+// (stops 10 Hz 0.5 px #504, 5 % drops: 11.1 px against kf-cv's 9.5; 9.4 with the fix). Which
+// sign it has depends on the last bits of z (the same track read back from a CSV with 10
+// significant digits gave 9.3 px).
 // This is dynamic model averaging with a forgetting factor (Raftery, Karny & Ettler, Technometrics
 // 52(1), 2010) stated in seconds (so the same at any frame rate) on the modes' realised one-frame
 // forecasts. Why not mu: mu_j rests on one-frame likelihoods of the MIXED priors, and the chain's
@@ -62,7 +88,9 @@
 // horizon) combines the posteriors with the forecast weights too. forecast_tau_s = 0 gives every
 // query combined with mu, as before issue 11 item 4 was closed.
 // Measured choices (docs/PERFORMANCE.md "IMM"): scoring the 2- or 3-frame forecasts instead of the
-// 1-frame ones, or the sum of the 1- and 2-frame scores, lost 5-11 of the 216 tracks; floor 1e-6
+// 1-frame ones, or the sum of the 1- and 2-frame scores, lost 5-11 of the 216 tracks (measured
+// again with the calibration and before the step fix, 2 frames: 213 instead of 215 of 216; the
+// squared errors alone with a common variance, no log term: 200-213); floor 1e-6
 // (recovery needs 13.8 nats) left E2 at 1.20 times kf-ca; forecast_tau_s 3 s left the closed
 // loop at 1.6 times kf-ca, 10 / 30 / 60 s give 0.91 / 0.81 / 0.80 with the tracks unchanged
 // (210-211 of 216). Weighting with mu propagated by the chain over h (an earlier choice) mixes in
@@ -74,7 +102,8 @@
 // p0_acc ((px/s^2)^2, 1e4), coast_tau_s (s, default kDefaultCoastTauS; 0 = off): on a frame with
 // no measurement, each mode's mixed velocity and acceleration decay before its time update, the
 // law of every other predictor (channel_predictor.h, docs/MODELS.md §15), so imm coasts like its
-// single models; forecast_tau_s (s, default 30; 0 = forecast with mu), forecast_floor
+// single models; forecast_tau_s (s, default 30; 0 = forecast with mu), forecast_calibration (1;
+// 0 = the forecast weights score with the model's s_j, above), forecast_floor
 // (relative weight, default 0.01, in [1e-12, 0.5]); shrink_sigmas and shrink_v_sigmas (the CA
 // mode's forecast weighting, kf-ca's keys and defaults: 2 and 2; 0 = unweighted). hold_blend_tau_s (s,
 // default kDefaultHoldBlendTauS; 0 = off): the
@@ -155,6 +184,10 @@ class ImmPredictor : public Predictor {
     std::array<double, kMaxModes> mu{};
     std::array<double, kMaxModes> logw{};  ///< forecast log weights (forgetting evidence), max 0
     std::array<double, kMaxModes> fw{};    ///< forecast weights: exp(logw) normalised
+    /// Calibration of each mode's forecast variance: the forgetting mean of e_j^2 / s_j (a prior
+    /// ratio of 1 counted once), and the forgetting count of the ratios it holds.
+    std::array<double, kMaxModes> fc_cal{};
+    double fc_cal_n = 1.0;
     bool initialized = false;
     Innovation innovation;
     StartupNoiseEstimator r_est;
@@ -173,6 +206,7 @@ class ImmPredictor : public Predictor {
   double coast_tau_s_;  ///< s; 0 = no coasting
   double fc_tau_s_;     ///< s; forgetting time of the forecast weights' evidence; 0 = forecast with mu
   double fc_floor_;     ///< log of forecast_floor: the lowest log forecast weight relative to the best
+  bool fc_calibrate_;   ///< forecast_calibration: score with v_j = min(1, c_j) s_j instead of s_j
   double shrink_a_sigmas_, shrink_v_sigmas_;  ///< the CA mode's forecast weighting (kf-ca's); 0 = off
   double blend_tau_s_;  ///< s; the forecast's blend with hold (hold_blend_tau_s, channel_predictor.h); 0 = off
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
