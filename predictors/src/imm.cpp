@@ -120,6 +120,8 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       shrink_v_sigmas_(params.get("shrink_v_sigmas", kDefaultShrinkVelocityKfCa ? shrink_a_sigmas_ : 0.0, 0.0, 1e3)),
       blend_tau_s_(holdBlendTauParam(params)),  // as every per-channel filter (channel_predictor.h)
       coast_stop_fraction_(coastStopFractionParam(params)),
+      coast_fast_ratio_(coastFastRatioParam(params)),
+      coast_shape_(coastShapeParam(params)),
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
   const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
@@ -341,7 +343,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
       ch.initialized = true;
       ch.blend.z_hold = z(c);
-      ch.blend.recent.remember(t_s, z(c), 0.0);
+      ch.blend.recent.remember(t_s, z(c), 0.0, 0.0);
       ch.last_measured = true;
       continue;
     }
@@ -386,14 +388,17 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       mixInto(ch.g, w, j, mixed[jj]);
     }
     // Coasting on an unmeasured frame (channel_predictor.h): velocity and acceleration decay; with
-    // the blend, a gap that begins after a stop coasts shorter (on the combined velocity's P_vv).
+    // the blend, a gap that begins after a stop or at an unusual speed coasts shorter (on the
+    // combined velocity and its P_vv), and any other gap with the shape coast_shape.
     if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
-      double tau = coast_tau_s_;
       if (blend_tau_s_ > 0.0) {
-        if (started_gap) ch.blend.startGap(coast_tau_s_, coast_stop_fraction_, combinedVelocityVariance(ch), R);
-        tau = ch.blend.gap_tau_s;
+        if (started_gap)
+          ch.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, combinedVelocityVariance(ch), R);
+        const double e = ch.blend.gapDecay(t_s, dt, coast_tau_s_, coast_shape_);
+        for (int j = 0; j < m; ++j) coastBy(mixed[static_cast<size_t>(j)].x, e);
+      } else {
+        for (int j = 0; j < m; ++j) coast(mixed[static_cast<size_t>(j)].x, dt, coast_tau_s_);
       }
-      for (int j = 0; j < m; ++j) coast(mixed[static_cast<size_t>(j)].x, dt, tau);
     }
     // Mode-matched filters (each zeroes the states its model does not have).
     for (int j = 0; j < m; ++j) {
@@ -505,7 +510,8 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
     }
     ch.g = mixed;
-    if (blend_tau_s_ > 0.0 && isMeasured(z(c))) ch.blend.recent.remember(t_s, z(c), combinedVelocity(ch));
+    if (blend_tau_s_ > 0.0 && isMeasured(z(c)))
+      ch.blend.recent.remember(t_s, z(c), combinedVelocity(ch), std::exp(-(t_s - ch.blend.recent.lastTime()) / blend_tau_s_));
   }
 }
 

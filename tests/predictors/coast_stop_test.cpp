@@ -25,7 +25,7 @@ TEST(CoastStop, AnExactDecelerationGivesItsStopTime) {
   const double a = -1000.0;
   for (int k = 0; k < 8; ++k) {
     const double u = k * kDt;
-    s.remember(u, 10.0 + 200.0 * u + 0.5 * a * u * u, 200.0 + a * u);
+    s.remember(u, 10.0 + 200.0 * u + 0.5 * a * u * u, 200.0 + a * u, 1.0);
   }
   // THEN both estimates (the velocity's fall, the quadratic) give v_last / |a|
   const double v_last = 200.0 + a * 7 * kDt;
@@ -38,8 +38,8 @@ TEST(CoastStop, ConstantVelocityOrADecelerationInTheNoiseHasNoStop) {
   CoastStop ramp, noisy;
   for (int k = 0; k < 8; ++k) {
     const double u = k * kDt;
-    ramp.remember(u, 10.0 + 200.0 * u, 200.0);
-    noisy.remember(u, 10.0 + 200.0 * u - 1000.0 * u * u, 200.0 - 2000.0 * u);
+    ramp.remember(u, 10.0 + 200.0 * u, 200.0, 1.0);
+    noisy.remember(u, 10.0 + 200.0 * u - 1000.0 * u * u, 200.0 - 2000.0 * u, 1.0);
   }
   // THEN no stop: the gap coasts with coast_tau_s
   EXPECT_EQ(ramp.stopTime(1.0, 1.0), std::numeric_limits<double>::infinity());
@@ -84,9 +84,10 @@ TEST(CoastStop, AGapAfterAHardStopCoastsLess) {
 
 TEST(CoastStop, OffWithTheBlend) {
   for (const char* name : {"kf-cv", "kf-ca", "imm"}) {
-    // GIVEN the blend off (hold_blend_tau_s 0), coast_stop_fraction given or not
+    // GIVEN the blend off (hold_blend_tau_s 0), coast_stop_fraction, coast_fast_ratio, coast_shape given or not
     const double plain = gapErrorAfterStop(name, {{"hold_blend_tau_s", 0.0}});
-    const double given = gapErrorAfterStop(name, {{"hold_blend_tau_s", 0.0}, {"coast_stop_fraction", 0.2}});
+    const double given = gapErrorAfterStop(
+        name, {{"hold_blend_tau_s", 0.0}, {"coast_stop_fraction", 0.2}, {"coast_fast_ratio", 1.1}, {"coast_shape", 3.0}});
     // THEN the same forecasts, bit for bit
     EXPECT_EQ(plain, given) << name;
   }

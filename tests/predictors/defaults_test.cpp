@@ -56,8 +56,9 @@ TEST(Coasting, VelocityDecaysWithTheCoastTimeConstantOnUnmeasuredFramesOnly) {
 }
 
 TEST(Coasting, AccelerationDecaysTwiceAsFastAndHoldIsUntouched) {
-  // GIVEN a kf-ca converged on a parabola u = 50 t^2 (a = 100 px/s^2) at 60 Hz
-  KfCaPredictor ca(1, {{"r", 0.01}, {"coast_tau_s", 0.5}});
+  // GIVEN a kf-ca converged on a parabola u = 50 t^2 (a = 100 px/s^2) at 60 Hz (the exponential
+  // decay: coast_shape 1 and no speed rule, which come with the blend; coast_fast_test.cpp)
+  KfCaPredictor ca(1, {{"r", 0.01}, {"coast_tau_s", 0.5}, {"coast_shape", 1.0}, {"coast_fast_ratio", 0.0}});
   Eigen::VectorXd z(1);
   int k = 0;
   for (; k < 240; ++k) {

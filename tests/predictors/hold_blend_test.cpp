@@ -23,9 +23,10 @@ constexpr double kRoundingPx = 1e-9;
 TEST(HoldBlend, ForecastIsHoldPlusTheLeastSquaresWeightTimesTheModelStep) {
   // GIVEN kf-cv with the blend (tau 2 s) and a twin without it, fed the same noisy sway with a
   // dropped frame every 7th (the shorter coasting of a gap after a stop, which comes with the blend,
-  // off: it changes the coasted filter; coast_stop_test.cpp)
+  // off: it changes the coasted filter; coast_stop_test.cpp; so do the speed rule and the shape of
+  // the coast, coast_fast_test.cpp)
   const double tau_s = 2.0;
-  KfCvPredictor on(1, {{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}});
+  KfCvPredictor on(1, {{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0}});
   KfCvPredictor off(1, {{"hold_blend_tau_s", 0.0}});
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 2.0);

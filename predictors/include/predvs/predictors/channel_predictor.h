@@ -27,6 +27,20 @@
 // tau_gap is chosen on the gap's first frame and holds to its end; no significant deceleration, or
 // c = 0, leaves tau. Off with the blend (hold_blend_tau_s = 0, the papers' scenarios).
 //
+// The track's own speeds, and the shape of the coast (issue 11 item 3, docs/MODELS.md §15, with the
+// blend only): a channel speed far above the speeds the channel has shown lately is a short
+// excursion (a push, a burst) that ends soon. Each channel keeps the mean square of its filtered
+// velocity over the measured frames of the last ~hold_blend_tau_s (a time-weighted forgetting mean,
+// v_rms^2 = sum l v^2 dt / sum l dt); a gap that begins at rho = |v| / v_rms > rho_0 =
+// coast_fast_ratio (once >= kCoastFastMinMemoryS of memory) coasts with
+//   tau_gap = min(tau_gap, tau (rho_0 / rho)^kCoastFastPower).
+// A gap neither rule shortened coasts with a hazard that grows with the time u since the last
+// measurement: v(u) = v0 S(u), S(u) = exp(-(u / tau)^k), k = coast_shape (the per-frame factor
+// S(u + dt) / S(u) on v, its square on a); k = 1 is the exponential decay above, k > 1 keeps more
+// of the velocity over a dropped frame or two and less at the end of a long occlusion (its total
+// displacement v tau Gamma(1 + 1/k) is 0.90 v tau at k = 1.5 instead of v tau). A shortened gap
+// (tau_gap < tau) coasts exponentially with tau_gap.
+//
 // Significance-weighted forecast (issue 11 item 3, docs/MODELS.md §15): a derived filter that calls
 // readShrinkParams() extrapolates the prediction horizon from
 //   [p, w_v v(, w_v w_a a)],   w_a = w(a, P_aa; shrink_sigmas),  w_v = w(v, P_vv; shrink_v_sigmas),
@@ -113,13 +127,41 @@ inline constexpr double kCoastStopVelocitySigmas = 1.0;
 inline constexpr int kCoastStopFitFrames = 6;
 inline constexpr double kCoastStopFitSigmas = 2.0;
 
+/// Default `coast_fast_ratio` rho_0 (dimensionless, file comment; 0 = off): a gap that begins at a
+/// channel speed above rho_0 times the channel's recent RMS velocity coasts shorter. Measured with
+/// `predvs track-study` (docs/PERFORMANCE.md "Unusual speeds and the shape of the coast"), with
+/// kCoastFastPower 1.5 and kDefaultCoastShape 1.5: losses to hold of the ten predictors on the three
+/// drop grids (seeds 501/601/701) 39 / 9 / 3 -> 21 / 5 / 2, every grid's mean ratios within +0.0044;
+/// 1.4 with coast_shape 1.6: 21 / 1 / 2 but +0.0085 on seeds 701-730; alone (exponential coast, p 2)
+/// 1.5: 18 / 1 / 2 at +0.009..+0.023, 2: 26 / 8 / 2 at up to +0.0095.
+inline constexpr double kDefaultCoastFastRatio = 1.5;
+/// The exponent p of tau (rho_0 / rho)^p (file comment): 1.5 (p = 2 with the same shape: 20 / 1 / 2
+/// losses, but +0.010 on the mean ratio of seeds 701-730).
+inline constexpr double kCoastFastPower = 1.5;
+/// The RMS velocity is used once its forgetting sum spans this much measured time (s).
+inline constexpr double kCoastFastMinMemoryS = 1.0;
+/// Default `coast_shape` k (dimensionless >= 1, file comment; 1 = the exponential decay). 1.5 pays
+/// for the shorter coasts of kDefaultCoastFastRatio on the grids' mean ratios (k = 2 alone lowers
+/// them by 0.015-0.03 but doubles the losses on the drop grids, 39 -> 75 on seeds 501-530: it coasts
+/// further through occlusions of 0.1-0.2 s; with the speed rule (p 2) 27 / 3 / 4).
+inline constexpr double kDefaultCoastShape = 1.5;
+
 /// The last measured frames of one channel (time s, measurement px, the filter's velocity px/s after
 /// the update) and the stop time they give when a gap begins (file comment, "A stop before the gap").
 struct CoastStop {
   static constexpr int kFrames = 8;
   std::array<double, kFrames> t{}, z{}, v{};
   int n = 0, head = 0;
-  void remember(double t_s, double z_px, double v_px_s) {
+  double v_sq_time = 0.0;  ///< forgetting sum of v^2 dt over the measured frames, px^2/s
+  double time_s = 0.0;     ///< forgetting sum of dt, s
+  /// One measured frame; keep = exp(-dt / hold_blend_tau_s) for dt = t_s - the previous measured
+  /// frame's time (the forgetting of the RMS velocity; unused on the first frame).
+  void remember(double t_s, double z_px, double v_px_s, double keep) {
+    if (n > 0) {
+      const double dt = t_s - t[static_cast<size_t>(head)];
+      v_sq_time = keep * v_sq_time + v_px_s * v_px_s * dt;
+      time_s = keep * time_s + dt;
+    }
     head = (head + 1) % kFrames;
     t[static_cast<size_t>(head)] = t_s;
     z[static_cast<size_t>(head)] = z_px;
@@ -163,6 +205,13 @@ struct CoastStop {
     }
     return t_stop;
   }
+  /// The time of the last measured frame (s).
+  double lastTime() const { return t[static_cast<size_t>(head)]; }
+  /// |v| / v_rms of the last measured frame (file comment), 0 before kCoastFastMinMemoryS of memory.
+  double speedRatio() const {
+    if (n == 0 || time_s < kCoastFastMinMemoryS || !(v_sq_time > 0.0)) return 0.0;
+    return std::abs(v[static_cast<size_t>(head)]) / std::sqrt(v_sq_time / time_s);
+  }
 };
 
 /// The `hold_blend_tau_s` parameter (s, >= 0, default kDefaultHoldBlendTauS; 0 = off; file
@@ -180,10 +229,21 @@ struct HoldBlend {
   double w = 1.0;       ///< weight of the model forecast against hold, [0, 1]
   CoastStop recent;     ///< the last measured frames, for the coasting time of a gap
   double gap_tau_s = 0.0;  ///< coasting time of the current gap (s; file comment)
-  /// Chooses gap_tau_s on a gap's first frame: min(tau_s, fraction t_stop) (file comment).
-  void startGap(double tau_s, double fraction, double var_v, double r) {
+  /// Chooses gap_tau_s on a gap's first frame: min(tau_s, fraction t_stop, tau_s (rho_0 / rho)^p)
+  /// (file comment; fast_ratio = rho_0, 0 = off).
+  void startGap(double tau_s, double fraction, double fast_ratio, double var_v, double r) {
     gap_tau_s = fraction > 0.0 ? std::min(tau_s, fraction * recent.stopTime(var_v, r)) : tau_s;
+    const double rho = fast_ratio > 0.0 ? recent.speedRatio() : 0.0;
+    if (rho > fast_ratio) gap_tau_s = std::min(gap_tau_s, tau_s * std::pow(fast_ratio / rho, kCoastFastPower));
     gap_tau_s = std::max(gap_tau_s, 1e-6);  // coast() divides by it
+  }
+  /// The factor on the velocity of the gap frame that ends at t_s (dt after the previous frame),
+  /// tau_s = coast_tau_s, shape = coast_shape (file comment): exp(-dt / gap_tau_s) when the gap was
+  /// shortened or shape = 1, else S(u) / S(u - dt), u = t_s - the last measured frame's time.
+  double gapDecay(double t_s, double dt, double tau_s, double shape) const {
+    if (gap_tau_s < tau_s || shape == 1.0) return std::exp(-dt / gap_tau_s);
+    const double u = t_s - recent.lastTime(), u0 = std::max(u - dt, 0.0);
+    return std::exp(-(std::pow(u / tau_s, shape) - std::pow(u0 / tau_s, shape)));
   }
   /// One sample: the model's forecast step d = f - z_hold against the measured step y = z - z_hold
   /// (both from the hold of the frame the forecast was made at), lambda = exp(-dt / tau).
@@ -202,12 +262,24 @@ inline double coastTauParam(const Params& params) { return params.get("coast_tau
 inline double coastStopFractionParam(const Params& params) {
   return params.get("coast_stop_fraction", kDefaultCoastStopFraction, 0.0, 1e3);
 }
+/// The `coast_fast_ratio` parameter (>= 0, default kDefaultCoastFastRatio; 0 = off; file comment).
+inline double coastFastRatioParam(const Params& params) {
+  return params.get("coast_fast_ratio", kDefaultCoastFastRatio, 0.0, 1e3);
+}
+/// The `coast_shape` parameter (1..10, default kDefaultCoastShape; 1 = exponential; file comment).
+inline double coastShapeParam(const Params& params) { return params.get("coast_shape", kDefaultCoastShape, 1.0, 10.0); }
 
 /// The coasting decay of an unmeasured frame (above) on a state [p, v(, a)]:
 /// v <- v e, a <- a e^2, e = exp(-dt / tau_s); tau_s > 0.
 template <int N>
 inline void coast(Vec<N>& x, double dt, double tau_s) {
   const double e = std::exp(-dt / tau_s);
+  x(1) *= e;
+  if constexpr (N == 3) x(2) *= e * e;
+}
+/// v <- v e, a <- a e^2 for a given factor e (the gap's coasting, HoldBlend::gapDecay).
+template <int N>
+inline void coastBy(Vec<N>& x, double e) {
   x(1) *= e;
   if constexpr (N == 3) x(2) *= e * e;
 }
@@ -241,15 +313,16 @@ class ChannelPredictor : public Predictor {
           initialize(c, z(c));
           s.initialized = true;
           s.blend.z_hold = z(c);
-          s.blend.recent.remember(t_s, z(c), s.g.x(1));
+          s.blend.recent.remember(t_s, z(c), s.g.x(1), 0.0);
           if (blend_tau_s_ > 0.0) rememberForecastStart(c, t_s);
         }
         continue;
       }
       if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
         if (blend_tau_s_ > 0.0) {  // the blend's coasting: a gap after a stop coasts shorter (file comment)
-          if (s.run > 0) s.blend.startGap(coast_tau_s_, coast_stop_fraction_, s.g.P(1, 1), measurementNoise(c));
-          coast(s.g.x, dt, s.blend.gap_tau_s);
+          if (s.run > 0)
+            s.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, s.g.P(1, 1), measurementNoise(c));
+          coastBy(s.g.x, s.blend.gapDecay(t_s, dt, coast_tau_s_, coast_shape_));
         } else {
           coast(s.g.x, dt, coast_tau_s_);
         }
@@ -352,7 +425,7 @@ class ChannelPredictor : public Predictor {
       s.blend.learn(f - s.z_start[j], z - s.z_start[j], lambda);
     }
     s.blend.z_hold = z;
-    s.blend.recent.remember(t_s, z, s.g.x(1));
+    s.blend.recent.remember(t_s, z, s.g.x(1), blendForgetting(t_s - s.blend.recent.lastTime()));
     rememberForecastStart(c, t_s);
   }
 
@@ -371,12 +444,15 @@ class ChannelPredictor : public Predictor {
   /// when its `r` parameter is absent or `auto`. The estimate's prior is
   /// r0_.
   void enableAutoNoise() { r_est_.assign(state_.size(), StartupNoiseEstimator(r0_)); }
-  /// Reads `coast_tau_s` (s, >= 0, default kDefaultCoastTauS) and `coast_stop_fraction` (>= 0,
-  /// default kDefaultCoastStopFraction; used with the blend only); called by every derived
-  /// constructor whose state has a velocity.
+  /// Reads `coast_tau_s` (s, >= 0, default kDefaultCoastTauS), and `coast_stop_fraction` (>= 0,
+  /// default kDefaultCoastStopFraction), `coast_fast_ratio` (>= 0, default kDefaultCoastFastRatio)
+  /// and `coast_shape` (1..10, default kDefaultCoastShape), used with the blend only; called by every
+  /// derived constructor whose state has a velocity.
   void readCoastParam(const Params& params) {
     coast_tau_s_ = coastTauParam(params);
     coast_stop_fraction_ = coastStopFractionParam(params);
+    coast_fast_ratio_ = coastFastRatioParam(params);
+    coast_shape_ = coastShapeParam(params);
   }
   double coastTauS() const { return coast_tau_s_; }
   /// Reads `shrink_sigmas` (n of the acceleration weight w_a, dimensionless >= 0, default
@@ -451,6 +527,8 @@ class ChannelPredictor : public Predictor {
   double p0_acc_;
   double coast_tau_s_ = 0.0;  ///< 0 until readCoastParam(): hold never coasts
   double coast_stop_fraction_ = 0.0;  ///< coast_stop_fraction (with the blend only)
+  double coast_fast_ratio_ = 0.0;     ///< coast_fast_ratio (with the blend only)
+  double coast_shape_ = 1.0;          ///< coast_shape (with the blend only)
   double shrink_a_sigmas_ = 0.0;  ///< 0 until readShrinkParams(): unweighted forecast
   double shrink_v_sigmas_ = 0.0;
   double blend_tau_s_ = 0.0;

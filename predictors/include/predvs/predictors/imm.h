@@ -210,6 +210,7 @@ class ImmPredictor : public Predictor {
   double shrink_a_sigmas_, shrink_v_sigmas_;  ///< the CA mode's forecast weighting (kf-ca's); 0 = off
   double blend_tau_s_;  ///< s; the forecast's blend with hold (hold_blend_tau_s, channel_predictor.h); 0 = off
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
+  double coast_fast_ratio_, coast_shape_;  ///< coast_fast_ratio, coast_shape (channel_predictor.h), with the blend only
   /// The mu-combined velocity of channel ch's posterior (px/s) and its variance (spread included).
   double combinedVelocity(const Channel& ch) const;
   double combinedVelocityVariance(const Channel& ch) const;
