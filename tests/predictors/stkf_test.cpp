@@ -412,10 +412,12 @@ TEST(StkfModels, StructuralVariantsAreCvAndCaAndEachRuns) {
       EXPECT_TRUE(e.x.allFinite());
       EXPECT_LT(std::abs(e.position() - (c == 0 ? 100.0 * std::sin(0.05 * 302) : 2.0 * 302)), 5.0);
     }
-    // AND its noise keys are the model's: cv r, q_pos, q_vel; ca r and the white-jerk density q
+    // AND its noise keys are the model's: cv r, q_pos, q_vel (white-acceleration: r and the
+    // white-acceleration density q); ca r and the white-jerk density q
     std::vector<std::string> keys;
     for (const NoiseParameter& np : makePredictor("stkf", 1, variants[i])->noiseParameters()) keys.push_back(np.key);
-    EXPECT_EQ(keys, variants[i].texts().at("model") == "cv" ? std::vector<std::string>({"r", "q_pos", "q_vel"}) : std::vector<std::string>({"r", "q"}));
+    const bool diagonal = variants[i].texts().at("model") == "cv" && !variants[i].texts().count("process_noise");
+    EXPECT_EQ(keys, diagonal ? std::vector<std::string>({"r", "q_pos", "q_vel"}) : std::vector<std::string>({"r", "q"}));
   }
   // AND the CA q is bounded as every white-jerk density, and defaults to kf-ca's
   for (const NoiseParameter& np : makePredictor("stkf", 1, modelParams("ca"))->noiseParameters())
