@@ -291,7 +291,8 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
       try {
         const NoiseFitResult fit = fitNoise(s.name, s.params, fit_track, fit_options);
         s.params = fit.params;
-        if (!a.no_warm_start) fit_options.seed_fits[s.name] = fit.params;
+        // warm start for fits scored in sample only (no --fit-split), as track-study's
+        if (!a.no_warm_start && a.fit_split.empty()) fit_options.seed_fits[s.name] = fit.params;
         std::ostringstream o;
         printFit(fit, o);
         logs[j] = o.str();
@@ -478,8 +479,9 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                       "its fit rows (fit-noise --select-holdout, the same default)")
       ->type_name("F");
   predict->add_flag("--no-warm-start", pa.no_warm_start,
-                    "with --fit: do not also start each adaptive predictor's fit from the fixed KFs' fitted values "
-                    "(those among the predictors, fitted first on the same rows)");
+                    "with --fit (without --fit-split: fitted and scored in sample): do not also start each adaptive "
+                    "predictor's fit from the fixed KFs' fitted values (those among the predictors, fitted first on "
+                    "the same rows)");
 
   TrackArgs ta;
   CLI::App* track = app.add_subcommand("track", "Track points through an image sequence or video and score the predictors on them");
@@ -757,8 +759,9 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->capture_default_str()
       ->type_name("F");
   track_study->add_flag("--no-warm-start", tsa.no_warm_start,
-                        "with --fit: do not also start each adaptive predictor's fit from the fixed KFs' fitted "
-                        "values (kf-cv, kf-ca, cs-akf, fitted first on the same rows; docs/PERFORMANCE.md \"Warm start\")");
+                        "with --fit --fit-split 1 (the warm start is used in sample only): do not also start each adaptive "
+                        "predictor's fit from the fixed KFs' fitted values (kf-cv, kf-ca, cs-akf, fitted first on the "
+                        "same rows; docs/PERFORMANCE.md \"Warm start\")");
   track_study->add_option("--jobs", tsa.jobs, "tracks computed in parallel (threads); results do not depend on it")
       ->capture_default_str()
       ->type_name("N");
