@@ -135,6 +135,7 @@ struct PredictArgs {
   std::string fit_split;    ///< --fit-split F
   std::string fit_objective;  ///< --fit-objective likelihood|prediction (default prediction at the horizon)
   std::string fit_select_holdout;  ///< --fit-select-holdout F (fit-noise --select-holdout)
+  bool no_warm_start = false;      ///< --no-warm-start (track-study's)
 };
 
 /// Sets the params of a parameter file on the specs of the same name (--params FILE).
@@ -270,18 +271,37 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   const auto fit_rows = static_cast<size_t>(std::floor(fit_split * static_cast<double>(track.size())));
   std::ostringstream fit_log;
   if (a.fit && a.fit_split.empty()) fit_options = inSampleFitOptions(fit_options);  // every row is scored
-  if (a.fit)
-    for (auto& s : specs) {
+  if (a.no_warm_start && !a.fit) throw std::invalid_argument("--no-warm-start: needs --fit");
+  if (a.fit) {
+    // The predictors that seed others' fits (the fixed KFs) first, the others warm started from
+    // their fitted values (noise_fit.h fitOrder, NoiseFitOptions::seed_fits); printed in the
+    // predictors' order.
+    std::vector<std::string> names;
+    std::vector<Params> structures;
+    for (const auto& s : specs) {
+      names.push_back(s.name);
+      structures.push_back(s.params);
+    }
+    const FitTrack fit_track = fitTrackOf(track, fit_rows);
+    std::vector<std::string> logs(specs.size());
+    fit_options.horizon_s = horizon_s;  // the score is what is fitted
+    for (size_t j : fitOrder(names, structures)) {
+      auto& s = specs[j];
       if (s.name == "hold") continue;
       try {
-        fit_options.horizon_s = horizon_s;  // the score is what is fitted
-        const NoiseFitResult fit = fitNoise(s.name, s.params, fitTrackOf(track, fit_rows), fit_options);
+        const NoiseFitResult fit = fitNoise(s.name, s.params, fit_track, fit_options);
         s.params = fit.params;
-        printFit(fit, fit_log);
+        // warm start for fits scored in sample only (no --fit-split), as track-study's
+        if (!a.no_warm_start && a.fit_split.empty()) fit_options.seed_fits[s.name] = fit.params;
+        std::ostringstream o;
+        printFit(fit, o);
+        logs[j] = o.str();
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(a.input + ": --fit " + s.name + ": " + e.what());
       }
     }
+    for (const auto& l : logs) fit_log << l;
+  }
   PredictionReport report = predictTrack(track, specs, horizon_s, jobs);
   if (a.fit && fit_rows < track.size() && !a.fit_split.empty())
     for (auto& run : report.runs) {
@@ -458,6 +478,10 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                       "with --fit: the structure of a predictor that has several is chosen on the last fraction F of "
                       "its fit rows (fit-noise --select-holdout, the same default)")
       ->type_name("F");
+  predict->add_flag("--no-warm-start", pa.no_warm_start,
+                    "with --fit (without --fit-split: fitted and scored in sample): do not also start each adaptive "
+                    "predictor's fit from the fixed KFs' fitted values (those among the predictors, fitted first on "
+                    "the same rows)");
 
   TrackArgs ta;
   CLI::App* track = app.add_subcommand("track", "Track points through an image sequence or video and score the predictors on them");
@@ -734,6 +758,10 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                           "of the fit part (fit-noise --select-holdout); 0 = on the whole fit part")
       ->capture_default_str()
       ->type_name("F");
+  track_study->add_flag("--no-warm-start", tsa.no_warm_start,
+                        "with --fit --fit-split 1 (the warm start is used in sample only): do not also start each adaptive "
+                        "predictor's fit from the fixed KFs' fitted values (kf-cv, kf-ca, cs-akf, fitted first on the "
+                        "same rows; docs/PERFORMANCE.md \"Warm start\")");
   track_study->add_option("--jobs", tsa.jobs, "tracks computed in parallel (threads); results do not depend on it")
       ->capture_default_str()
       ->type_name("N");

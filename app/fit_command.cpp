@@ -67,7 +67,9 @@ void printFit(const NoiseFitResult& fit, std::ostream& out) {
   out << "  h-step RMSE vs later measurements (h = " << std::setprecision(4) << fit.horizon_s << " s) "
       << fit.rmse_before_px << " -> " << fit.rmse_after_px << " px"
       << (fit.objective == FitObjective::Prediction ? "  [minimised]" : "");
-  if (fit.starts > 1) out << "; " << fit.starts << " starts, kept #" << fit.best_start;
+  if (fit.starts > 1)
+    out << "; " << fit.starts << " starts" << (fit.warm_start ? " (the last warm, from the fixed KFs' fits)" : "")
+        << ", kept #" << fit.best_start << (fit.warm_start_kept ? " (warm)" : "");
   out << "\n";
   if (!fit.variants.empty()) {
     const bool held_out = std::isfinite(fit.variants.front().objective_holdout);

@@ -133,6 +133,10 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   fit_options.starts = a.fit_starts;
   if (!validSelectHoldout(a.fit_select)) throw std::invalid_argument("--fit-select-holdout: expected a fraction in [0, 0.9]");
   fit_options.select_holdout = a.fit_select;
+  // Warm start (noise_fit.h NoiseFitOptions::seed_fits) for fits scored in sample only (--fit-split 1),
+  // as the burn-in rule inSampleFitOptions: at split 0.5 it lost 1-2 tracks of the 12/20/45 Hz grid
+  // for five predictors (docs/PERFORMANCE.md "Warm start").
+  const bool fit_seeds = !a.no_warm_start && whole_track;
 
   struct Row {
     std::string kind;
@@ -173,14 +177,23 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
                      std::vector<double>(track.v_px.begin(), track.v_px.begin() + static_cast<long>(split))};
     NoiseFitOptions fo = whole_track ? inSampleFitOptions(fit_options) : fit_options;
     fo.horizon_s = horizon;  // the command's own horizon: the score is what is fitted
-    for (const auto& name : names) {
-      Params params = fixed.count(name) ? fixed.at(name) : Params{};
-      std::string variant;
-      if (a.fit && name != "hold") {
-        const NoiseFitResult fit = fitNoise(name, params, head, fo);
-        params = fit.params;
-        variant = fit.variant;
+    // --fit: the predictors that seed others' fits (the fixed KFs) first, then the others, warm
+    // started from those fitted values (noise_fit.h fitOrder, NoiseFitOptions::seed_fits).
+    std::vector<Params> fitted(names.size());
+    std::vector<std::string> variants(names.size());
+    for (size_t j = 0; j < names.size(); ++j) fitted[j] = fixed.count(names[j]) ? fixed.at(names[j]) : Params{};
+    if (a.fit)
+      for (size_t j : fitOrder(names, fitted)) {
+        if (names[j] == "hold") continue;
+        const NoiseFitResult fit = fitNoise(names[j], fitted[j], head, fo);
+        fitted[j] = fit.params;
+        variants[j] = fit.variant;
+        if (fit_seeds) fo.seed_fits[names[j]] = fit.params;
       }
+    for (size_t j = 0; j < names.size(); ++j) {
+      const std::string& name = names[j];
+      const Params& params = fitted[j];
+      const std::string& variant = variants[j];
       auto p = makePredictor(name, 2, params);
       const TrackScore sc = scoreOnTrack(track, *p, horizon, first_scored);
       if (name == "hold") hold_rmse = sc.rmse_truth_px;
@@ -342,6 +355,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
                 ? " (squared error of the " + std::to_string(a.delay_frames) + "-frame prediction vs the later measurements)"
                 : " (innovation log-likelihood)")
         << ", " << a.fit_starts << " start" << (a.fit_starts > 1 ? "s" : "")
+        << (fit_seeds ? " (+1 warm start from the fixed KFs' fits)" : "")
         << (whole_track ? "; scored on the whole track (in sample, as predict --fit)\n" : "; scored on the rest\n");
   }
   if (a.fit) {

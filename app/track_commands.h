@@ -57,6 +57,7 @@ struct TrackStudyArgs {
   std::string fit_objective = "prediction";  ///< --fit-objective likelihood | prediction
   int fit_starts = 1;                        ///< --fit-starts N
   double fit_select = NoiseFitOptions{}.select_holdout;  ///< --fit-select-holdout F
+  bool no_warm_start = false;  ///< --no-warm-start: no fit seeded by the fixed KFs' (noise_fit.h)
   int jobs = 1;                              ///< --jobs N: tracks in parallel
   std::string out;                      ///< optional
   std::string command_line;

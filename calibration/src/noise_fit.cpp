@@ -464,12 +464,42 @@ NoiseFitResult fitOneStructure(const std::string& predictor, const Params& base,
   };
 
   if (options.starts < 1) throw std::invalid_argument("noise fit: expected at least one starting point");
+  // Warm start (header): the start values with the keys this structure's fitSeeds() map from
+  // options.seed_fits replaced; tried after the m starts when it moves a fitted key.
+  std::vector<double> warm = theta0;
+  bool have_warm = false;
+  if (!options.seed_fits.empty()) {
+    std::vector<FitSeed> seeds;
+    try {
+      seeds = makePredictor(predictor, 1, m.base)->fitSeeds();
+    } catch (const std::invalid_argument&) {
+      // built with the start values below (theta0 passed above), so this does not happen
+    }
+    const double margin = std::log(1.01);
+    for (const FitSeed& s : seeds) {
+      const auto src = options.seed_fits.find(s.from_predictor);
+      if (src == options.seed_fits.end() || !src->second.values().count(s.from_key)) continue;
+      const double v = s.factor * std::pow(src->second.values().at(s.from_key), s.power);
+      if (!(v > 0.0) || !std::isfinite(v)) continue;
+      for (size_t i = 0; i < k; ++i)
+        if (m.keys[i].key == s.key) {
+          warm[i] = std::clamp(std::log(v), b.lo[i] + margin, b.hi[i] - margin);
+          have_warm = have_warm || warm[i] != theta0[i];
+        }
+    }
+  }
   std::vector<double> theta = theta0;
   double f1 = f0;
   res.starts = 0;
-  for (int j = 0; j < options.starts; ++j) {
+  const int tries = options.starts + (have_warm ? 1 : 0);
+  for (int j = 0; j < tries; ++j) {
     std::vector<double> start = theta0;
-    if (j > 0) {
+    const bool is_warm = j == options.starts;
+    if (is_warm) {
+      start = warm;
+      if (!std::isfinite(objective(start.data()))) continue;
+      res.warm_start = true;
+    } else if (j > 0) {
       const double decades = kStartDecades[static_cast<size_t>(j - 1) % std::size(kStartDecades)] *
                              (1.0 + static_cast<double>((j - 1) / static_cast<int>(std::size(kStartDecades))));
       bool moved = false;
@@ -491,7 +521,8 @@ NoiseFitResult fitOneStructure(const std::string& predictor, const Params& base,
     if (std::isfinite(fj) && fj < f1) {  // never return something worse than the start values
       theta = th;
       f1 = fj;
-      res.best_start = j;
+      res.best_start = j;  // options.starts: the warm start
+      res.warm_start_kept = is_warm;
       res.termination = message;
     }
   }
@@ -570,6 +601,38 @@ std::string describeVariant(const Params& v) {
 }
 
 }  // namespace
+
+std::set<std::string> fitSeedSources(const std::string& predictor, const Params& structure) {
+  const Params texts = textsOf(structure);
+  std::vector<Params> structures = {structure};
+  for (const Params& v : makePredictor(predictor, 1, texts)->structuralVariants()) {
+    Params p = structure;
+    for (const auto& kv : v.texts()) p.setText(kv.first, kv.second);
+    for (const auto& kv : v.values()) p.set(kv.first, kv.second);
+    structures.push_back(p);
+  }
+  std::set<std::string> out;
+  for (const Params& p : structures) {
+    std::unique_ptr<Predictor> inst;
+    try {
+      inst = makePredictor(predictor, 1, p);
+    } catch (const std::invalid_argument&) {
+      continue;  // a variant the given params contradict: fitNoise does not fit it either
+    }
+    for (const FitSeed& s : inst->fitSeeds()) out.insert(s.from_predictor);
+  }
+  return out;
+}
+
+std::vector<size_t> fitOrder(const std::vector<std::string>& predictors, const std::vector<Params>& structures) {
+  std::vector<size_t> first, then;
+  for (size_t i = 0; i < predictors.size(); ++i) {
+    const Params p = i < structures.size() ? structures[i] : Params{};
+    (fitSeedSources(predictors[i], p).empty() ? first : then).push_back(i);
+  }
+  first.insert(first.end(), then.begin(), then.end());
+  return first;
+}
 
 NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,
                         const NoiseFitOptions& options) {

@@ -301,6 +301,10 @@ std::vector<Params> CsAkfAdaptivePredictor::structuralVariants() const {
   return withAdaptationOff({current, current_unweighted, zero});
 }
 
+std::vector<FitSeed> CsAkfAdaptivePredictor::fitSeeds() const {
+  return {{"alpha", "cs-akf", "alpha", 1.0, 1.0}, {"sigma_min_sq", "cs-akf", "a_max", kRayleigh, 2.0}};
+}
+
 void CsAkfAdaptivePredictor::resetAdaptation() {
   std::fill(sigma2_.begin(), sigma2_.end(), startVariance());
   std::fill(a_prev_.begin(), a_prev_.end(), 0.0);

@@ -1,5 +1,7 @@
 #include "predvs/predictors/stkf.h"
 
+#include "predvs/predictors/kalman_baselines.h"
+
 #include <Eigen/Cholesky>
 
 #include <limits>
@@ -30,6 +32,24 @@ int windowParam(const Params& params, int min_k, double fallback) {
 
 constexpr const char* kModelWord[] = {"", "", "cv", "ca"};
 
+/// `process_noise`: true for `white-acceleration`, false for `diagonal` (the default); anything
+/// else is a one-line error naming the key. Read on both models (ca: checked, unused; stkf.h).
+bool whiteAccelerationParam(const Params& params) {
+  const std::string w = params.text("process_noise", "diagonal");
+  if (w != "diagonal" && w != "white-acceleration")
+    throw std::invalid_argument("predictor parameter 'process_noise' must be diagonal or white-acceleration, got '" + w +
+                                "'");
+  return w == "white-acceleration";
+}
+
+/// Default p0_vel ((px/s)^2): the paper's 1 on the diagonal cv model, kf-cv's 1e4 on the
+/// white-acceleration one, kf-ca's on ca.
+template <int N>
+double defaultP0Vel(const Params& params) {
+  if (N == 3) return kDefaultStkfCaP0;
+  return whiteAccelerationParam(params) ? 1e4 : 1.0;
+}
+
 }  // namespace
 
 template <int N>
@@ -56,15 +76,20 @@ Eigen::MatrixXd StkfFilter<N>::makeResidualMaker(int k) {
 
 template <int N>
 StkfFilter<N>::StkfFilter(int channels, const Params& params)
-    : Base(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", N == 2 ? 1.0 : kDefaultStkfCaP0, 0.0, 1e12),
+    : Base(channels, measurementNoiseParam(params, 1.0), params.get("p0_vel", defaultP0Vel<N>(params), 0.0, 1e12),
            N == 3 ? params.get("p0_acc", kDefaultStkfCaP0, 0.0, 1e12) : 0.0),
       p0_pos_(params.get("p0_pos", 1.0, 0.0, 1e12)),
+      white_acceleration_(N == 2 && whiteAccelerationParam(params)),
+      p0_pos_is_r_(white_acceleration_ && !params.has("p0_pos")),
       window_(windowParam(params, N + 1, N == 2 ? 15.0 : kDefaultStkfCaWindow)),
       squared_(params.get("squared", 0.0, 0.0, 1.0) != 0.0),
-      reinit_threshold_(params.get("reinit_threshold", 4800.0, 1e-12, 1e300)),
-      reinit_threshold_vel_(N == 3 ? params.get("reinit_threshold_vel", std::numeric_limits<double>::infinity(), 1e-12,
-                                                std::numeric_limits<double>::infinity())
-                                   : reinit_threshold_),
+      reinit_threshold_(params.get("reinit_threshold",
+                                   white_acceleration_ ? std::numeric_limits<double>::infinity() : 4800.0, 1e-12,
+                                   std::numeric_limits<double>::infinity())),
+      reinit_threshold_vel_(N == 3 || white_acceleration_
+                                ? params.get("reinit_threshold_vel", std::numeric_limits<double>::infinity(), 1e-12,
+                                             std::numeric_limits<double>::infinity())
+                                : reinit_threshold_),
       reinit_threshold_acc_(N == 3 ? params.get("reinit_threshold_acc", std::numeric_limits<double>::infinity(), 1e-12,
                                                 std::numeric_limits<double>::infinity())
                                    : std::numeric_limits<double>::infinity()),
@@ -77,25 +102,41 @@ StkfFilter<N>::StkfFilter(int channels, const Params& params)
   if (model != kModelWord[N])
     throw std::invalid_argument("stkf: model '" + model + "' is built by makeStkfPredictor(), not by StkfFilter<" +
                                 std::to_string(N) + "> (model " + kModelWord[N] + ")");
+  whiteAccelerationParam(params);  // ca: checked, unused (stkf.h)
   if constexpr (N == 2) {
     q_pos_ = params.get("q_pos", 0.0, 0.0, 1e12);
     q_vel_ = params.get("q_vel", 3000.0, 0.0, 1e12);
     q_period_s_ = params.get("q_period_s", 0.1, 1e-9, 1e3);
+    if (white_acceleration_) q_ = params.get("q", kDefaultQCv, 0.0, 1e12);
   } else {
     q_ = params.get("q", kDefaultQStkfCa, 0.0, 1e15);
   }
   if (window_ > 0) T_st_ = makeResidualMaker(window_);
   this->readCoastParam(params);
-  this->readShrinkParams(params, N == 2 ? kDefaultShrinkSigmasStkf : kDefaultShrinkSigmasStkfCa, kDefaultShrinkVelocityStkf);
+  this->readShrinkParams(params,
+                         N == 3 ? kDefaultShrinkSigmasStkfCa
+                                : (white_acceleration_ ? kDefaultShrinkSigmasKfCv : kDefaultShrinkSigmasStkf),
+                         kDefaultShrinkVelocityStkf);
   if (isAutoMeasurementNoise(params)) this->enableAutoNoise();
 }
 
 template <int N>
 std::vector<NoiseParameter> StkfFilter<N>::noiseParameters() const {
-  if constexpr (N == 2)
+  if constexpr (N == 2) {
+    if (white_acceleration_) return {this->measurementNoiseParameter(), accelerationDensityParameter("q", q_)};
     return {this->measurementNoiseParameter(), {"q_pos", 1e-6, 1e4, q_pos_}, {"q_vel", 1e-4, 1e7, q_vel_}};
-  else
+  } else {
     return {this->measurementNoiseParameter(), jerkDensityParameter("q", q_)};
+  }
+}
+
+template <int N>
+std::vector<FitSeed> StkfFilter<N>::fitSeeds() const {
+  // ca and white-acceleration cv: the same density as kf-ca's / kf-cv's q. Diagonal cv: the
+  // diagonal of kf-cv's white-acceleration Q over one q_period_s T_0, q [T_0^3/3, T_0].
+  if (N == 3 || white_acceleration_) return {motionDensitySeed<N>("q")};
+  const double T0 = q_period_s_;
+  return {{"q_pos", "kf-cv", "q", T0 * T0 * T0 / 3.0, 1.0}, {"q_vel", "kf-cv", "q", T0, 1.0}};
 }
 
 template <int N>
@@ -107,7 +148,9 @@ std::vector<Params> StkfFilter<N>::structuralVariants() const {
   // with cv and ca alone). ca's default window is already its shortest (4). And each model with
   // window 0, the self-tuning off (the plain KF of the model): where the self-tuned R does not
   // pay on a track, the fit says so (as `adaptation: off` of the other adaptive filters).
-  Params cv, cv_short, ca, cv_fixed, ca_fixed;
+  // Then the white-acceleration cv model with the same two windows, 3 and 0: with window 0 it is
+  // kf-cv's filter (stkf.h), so the fit can always fall back on the best fixed cv filter.
+  Params cv, cv_short, ca, cv_fixed, ca_fixed, wa_short, wa_fixed;
   cv.setText("model", "cv");
   cv_short.setText("model", "cv");
   cv_short.set("window", 3);
@@ -116,7 +159,13 @@ std::vector<Params> StkfFilter<N>::structuralVariants() const {
   cv_fixed.set("window", 0);
   ca_fixed.setText("model", "ca");
   ca_fixed.set("window", 0);
-  return {cv, cv_short, ca, cv_fixed, ca_fixed};
+  wa_short.setText("model", "cv");
+  wa_short.setText("process_noise", "white-acceleration");
+  wa_short.set("window", 3);
+  wa_fixed.setText("model", "cv");
+  wa_fixed.setText("process_noise", "white-acceleration");
+  wa_fixed.set("window", 0);
+  return {cv, cv_short, ca, cv_fixed, ca_fixed, wa_short, wa_fixed};
 }
 
 template <int N>
@@ -127,6 +176,7 @@ Mat<N> StkfFilter<N>::transition(int, double dt) const {
 template <int N>
 Mat<N> StkfFilter<N>::processNoise(int, double dt) const {
   if constexpr (N == 2) {
+    if (white_acceleration_) return cvProcessNoise(q_, dt);
     Mat<2> Q = Mat<2>::Zero();
     const double scale = dt / q_period_s_;
     Q(0, 0) = scale * q_pos_;
@@ -139,8 +189,10 @@ Mat<N> StkfFilter<N>::processNoise(int, double dt) const {
 
 template <int N>
 bool StkfFilter<N>::pastReinitThreshold(const Mat<N>& P) const {
-  if constexpr (N == 2)
+  if constexpr (N == 2) {
+    if (white_acceleration_) return P(0, 0) > reinit_threshold_ || P(1, 1) > reinit_threshold_vel_;
     return P.diagonal().maxCoeff() > reinit_threshold_;
+  }
   else
     return P(0, 0) > reinit_threshold_ || P(1, 1) > reinit_threshold_vel_ || P(2, 2) > reinit_threshold_acc_;
 }
@@ -187,7 +239,7 @@ void StkfFilter<N>::initialize(int c, double z) {
   g.x.setZero();
   g.x(0) = z;
   g.P.setZero();
-  g.P(0, 0) = p0_pos_;
+  g.P(0, 0) = p0_pos_is_r_ ? this->nominalNoise(c) : p0_pos_;  // white-acceleration: kf-cv's P_0
   g.P(1, 1) = p0_vel_;
   if constexpr (N == 3) g.P(2, 2) = p0_acc_;
   pending_[i] = 0;

@@ -99,7 +99,7 @@ TEST(NoiseFit, ChoosesTheStructureThatPredictsBestAndKeepsAPinnedOne) {
     const NoiseFitResult f = fitNoise("stkf", {}, track(kind), o);
     // THEN every variant was fitted, the kept one has the lowest h-step RMSE, its params carry its
     // model, and the model is the one of the track's kind
-    ASSERT_EQ(f.variants.size(), 5u);  // cv, cv window 3, ca, cv and ca with window 0
+    ASSERT_EQ(f.variants.size(), 7u);  // cv, cv window 3, ca, cv and ca with window 0, cv white-acceleration window 3 and 0
     for (const auto& v : f.variants) EXPECT_LE(f.rmse_after_px, v.objective_after) << v.variant;
     for (const auto& v : f.variants) EXPECT_TRUE(std::isnan(v.objective_holdout)) << v.variant;
     EXPECT_EQ(f.params.texts().at("model"), model) << maneuverKindName(kind) << ": kept " << f.variant;

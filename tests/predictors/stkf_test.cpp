@@ -373,7 +373,7 @@ TEST(StkfModels, StructuralVariantsAreCvAndCaAndEachRuns) {
   for (const char* model : {"cv", "ca"}) {
     // GIVEN the variants of either model's instance
     const auto variants = makePredictor("stkf", 1, modelParams(model))->structuralVariants();
-    ASSERT_EQ(variants.size(), 5u);
+    ASSERT_EQ(variants.size(), 7u);
     EXPECT_EQ(variants[0].texts().at("model"), "cv");
     EXPECT_EQ(variants[1].texts().at("model"), "cv");
     EXPECT_EQ(variants[1].values().at("window"), 3.0);
@@ -384,6 +384,13 @@ TEST(StkfModels, StructuralVariantsAreCvAndCaAndEachRuns) {
     EXPECT_EQ(variants[3].values().at("window"), 0.0);
     EXPECT_EQ(variants[4].texts().at("model"), "ca");
     EXPECT_EQ(variants[4].values().at("window"), 0.0);
+    // the white-acceleration cv model (kf-cv's Q) with window 3 and 0 (stkf.h)
+    for (size_t i : {5u, 6u}) {
+      EXPECT_EQ(variants[i].texts().at("model"), "cv");
+      EXPECT_EQ(variants[i].texts().at("process_noise"), "white-acceleration");
+    }
+    EXPECT_EQ(variants[5].values().at("window"), 3.0);
+    EXPECT_EQ(variants[6].values().at("window"), 0.0);
   }
   const auto variants = makePredictor("stkf", 1)->structuralVariants();
   for (size_t i = 0; i < variants.size(); ++i) {
@@ -405,10 +412,12 @@ TEST(StkfModels, StructuralVariantsAreCvAndCaAndEachRuns) {
       EXPECT_TRUE(e.x.allFinite());
       EXPECT_LT(std::abs(e.position() - (c == 0 ? 100.0 * std::sin(0.05 * 302) : 2.0 * 302)), 5.0);
     }
-    // AND its noise keys are the model's: cv r, q_pos, q_vel; ca r and the white-jerk density q
+    // AND its noise keys are the model's: cv r, q_pos, q_vel (white-acceleration: r and the
+    // white-acceleration density q); ca r and the white-jerk density q
     std::vector<std::string> keys;
     for (const NoiseParameter& np : makePredictor("stkf", 1, variants[i])->noiseParameters()) keys.push_back(np.key);
-    EXPECT_EQ(keys, variants[i].texts().at("model") == "cv" ? std::vector<std::string>({"r", "q_pos", "q_vel"}) : std::vector<std::string>({"r", "q"}));
+    const bool diagonal = variants[i].texts().at("model") == "cv" && !variants[i].texts().count("process_noise");
+    EXPECT_EQ(keys, diagonal ? std::vector<std::string>({"r", "q_pos", "q_vel"}) : std::vector<std::string>({"r", "q"}));
   }
   // AND the CA q is bounded as every white-jerk density, and defaults to kf-ca's
   for (const NoiseParameter& np : makePredictor("stkf", 1, modelParams("ca"))->noiseParameters())

@@ -46,6 +46,20 @@
 // 10^(+2, -2, +1, -1, +3, -3, ...)[j-1] within its bounds (r keeps its start: the data pin it);
 // the best objective wins. The adaptive filters' objectives are not convex (clamps, windows).
 //
+// Warm start (NoiseFitOptions::seed_fits): the fitted params of other predictors on the same rows
+// (in practice the fixed KFs kf-cv, kf-ca, cs-akf, fitted first: fitOrder()). Each structure asks
+// its predictor which of those values seed it (Predictor::fitSeeds(): the map by meaning, e.g.
+// kf-cv's q for a white-acceleration cv structure, cs-akf's alpha and (4 - pi)/pi a_max^2 for a CS
+// one) and, when one of its fitted keys gets a value that way, the fit is also run from the start
+// values with those keys replaced (clamped into their bounds; the other keys keep their start,
+// r under the prediction objective stays held): one start more, after the m above, and the best
+// objective wins as above. A warm start that cannot run (an infeasible combination, e.g.
+// sigma_min_sq above sigma_max_sq) is skipped. Why: an adaptive structure that contains a fixed
+// KF (its adaptive layer off, or weak) has that KF's fitted noise near one of its own minima; the
+// start values alone can lead the solver to a worse local minimum (docs/PERFORMANCE.md, "Warm
+// start"). A predictor without fitSeeds() (the fixed KFs) or a run without seed_fits fits exactly
+// as before, bit for bit.
+//
 // Uncertainty. Likelihood: at the optimum, ceres::Covariance is evaluated on the least-squares
 // problem whose residuals are, per innovation, r_a = eps_k / sqrt(S_k) and r_b = log(S_k) / 2.
 // Their J'J has as expectation the Fisher information of the innovation likelihood,
@@ -63,6 +77,8 @@
 #include "predvs/predictors/predictor.h"
 
 #include <limits>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -102,7 +118,21 @@ struct NoiseFitOptions {
   /// Structural variants: the fraction of the track's rows, at its end, held out to choose the
   /// structure (in [0, 0.9]; 0 = choose on the fit's own objective over the whole track). See fitNoise.
   double select_holdout = 0.0;
+  /// Warm start: the fitted params of other predictors on the same rows, by registry name (e.g.
+  /// {"kf-cv": {q: 812, r: 0.26}}); see the file comment. Empty: no warm start.
+  std::map<std::string, Params> seed_fits;
 };
+
+/// The registry names whose fitted params can seed a fit of `predictor` in any of its structures
+/// (the one `structure` gives and its structuralVariants(): Predictor::fitSeeds()). Empty for the
+/// fixed KFs. Throws std::invalid_argument for an unknown predictor.
+std::set<std::string> fitSeedSources(const std::string& predictor, const Params& structure = {});
+
+/// The order in which to fit `predictors` (indices into it) so that every predictor comes after
+/// those that can seed it (fitSeedSources): first those that take no seed, in their order, then
+/// the others, in their order. (No predictor both takes a seed and gives one today; a chain would
+/// need a topological sort.) `structures[i]`, if given, is predictor i's params.
+std::vector<size_t> fitOrder(const std::vector<std::string>& predictors, const std::vector<Params>& structures = {});
 
 /// The options of a fit whose rows are then scored from the first one on (`predict --fit`
 /// without --fit-split, `track-study --fit --fit-split 1`: fitted and scored in sample): under
@@ -155,8 +185,10 @@ struct NoiseFitResult {
   int residuals = 0;               ///< prediction objective: number of h-step errors
   double rmse_before_px = 0.0;     ///< h-step RMSE vs the later measurements at the start (both objectives)
   double rmse_after_px = 0.0;      ///< ... at the fitted values
-  int starts = 1;                  ///< starting points tried
-  int best_start = 0;              ///< the one kept (0 = the start values)
+  int starts = 1;                  ///< starting points tried (the warm start included)
+  int best_start = 0;              ///< the one kept (0 = the start values; `starts - 1` = the warm start if tried)
+  bool warm_start = false;         ///< a warm start from NoiseFitOptions::seed_fits was tried
+  bool warm_start_kept = false;    ///< ... and it gave the result
   std::string variant;             ///< the structural variant kept, "key=value,..." (empty: none offered)
   std::vector<VariantFit> variants;  ///< every variant fitted, in the predictor's order (empty: none)
 };

@@ -266,6 +266,10 @@ class CsAkfAdaptivePredictor : public CsKalmanPredictor {
   /// fixed at sigma_min_sq; for fakf also no fuzzy R or P): a fit keeps whichever predicts the
   /// track better (fakf inherits them).
   std::vector<Params> structuralVariants() const override;
+  /// From cs-akf's fit (the fixed CS filter, every structure): alpha, and sigma_min_sq = (4 - pi)/pi
+  /// a_max^2, cs-akf's Rayleigh variance at zero acceleration (the floor this filter sits on in
+  /// smooth motion, and its fixed variance with `adaptation: off`). fakf inherits it.
+  std::vector<FitSeed> fitSeeds() const override;
 
  protected:
   /// The `sigma_min_sq` entry of noiseParameters() ((px/s^2)^2, bounds 1e-3..1e8).

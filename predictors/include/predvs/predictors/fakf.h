@@ -104,6 +104,8 @@ class FakfClassicPredictor : public ChannelPredictor<N> {
   }
   /// {model: cv} and {model: ca}, each also with `adaptation: off` (R fixed at r).
   std::vector<Params> structuralVariants() const override;
+  /// q from kf-cv's fitted q (cv) or kf-ca's (ca): the same density (kalman_math.h motionDensitySeed).
+  std::vector<FitSeed> fitSeeds() const override { return {motionDensitySeed<N>("q")}; }
 
   /// Current (adapted) measurement variance of channel c, px^2.
   double adaptedR(int c) const { return measurementNoise(c); }

@@ -159,6 +159,12 @@ class ImmPredictor : public Predictor {
     return {accelerationDensityParameter("q_cv", q_cv_), jerkDensityParameter("q_ca", q_ca_),
             measurementVarianceParameter(r_)};
   }
+  /// q_cv from kf-cv's fitted q and, on the CA mode (alpha = 0), q_ca from kf-ca's: its CV and CA
+  /// modes are those filters' models (imm.cpp, at the end).
+  std::vector<FitSeed> fitSeeds() const override;
+  /// {cp: 1} and {cp: 0}: with and without the constant-position mode (imm.cpp, at the end). The
+  /// default prediction is unchanged (a fit tries both and keeps the better on its rows).
+  std::vector<Params> structuralVariants() const override;
 
   /// Number of modes (2 without the CP mode, 3 with it).
   int modeCount() const { return static_cast<int>(modes_.size()); }

@@ -192,6 +192,14 @@ inline std::vector<Params> motionModelVariants() {
   return {cv, ca};
 }
 
+/// The fit seed of a structure on the model of N states whose `key` is the model's noise density
+/// (cvProcessNoise's q for N = 2, caProcessNoise's q for N = 3): kf-cv's fitted q, or kf-ca's
+/// (Predictor::fitSeeds(); the same quantity under the same name in the same units).
+template <int N>
+inline FitSeed motionDensitySeed(const std::string& key) {
+  return {key, N == 2 ? "kf-cv" : "kf-ca", "q", 1.0, 1.0};
+}
+
 /// `adaptation` (word: on | off, default on), read by the adaptive filters (st-akf, st-akf-pm,
 /// fakf-classic, cs-akf-adaptive, fakf): off keeps the filter's model, noise and forecast and turns
 /// its adaptive layer off (no fading factor; R fixed at r; sigma^2 fixed at its floor; no fuzzy

@@ -62,6 +62,20 @@ struct NoiseParameter {
   double value = 0.0;  ///< the value this instance runs with (may lie outside [lo, hi] if built so)
 };
 
+/// One value that can seed (warm-start) a noise fit of a structure from the fit of another
+/// predictor on the same rows (calibration/noise_fit.h, NoiseFitOptions::seed_fits):
+///   start value of `key` = factor * (fitted value of `from_key` of `from_predictor`)^power.
+/// The map is by meaning: the same quantity (e.g. kf-cv's white-acceleration density q seeds the q
+/// of a cv structure), or one computed from it (cs-akf's a_max gives the CS variance (4-pi)/pi
+/// a_max^2 at zero acceleration).
+struct FitSeed {
+  std::string key;             ///< this predictor's Params key (one of its noiseParameters())
+  std::string from_predictor;  ///< registry name of the fixed predictor whose fitted value is used
+  std::string from_key;        ///< that predictor's Params key
+  double factor = 1.0;
+  double power = 1.0;
+};
+
 class Predictor {
  public:
   virtual ~Predictor() = default;
@@ -106,6 +120,11 @@ class Predictor {
   /// every variant and keeps the one with the best objective on the fit data. Empty: one structure.
   /// The variants do not depend on this instance's own parameters.
   virtual std::vector<Params> structuralVariants() const { return {}; }
+  /// Which fixed predictors' fitted values can seed a noise fit of THIS structure (built with the
+  /// structure's params), and how their keys map to this one's (FitSeed). A fit given those
+  /// fitted values (NoiseFitOptions::seed_fits) also starts from them. Empty (the default, and
+  /// the fixed KFs kf-cv, kf-ca, cs-akf themselves): nothing seeds it.
+  virtual std::vector<FitSeed> fitSeeds() const { return {}; }
 
   /// Time of the last update (NaN before the first).
   double time() const { return t_last_; }

@@ -90,6 +90,8 @@ class StAkfPredictor : public ChannelPredictor<N> {
   }
   /// {model: cv} and {model: ca}, each also with `adaptation: off` (no fading: the KF of the model).
   std::vector<Params> structuralVariants() const override;
+  /// q from kf-cv's fitted q (cv) or kf-ca's (ca): the same density (kalman_math.h motionDensitySeed).
+  std::vector<FitSeed> fitSeeds() const override { return {motionDensitySeed<N>("q")}; }
 
   /// Fading factors lambda_i of channel c at its last measured update (1 when no fading).
   Vec<N> fadingFactors(int c) const { return ext_.at(static_cast<size_t>(c)).lambda; }

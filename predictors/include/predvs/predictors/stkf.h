@@ -45,6 +45,17 @@ namespace predvs {
 /// period T_0 = 0.1 s. For another step dt it is scaled linearly, Q(dt) = (dt / T_0) Q_0: the
 /// variance of independent increments grows with elapsed time, and dt = T_0 gives the paper's
 /// filter exactly. (Choice documented here; the paper only runs at T_0.)
+/// Process noise, cv with `process_noise: white-acceleration` (the default is `diagonal`, the
+/// above): kf-cv's white acceleration of density q (px^2/s^3, default kDefaultQCv = 1e4),
+/// Q(dt) = q [[dt^3/3, dt^2/2], [dt^2/2, dt]], and kf-cv's other defaults with it: P_0 = diag(R,
+/// 1e4) (p0_pos, if given, replaces R), shrink_sigmas kf-cv's (0), and no re-initialisation
+/// (reinit_threshold and reinit_threshold_vel default to +inf; given, each compares its own
+/// diagonal, as on ca). So with the self-tuning off (window 0) this structure IS kf-cv's filter
+/// (tests/predictors/stkf_white_acceleration_test.cpp: equal to rounding), and with a window it is
+/// kf-cv with the paper's self-tuned R. Why: the paper's diagonal Q per T_0 has no position-velocity
+/// correlation and a different shape over dt, and on the generated tracks the best fixed KF is
+/// often kf-cv (docs/PERFORMANCE.md "Warm start"); the noise fit tries this structure too
+/// (structuralVariants()). The key is checked and unused on ca (already a white jerk).
 /// Process noise, ca: a white jerk of density q (px^2/s^5), Q(dt) = q [[dt^5/20, dt^4/8, dt^3/6],
 /// [dt^4/8, dt^3/3, dt^2/2], [dt^3/6, dt^2/2, dt]] (kalman_math.h caProcessNoise, as kf-ca). Chosen
 /// over a diag(q_pos, q_vel, q_acc) per T_0: one key for a noise fit instead of three, exact over
@@ -66,7 +77,8 @@ namespace predvs {
 /// missed frame) crosses 4800 in the second missed frame at 10 Hz, so each short occlusion
 /// restarted the filter at v = a = 0 (210/216, mean ratio 0.606 instead of 0.564).
 ///
-/// Parameters, both models: model (cv | ca), r (R_0, px^2; default `auto`,
+/// Parameters, both models: model (cv | ca), process_noise (cv: diagonal | white-acceleration,
+/// above), r (R_0, px^2; default `auto`,
 /// predictors/noise_estimate.h), p0_pos (px^2, default 1), p0_vel ((px/s)^2; cv default 1, P_0 =
 /// I as the paper; ca default 1e4 as kf-ca), window (k; 0 disables the self-tuning, giving the
 /// plain KF of the model; cv: default 15, k = 1..2 rejected; ca: default 4, k = 1..3 rejected),
@@ -109,12 +121,16 @@ class StkfFilter : public ChannelPredictor<N> {
  public:
   StkfFilter(int channels, const Params& params);
   std::string name() const override { return "stkf"; }
-  /// cv: r (R_0), q_pos, q_vel. q_pos defaults to 0, below its bound: a fit starts it at the
-  /// bound. ca: r, q (white-jerk density).
+  /// cv: r (R_0), q_pos, q_vel (white-acceleration: r, q). q_pos defaults to 0, below its bound:
+  /// a fit starts it at the bound. ca: r, q (white-jerk density).
   std::vector<NoiseParameter> noiseParameters() const override;
-  /// {model: cv}, {model: cv, window: 3}, {model: ca}, and each model with window 0 (no
-  /// self-tuning).
+  /// {model: cv}, {model: cv, window: 3}, {model: ca}, each model with window 0 (no
+  /// self-tuning), and {model: cv, process_noise: white-acceleration} with window 3 and with
+  /// window 0 (the latter is kf-cv's filter).
   std::vector<Params> structuralVariants() const override;
+  /// ca and white-acceleration cv: q from kf-ca's / kf-cv's fitted q. Diagonal cv: q_pos =
+  /// q T_0^3 / 3 and q_vel = q T_0 from kf-cv's q (the diagonal of its Q over T_0 = q_period_s).
+  std::vector<FitSeed> fitSeeds() const override;
 
   void update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) override;
   using Predictor::update;
@@ -161,8 +177,10 @@ class StkfFilter : public ChannelPredictor<N> {
   bool pastReinitThreshold(const Mat<N>& P) const;
 
   double q_pos_ = 0.0, q_vel_ = 0.0, q_period_s_ = 0.1;  // cv
-  double q_ = 0.0;                                       // ca
+  double q_ = 0.0;                                       // ca; cv with process_noise white-acceleration
   double p0_pos_;
+  bool white_acceleration_;  // cv: process_noise white-acceleration
+  bool p0_pos_is_r_;         // P_0(0,0) = R (kf-cv's), white-acceleration without p0_pos
   int window_;
   bool squared_;
   double reinit_threshold_;

@@ -1,0 +1,100 @@
+// Warm start of a noise fit from the fixed KFs' fitted values (noise_fit.h "Warm start",
+// NoiseFitOptions::seed_fits, Predictor::fitSeeds, fitOrder).
+#include "predvs/calibration/noise_fit.h"
+#include "predvs/predictors/predictor.h"
+#include "predvs/servo/maneuver_tracks.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+namespace predvs {
+namespace {
+
+TEST(WarmStart, ImmOnSmooth45HzLeavesItsLocalMinimumWithTheFixedKfsValues) {
+  // GIVEN the 12/20/45 Hz grid's track smooth 45 Hz 2.5 px #202 (10 s, 2 % drops), fitted and
+  // scored on the whole track as `track-study --fit --fit-split 1` does
+  ManeuverTrackConfig c;
+  c.kind = ManeuverKind::Smooth;
+  c.rate_hz = 45.0;
+  c.noise_px = 2.5;
+  c.duration_s = 10.0;
+  c.drop_prob = 0.02;
+  c.seed = 202;
+  const ManeuverTrack g = generateManeuverTrack(c);
+  const FitTrack track{g.t_s, {g.u_px, g.v_px}};
+  NoiseFitOptions o;
+  o.objective = FitObjective::Prediction;
+  o.horizon_s = 2.0 / c.rate_hz;
+  o = inSampleFitOptions(o);
+  const auto truthRmse = [&](const std::string& name, const Params& params) {
+    auto p = makePredictor(name, 2, params);
+    return scoreOnTrack(g, *p, o.horizon_s).rmse_truth_px;
+  };
+  // WHEN the fixed KFs are fitted first, then imm with one start, and with their values as a warm start
+  double best_fixed = 1e300;
+  NoiseFitOptions seeded = o;
+  for (const std::string name : {"kf-cv", "kf-ca", "cs-akf"}) {
+    const NoiseFitResult f = fitNoise(name, {}, track, o);
+    EXPECT_FALSE(f.warm_start);  // nothing seeds a fixed KF
+    best_fixed = std::min(best_fixed, truthRmse(name, f.params));
+    seeded.seed_fits[name] = f.params;
+  }
+  const NoiseFitResult cold = fitNoise("imm", {}, track, o);
+  const NoiseFitResult warm = fitNoise("imm", {}, track, seeded);
+  // THEN one start stops in a local minimum 1.18 times the best fitted fixed KF (kf-ca), the warm
+  // start is tried, kept, and within the 10 % (1.03)
+  EXPECT_FALSE(cold.warm_start);
+  EXPECT_TRUE(warm.warm_start);
+  EXPECT_TRUE(warm.warm_start_kept);
+  EXPECT_EQ(warm.starts, 2);
+  EXPECT_LT(warm.rmse_after_px, cold.rmse_after_px);
+  EXPECT_GT(truthRmse("imm", cold.params) / best_fixed, 1.10);
+  EXPECT_LT(truthRmse("imm", warm.params) / best_fixed, 1.10);
+}
+
+TEST(WarmStart, FixedKfsComeFirstAndSeedTheAdaptiveOnes) {
+  // GIVEN a study's predictor list in its own order
+  const std::vector<std::string> names = {"hold", "stkf", "kf-cv", "imm", "cs-akf-adaptive", "kf-ca", "cs-akf"};
+  // WHEN ordered for fitting THEN those that take no seed come first, in their order, then the rest
+  const std::vector<size_t> order = fitOrder(names);
+  std::vector<std::string> got;
+  for (size_t i : order) got.push_back(names[i]);
+  EXPECT_EQ(got, (std::vector<std::string>{"hold", "kf-cv", "kf-ca", "cs-akf", "stkf", "imm", "cs-akf-adaptive"}));
+  // AND the sources are found over every structure of the predictor
+  EXPECT_EQ(fitSeedSources("stkf"), (std::set<std::string>{"kf-cv", "kf-ca"}));
+  EXPECT_EQ(fitSeedSources("imm"), (std::set<std::string>{"kf-cv", "kf-ca"}));
+  EXPECT_EQ(fitSeedSources("fakf"), (std::set<std::string>{"cs-akf"}));
+  EXPECT_TRUE(fitSeedSources("kf-ca").empty());
+}
+
+TEST(WarmStart, WithoutSeedsTheFitIsUnchangedToTheBit) {
+  // GIVEN a short track and st-akf fitted with no seed_fits and with seeds of a predictor it
+  // does not map (only cs-akf's values: st-akf takes kf-cv's / kf-ca's q)
+  ManeuverTrackConfig c;
+  c.kind = ManeuverKind::Turns;
+  c.rate_hz = 30.0;
+  c.noise_px = 1.5;
+  c.duration_s = 6.0;
+  c.seed = 4;
+  const ManeuverTrack g = generateManeuverTrack(c);
+  const FitTrack track{g.t_s, {g.u_px, g.v_px}};
+  NoiseFitOptions o;
+  o.objective = FitObjective::Prediction;
+  o.horizon_s = 2.0 / c.rate_hz;
+  Params structure;
+  structure.setText("model", "cv");
+  const NoiseFitResult plain = fitNoise("st-akf", structure, track, o);
+  NoiseFitOptions other = o;
+  other.seed_fits["cs-akf"] = fitNoise("cs-akf", {}, track, o).params;
+  const NoiseFitResult unmapped = fitNoise("st-akf", structure, track, other);
+  // THEN no warm start is tried and the fitted values are the same bits
+  EXPECT_FALSE(unmapped.warm_start);
+  EXPECT_EQ(unmapped.starts, plain.starts);
+  EXPECT_EQ(unmapped.params.values(), plain.params.values());
+}
+
+}  // namespace
+}  // namespace predvs
