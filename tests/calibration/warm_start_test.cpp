@@ -13,12 +13,12 @@
 namespace predvs {
 namespace {
 
-TEST(WarmStart, ImmOnSmooth45HzLeavesItsLocalMinimumWithTheFixedKfsValues) {
-  // GIVEN the 12/20/45 Hz grid's track smooth 45 Hz 2.5 px #202 (10 s, 2 % drops), fitted and
+TEST(WarmStart, ImmOnSmooth12HzLeavesItsLocalMinimumWithTheFixedKfsValues) {
+  // GIVEN the 12/20/45 Hz grid's track smooth 12 Hz 2.5 px #202 (10 s, 2 % drops), fitted and
   // scored on the whole track as `track-study --fit --fit-split 1` does
   ManeuverTrackConfig c;
   c.kind = ManeuverKind::Smooth;
-  c.rate_hz = 45.0;
+  c.rate_hz = 12.0;
   c.noise_px = 2.5;
   c.duration_s = 10.0;
   c.drop_prob = 0.02;
@@ -44,8 +44,9 @@ TEST(WarmStart, ImmOnSmooth45HzLeavesItsLocalMinimumWithTheFixedKfsValues) {
   }
   const NoiseFitResult cold = fitNoise("imm", {}, track, o);
   const NoiseFitResult warm = fitNoise("imm", {}, track, seeded);
-  // THEN one start stops in a local minimum 1.18 times the best fitted fixed KF (kf-ca), the warm
-  // start is tried, kept, and within the 10 % (1.03)
+  // THEN one start stops in a local minimum 1.32 times the best fitted fixed KF (kf-ca), the warm
+  // start is tried, kept, and within the 10 % (1.06). (Before imm's calibrated forecast
+  // scores, smooth 45 Hz of the same seed showed it, 1.18 -> 1.03; since, one start finds 1.03 there.)
   EXPECT_FALSE(cold.warm_start);
   EXPECT_TRUE(warm.warm_start);
   EXPECT_TRUE(warm.warm_start_kept);
