@@ -150,22 +150,18 @@ std::vector<Params> StkfFilter<N>::structuralVariants() const {
   // pay on a track, the fit says so (as `adaptation: off` of the other adaptive filters).
   // Then the white-acceleration cv model with the same two windows, 3 and 0: with window 0 it is
   // kf-cv's filter (stkf.h), so the fit can always fall back on the best fixed cv filter.
-  Params cv, cv_short, ca, cv_fixed, ca_fixed, wa_short, wa_fixed;
-  cv.setText("model", "cv");
-  cv_short.setText("model", "cv");
-  cv_short.set("window", 3);
-  ca.setText("model", "ca");
-  cv_fixed.setText("model", "cv");
-  cv_fixed.set("window", 0);
-  ca_fixed.setText("model", "ca");
-  ca_fixed.set("window", 0);
-  wa_short.setText("model", "cv");
-  wa_short.setText("process_noise", "white-acceleration");
-  wa_short.set("window", 3);
-  wa_fixed.setText("model", "cv");
-  wa_fixed.setText("process_noise", "white-acceleration");
-  wa_fixed.set("window", 0);
-  return {cv, cv_short, ca, cv_fixed, ca_fixed, wa_short, wa_fixed};
+  constexpr int kDefaultWindow = -1;
+  const auto variant = [](const char* model, const char* process_noise, int window) {
+    Params p;
+    p.setText("model", model);
+    if (process_noise != nullptr) p.setText("process_noise", process_noise);
+    if (window != kDefaultWindow) p.set("window", window);
+    return p;
+  };
+  const char* const wa = "white-acceleration";
+  return {variant("cv", nullptr, kDefaultWindow), variant("cv", nullptr, 3), variant("ca", nullptr, kDefaultWindow),
+          variant("cv", nullptr, 0),              variant("ca", nullptr, 0), variant("cv", wa, 3),
+          variant("cv", wa, 0)};
 }
 
 template <int N>

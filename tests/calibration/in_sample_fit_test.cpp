@@ -3,6 +3,7 @@
 #include "predvs/calibration/noise_fit.h"
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/maneuver_tracks.h"
+#include "servo/maneuver_track_cell.h"
 
 #include <gtest/gtest.h>
 
@@ -20,18 +21,12 @@ TEST(InSampleFit, PredictionObjectiveHasNoBurnInLikelihoodKeepsIt) {
 TEST(InSampleFit, StartUpRowsInTheObjectiveBringCsAkfAdaptiveWithin10PercentOfCsAkf) {
   // GIVEN the track-study track zigzag 10 Hz 0.5 px #3 (20 s, 2 % drops): the filters start at rest
   // behind a fast target, and the first frames hold much of the squared 2-frame error
-  ManeuverTrackConfig c;
-  c.kind = ManeuverKind::Zigzag;
-  c.rate_hz = 10.0;
-  c.noise_px = 0.5;
-  c.duration_s = 20.0;
-  c.drop_prob = 0.02;
-  c.seed = 3;
-  const ManeuverTrack g = generateManeuverTrack(c);
+  const double rate_hz = 10.0;
+  const ManeuverTrack g = maneuverTrackCell(ManeuverKind::Zigzag, rate_hz, 0.5, 20.0, 3, 0.02);
   const FitTrack track{g.t_s, {g.u_px, g.v_px}};
   NoiseFitOptions o;
   o.objective = FitObjective::Prediction;
-  o.horizon_s = 2.0 / c.rate_hz;
+  o.horizon_s = 2.0 / rate_hz;
   const auto truthRmse = [&](const std::string& name, const NoiseFitOptions& opt) {
     auto p = makePredictor(name, 2, fitNoise(name, {}, track, opt).params);
     return scoreOnTrack(g, *p, o.horizon_s).rmse_truth_px;  // every row scored, as track-study --fit-split 1

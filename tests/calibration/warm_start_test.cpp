@@ -3,6 +3,7 @@
 #include "predvs/calibration/noise_fit.h"
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/maneuver_tracks.h"
+#include "servo/maneuver_track_cell.h"
 
 #include <gtest/gtest.h>
 
@@ -16,18 +17,12 @@ namespace {
 TEST(WarmStart, ImmOnSmooth12HzLeavesItsLocalMinimumWithTheFixedKfsValues) {
   // GIVEN the 12/20/45 Hz grid's track smooth 12 Hz 2.5 px #202 (10 s, 2 % drops), fitted and
   // scored on the whole track as `track-study --fit --fit-split 1` does
-  ManeuverTrackConfig c;
-  c.kind = ManeuverKind::Smooth;
-  c.rate_hz = 12.0;
-  c.noise_px = 2.5;
-  c.duration_s = 10.0;
-  c.drop_prob = 0.02;
-  c.seed = 202;
-  const ManeuverTrack g = generateManeuverTrack(c);
+  const double rate_hz = 12.0;
+  const ManeuverTrack g = maneuverTrackCell(ManeuverKind::Smooth, rate_hz, 2.5, 10.0, 202, 0.02);
   const FitTrack track{g.t_s, {g.u_px, g.v_px}};
   NoiseFitOptions o;
   o.objective = FitObjective::Prediction;
-  o.horizon_s = 2.0 / c.rate_hz;
+  o.horizon_s = 2.0 / rate_hz;
   o = inSampleFitOptions(o);
   const auto truthRmse = [&](const std::string& name, const Params& params) {
     auto p = makePredictor(name, 2, params);
@@ -74,17 +69,12 @@ TEST(WarmStart, FixedKfsComeFirstAndSeedTheAdaptiveOnes) {
 TEST(WarmStart, WithoutSeedsTheFitIsUnchangedToTheBit) {
   // GIVEN a short track and st-akf fitted with no seed_fits and with seeds of a predictor it
   // does not map (only cs-akf's values: st-akf takes kf-cv's / kf-ca's q)
-  ManeuverTrackConfig c;
-  c.kind = ManeuverKind::Turns;
-  c.rate_hz = 30.0;
-  c.noise_px = 1.5;
-  c.duration_s = 6.0;
-  c.seed = 4;
-  const ManeuverTrack g = generateManeuverTrack(c);
+  const double rate_hz = 30.0;
+  const ManeuverTrack g = maneuverTrackCell(ManeuverKind::Turns, rate_hz, 1.5, 6.0, 4);
   const FitTrack track{g.t_s, {g.u_px, g.v_px}};
   NoiseFitOptions o;
   o.objective = FitObjective::Prediction;
-  o.horizon_s = 2.0 / c.rate_hz;
+  o.horizon_s = 2.0 / rate_hz;
   Params structure;
   structure.setText("model", "cv");
   const NoiseFitResult plain = fitNoise("st-akf", structure, track, o);

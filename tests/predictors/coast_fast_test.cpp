@@ -4,6 +4,7 @@
 // begins, a single dropped frame on a ramp, and nothing changed where the blend with hold is off.
 #include "predvs/predictors/channel_predictor.h"
 #include "predvs/predictors/registry.h"
+#include "predictors/gap_error.h"
 
 #include <gtest/gtest.h>
 
@@ -44,23 +45,12 @@ TEST(CoastFast, NoRatioBeforeASecondOfMemory) {
 /// beginning exactly when the burst ends (the target at rest, as the generated bursts at 60 Hz whose
 /// stop no test can see before the gap).
 double gapErrorBurstEnd(const std::string& name, const Params& params) {
-  auto p = makePredictor(name, 1, params);
   const double t_burst = 3.0, t_end = 3.5;
   const auto truth = [&](double t) {
     if (t < t_burst) return 15.0 * t;
     return 15.0 * t_burst + 300.0 * (std::min(t, t_end) - t_burst);
   };
-  const int gap_begin = static_cast<int>(std::lround(t_end * kRateHz)) + 1;
-  const int gap_end = gap_begin + static_cast<int>(std::lround(0.3 * kRateHz));
-  double sse = 0.0;
-  Eigen::VectorXd z(1);
-  for (int k = 0; k < gap_end; ++k) {
-    const double t = k * kDt;
-    z(0) = k < gap_begin ? truth(t) : std::nan("");
-    p->update(t, z);
-    if (k >= gap_begin) sse += std::pow(p->predictPosition(0, t + 2 * kDt) - truth(t + 2 * kDt), 2);
-  }
-  return sse;
+  return gapSquaredError(name, params, truth, kRateHz, t_end, 0.3);
 }
 
 TEST(CoastFast, AGapAtAnUnusualSpeedCoastsLess) {

@@ -4,6 +4,7 @@
 // that runs on less, and nothing changed where the blend with hold is off (the papers' scenarios).
 #include "predvs/predictors/channel_predictor.h"
 #include "predvs/predictors/registry.h"
+#include "predictors/gap_error.h"
 
 #include <gtest/gtest.h>
 
@@ -49,24 +50,13 @@ TEST(CoastStop, ConstantVelocityOrADecelerationInTheNoiseHasNoStop) {
 /// Sum of squared forecast errors (px^2) of `name` through a 0.3 s gap that begins on the frame after
 /// a hard stop (250 px/s, stopped in 80 ms as the generated bursts), noise-free, 60 Hz, 2 frames ahead.
 double gapErrorAfterStop(const std::string& name, const Params& params) {
-  auto p = makePredictor(name, 1, params);
   const auto truth = [](double t) {  // moving until 1 s, decelerating to rest at 1.08 s
     const double v = 250.0, a = v / 0.08;
     if (t < 1.0) return v * t;
     const double u = std::min(t - 1.0, 0.08);
     return v + v * u - 0.5 * a * u * u;
   };
-  const int stop_end = static_cast<int>(std::lround(1.08 * kRateHz)), gap_begin = stop_end + 1;
-  const int gap_end = gap_begin + static_cast<int>(std::lround(0.3 * kRateHz));
-  double sse = 0.0;
-  Eigen::VectorXd z(1);
-  for (int k = 0; k < gap_end; ++k) {
-    const double t = k * kDt;
-    z(0) = k < gap_begin ? truth(t) : std::nan("");
-    p->update(t, z);
-    if (k >= gap_begin) sse += std::pow(p->predictPosition(0, t + 2 * kDt) - truth(t + 2 * kDt), 2);
-  }
-  return sse;
+  return gapSquaredError(name, params, truth, kRateHz, 1.08, 0.3);
 }
 
 TEST(CoastStop, AGapAfterAHardStopCoastsLess) {
