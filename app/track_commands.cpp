@@ -355,7 +355,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
                 ? " (squared error of the " + std::to_string(a.delay_frames) + "-frame prediction vs the later measurements)"
                 : " (innovation log-likelihood)")
         << ", " << a.fit_starts << " start" << (a.fit_starts > 1 ? "s" : "")
-        << (fit_seeds ? " (+1 warm start from the fixed KFs' fits)" : "")
+        << (fit_seeds ? " (+1 warm start from the fixed KFs' fits, +2 for a CS structure: from cs-akf's and from kf-ca's)" : "")
         << (whole_track ? "; scored on the whole track (in sample, as predict --fit)\n" : "; scored on the rest\n");
   }
   if (a.fit) {

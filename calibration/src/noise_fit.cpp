@@ -464,10 +464,11 @@ NoiseFitResult fitOneStructure(const std::string& predictor, const Params& base,
   };
 
   if (options.starts < 1) throw std::invalid_argument("noise fit: expected at least one starting point");
-  // Warm start (header): the start values with the keys this structure's fitSeeds() map from
-  // options.seed_fits replaced; tried after the m starts when it moves a fitted key.
-  std::vector<double> warm = theta0;
-  bool have_warm = false;
+  // Warm starts (header): the start values with the keys this structure's fitSeeds() map from
+  // options.seed_fits replaced, one start point per FitSeed::start index (increasing); each is
+  // tried after the m starts when it moves a fitted key.
+  std::map<int, std::vector<double>> warm;  // by FitSeed::start
+  std::map<int, bool> warm_moved;
   if (!options.seed_fits.empty()) {
     std::vector<FitSeed> seeds;
     try {
@@ -481,22 +482,27 @@ NoiseFitResult fitOneStructure(const std::string& predictor, const Params& base,
       if (src == options.seed_fits.end() || !src->second.values().count(s.from_key)) continue;
       const double v = s.factor * std::pow(src->second.values().at(s.from_key), s.power);
       if (!(v > 0.0) || !std::isfinite(v)) continue;
+      std::vector<double>& w = warm.emplace(s.start, theta0).first->second;
+      bool& moved = warm_moved[s.start];
       for (size_t i = 0; i < k; ++i)
         if (m.keys[i].key == s.key) {
-          warm[i] = std::clamp(std::log(v), b.lo[i] + margin, b.hi[i] - margin);
-          have_warm = have_warm || warm[i] != theta0[i];
+          w[i] = std::clamp(std::log(v), b.lo[i] + margin, b.hi[i] - margin);
+          moved = moved || w[i] != theta0[i];
         }
     }
   }
+  std::vector<std::vector<double>> warm_starts;
+  for (const auto& kv : warm)
+    if (warm_moved[kv.first]) warm_starts.push_back(kv.second);
   std::vector<double> theta = theta0;
   double f1 = f0;
   res.starts = 0;
-  const int tries = options.starts + (have_warm ? 1 : 0);
+  const int tries = options.starts + static_cast<int>(warm_starts.size());
   for (int j = 0; j < tries; ++j) {
     std::vector<double> start = theta0;
-    const bool is_warm = j == options.starts;
+    const bool is_warm = j >= options.starts;
     if (is_warm) {
-      start = warm;
+      start = warm_starts[static_cast<size_t>(j - options.starts)];
       if (!std::isfinite(objective(start.data()))) continue;
       res.warm_start = true;
     } else if (j > 0) {
@@ -521,7 +527,7 @@ NoiseFitResult fitOneStructure(const std::string& predictor, const Params& base,
     if (std::isfinite(fj) && fj < f1) {  // never return something worse than the start values
       theta = th;
       f1 = fj;
-      res.best_start = j;  // options.starts: the warm start
+      res.best_start = j;  // >= options.starts: a warm start (options.starts + its rank)
       res.warm_start_kept = is_warm;
       res.termination = message;
     }

@@ -278,7 +278,8 @@ CsAkfAdaptivePredictor::CsAkfAdaptivePredictor(int channels, const Params& param
       adapt_(adaptationParam(params, "cs-akf-adaptive / fakf")),
       sigma2_(static_cast<size_t>(channels), startVariance()),
       a_prev_(static_cast<size_t>(channels), 0.0) {
-  if (!(sigma_min_sq_ <= sigma_max_sq_))
+  // With the adaptation off sigma^2 stays at sigma_min_sq and the ceiling is not used (nor fitted).
+  if (adapt_ && !(sigma_min_sq_ <= sigma_max_sq_))
     throw std::invalid_argument("predictor parameter 'sigma_min_sq' must not exceed 'sigma_max_sq'");
 }
 
@@ -302,7 +303,17 @@ std::vector<Params> CsAkfAdaptivePredictor::structuralVariants() const {
 }
 
 std::vector<FitSeed> CsAkfAdaptivePredictor::fitSeeds() const {
-  return {{"alpha", "cs-akf", "alpha", 1.0, 1.0}, {"sigma_min_sq", "cs-akf", "a_max", kRayleigh, 2.0}};
+  // Start 0, cs-akf: alpha, and its Rayleigh variance at zero acceleration as the floor.
+  // Start 1, kf-ca: at alpha dt << 1 the Singer Q is white jerk of density 2 alpha sigma^2
+  // (px^2/s^5), so the floor sigma^2 = q / (2 alpha) at this structure's alpha; with the adaptation
+  // on the ceiling too (sigma^2 pinned there: the CS filter closest to kf-ca, the adaptation inert
+  // until the fit moves the ceiling up).
+  const double per_density = 1.0 / (2.0 * alpha());
+  std::vector<FitSeed> seeds = {{"alpha", "cs-akf", "alpha", 1.0, 1.0, 0},
+                                {"sigma_min_sq", "cs-akf", "a_max", kRayleigh, 2.0, 0},
+                                {"sigma_min_sq", "kf-ca", "q", per_density, 1.0, 1}};
+  if (adapt_) seeds.push_back({"sigma_max_sq", "kf-ca", "q", per_density, 1.0, 1});
+  return seeds;
 }
 
 void CsAkfAdaptivePredictor::resetAdaptation() {

@@ -53,7 +53,9 @@
 // one) and, when one of its fitted keys gets a value that way, the fit is also run from the start
 // values with those keys replaced (clamped into their bounds; the other keys keep their start,
 // r under the prediction objective stays held): one start more, after the m above, and the best
-// objective wins as above. A warm start that cannot run (an infeasible combination, e.g.
+// objective wins as above. A structure may ask for several warm starts (FitSeed::start: the seeds
+// with one index form one start point, tried in increasing index), e.g. a CS structure from
+// cs-akf's fit and, separately, from kf-ca's (cs_akf.h). A warm start that cannot run (an infeasible combination, e.g.
 // sigma_min_sq above sigma_max_sq) is skipped. Why: an adaptive structure that contains a fixed
 // KF (its adaptive layer off, or weak) has that KF's fitted noise near one of its own minima; the
 // start values alone can lead the solver to a worse local minimum (docs/PERFORMANCE.md, "Warm
@@ -186,7 +188,7 @@ struct NoiseFitResult {
   double rmse_before_px = 0.0;     ///< h-step RMSE vs the later measurements at the start (both objectives)
   double rmse_after_px = 0.0;      ///< ... at the fitted values
   int starts = 1;                  ///< starting points tried (the warm start included)
-  int best_start = 0;              ///< the one kept (0 = the start values; `starts - 1` = the warm start if tried)
+  int best_start = 0;              ///< the one kept (0 = the start values; from options.starts on: the warm starts, in FitSeed::start order)
   bool warm_start = false;         ///< a warm start from NoiseFitOptions::seed_fits was tried
   bool warm_start_kept = false;    ///< ... and it gave the result
   std::string variant;             ///< the structural variant kept, "key=value,..." (empty: none offered)

@@ -266,14 +266,25 @@ class CsAkfAdaptivePredictor : public CsKalmanPredictor {
   /// fixed at sigma_min_sq; for fakf also no fuzzy R or P): a fit keeps whichever predicts the
   /// track better (fakf inherits them).
   std::vector<Params> structuralVariants() const override;
-  /// From cs-akf's fit (the fixed CS filter, every structure): alpha, and sigma_min_sq = (4 - pi)/pi
-  /// a_max^2, cs-akf's Rayleigh variance at zero acceleration (the floor this filter sits on in
-  /// smooth motion, and its fixed variance with `adaptation: off`). fakf inherits it.
+  /// Two warm starts (FitSeed::start), every structure. 0, from cs-akf's fit (the fixed CS filter):
+  /// alpha, and sigma_min_sq = (4 - pi)/pi a_max^2, cs-akf's Rayleigh variance at zero acceleration
+  /// (the floor this filter sits on in smooth motion, and its fixed variance with `adaptation:
+  /// off`). 1, from kf-ca's fit: sigma_min_sq = q / (2 alpha) at this structure's alpha (the Singer
+  /// density 2 alpha sigma^2 equal to kf-ca's white-jerk q), and with the adaptation on
+  /// sigma_max_sq the same (sigma^2 pinned: the structure nearest to kf-ca). fakf inherits it.
   std::vector<FitSeed> fitSeeds() const override;
 
  protected:
-  /// The `sigma_min_sq` entry of noiseParameters() ((px/s^2)^2, bounds 1e-3..1e8).
-  NoiseParameter sigmaMinSqParameter() const { return {"sigma_min_sq", 1e-3, 1e8, sigma_min_sq_}; }
+  /// The `sigma_min_sq` entry of noiseParameters() ((px/s^2)^2, bounds 1e-3..1e10; 1e8 before FIT4).
+  /// Why 1e10, the ceiling's own upper bound: on smooth motion the floor sets the Singer density
+  /// 2 alpha sigma^2, which has to reach the white-jerk densities kf-ca is fitted to (bounded at
+  /// 1e11 px^2/s^5, kalman_math.h) while alpha stays CA-like (alpha dt << 1). A fixed KF at equal
+  /// per-frame gains has q ~ r / dt^5, so the densities grow fast with the rate: kf-ca fitted on
+  /// bursts 60 Hz 0.5 px has q = 9.1e8 px^2/s^5, i.e. sigma^2 = 4.6e8 at alpha = 1/s, above the old
+  /// bound (an acceleration std of 1e4 px/s^2 sounds like a lot for a target, but the floor here is a
+  /// bandwidth, not a physical acceleration: at 60 Hz it is 2 alpha sigma^2 dt = (1800 px/s^2)^2 of
+  /// acceleration change per frame at 1e8).
+  NoiseParameter sigmaMinSqParameter() const { return {"sigma_min_sq", 1e-3, 1e10, sigma_min_sq_}; }
   /// Adapts sigma^2(c) from a(k|k) - a(k-1|k-1) when z was measured.
   void afterStep(int c, double dt, double z) override;
   /// sigma^2 back to sigma_max_sq and the acceleration memory cleared, on every channel.

@@ -74,6 +74,10 @@ struct FitSeed {
   std::string from_key;        ///< that predictor's Params key
   double factor = 1.0;
   double power = 1.0;
+  /// Which warm start the value belongs to: the seeds of one structure with the same index form
+  /// one start point (one more local fit each, in increasing index), e.g. a CS structure seeded
+  /// once from cs-akf (index 0) and once from kf-ca (index 1). Default 0: a single warm start.
+  int start = 0;
 };
 
 class Predictor {

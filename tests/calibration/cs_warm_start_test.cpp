@@ -1,0 +1,92 @@
+// The CS structures of cs-akf-adaptive and fakf against kf-ca on a track where kf-ca's fitted
+// white-jerk density is high (FIT4: bursts 60 Hz 0.5 px #1 of the tuning grid), and their second
+// warm start from kf-ca's fit (cs_akf.h CsAkfAdaptivePredictor::fitSeeds, FitSeed::start).
+#include "predvs/calibration/noise_fit.h"
+#include "predvs/predictors/predictor.h"
+#include "predvs/servo/maneuver_tracks.h"
+#include "servo/maneuver_track_cell.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace predvs {
+namespace {
+
+TEST(CsWarmStart, CsStructureReachesKfCaOnBursts60Hz) {
+  // GIVEN the tuning grid's track bursts 60 Hz 0.5 px #1 (20 s, 2 % drops), fitted and scored on
+  // the whole track as `track-study --fit --fit-split 1` does
+  const double rate_hz = 60.0;
+  const ManeuverTrack g = maneuverTrackCell(ManeuverKind::Bursts, rate_hz, 0.5, 20.0, 1);
+  const FitTrack track{g.t_s, {g.u_px, g.v_px}};
+  NoiseFitOptions o;
+  o.objective = FitObjective::Prediction;
+  o.horizon_s = 2.0 / rate_hz;
+  o = inSampleFitOptions(o);
+  const auto truthRmse = [&](const std::string& name, const Params& params) {
+    auto p = makePredictor(name, 2, params);
+    return scoreOnTrack(g, *p, o.horizon_s).rmse_truth_px;
+  };
+  double best_fixed = 1e300;
+  NoiseFitOptions seeded = o;
+  for (const std::string name : {"kf-cv", "kf-ca", "cs-akf"}) {
+    const NoiseFitResult f = fitNoise(name, {}, track, o);
+    best_fixed = std::min(best_fixed, truthRmse(name, f.params));
+    seeded.seed_fits[name] = f.params;
+  }
+  // kf-ca's density is above what the old bound of sigma_min_sq (1e8) gave at alpha = 1/s (2e8)
+  EXPECT_GT(seeded.seed_fits["kf-ca"].get("q", 0.0), 2e8);
+  // WHEN cs-akf-adaptive is fitted in the structure the study keeps there (CS mean, unweighted),
+  // with both warm starts
+  Params structure;
+  structure.setText("mean", "current");
+  structure.set("shrink_sigmas", 0.0);
+  const NoiseFitResult f = fitNoise("cs-akf-adaptive", structure, track, seeded);
+  // THEN the start values and kf-ca's warm start run (cs-akf's cannot: its floor, 0.27 a_max^2 =
+  // 2.6e7, is above the default ceiling 1e6), kf-ca's is kept, and the fit is within the issue's
+  // 10 % of the best fitted fixed KF (1.102 in the study with the bound at 1e8; now 1.08)
+  EXPECT_TRUE(f.warm_start);
+  EXPECT_EQ(f.starts, 2);
+  EXPECT_TRUE(f.warm_start_kept);
+  EXPECT_EQ(f.best_start, 2);  // o.starts (1) + rank 1: the second warm start, kf-ca's
+  EXPECT_LT(truthRmse("cs-akf-adaptive", f.params) / best_fixed, 1.10);
+}
+
+TEST(CsWarmStart, KfCaSeedsTheFloorAsDensityOverTwoAlpha) {
+  // GIVEN cs-akf-adaptive at alpha 2/s, adaptation on and off
+  Params on, off;
+  on.set("alpha", 2.0);
+  off.set("alpha", 2.0);
+  off.setText("adaptation", "off");
+  // WHEN asked for its seeds THEN start 1 maps kf-ca's q to sigma_min_sq = q / (2 alpha), and
+  // with the adaptation on also the ceiling (off: no ceiling is fitted)
+  for (const bool adapt : {true, false}) {
+    const Params& p = adapt ? on : off;
+    int kf_ca_keys = 0;
+    for (const FitSeed& s : makePredictor("cs-akf-adaptive", 1, p)->fitSeeds()) {
+      if (s.from_predictor != "kf-ca") {
+        EXPECT_EQ(s.start, 0);
+        continue;
+      }
+      ++kf_ca_keys;
+      EXPECT_EQ(s.start, 1);
+      EXPECT_EQ(s.from_key, "q");
+      EXPECT_DOUBLE_EQ(s.factor, 0.25);
+      EXPECT_TRUE(s.key == "sigma_min_sq" || s.key == "sigma_max_sq");
+    }
+    EXPECT_EQ(kf_ca_keys, adapt ? 2 : 1);
+  }
+  // AND with the adaptation off the (unused) ceiling no longer bounds the floor
+  Params high = off;
+  high.set("sigma_min_sq", 4.5e8);
+  EXPECT_NO_THROW(makePredictor("fakf", 1, high));
+  Params high_on = on;
+  high_on.set("sigma_min_sq", 4.5e8);
+  EXPECT_THROW(makePredictor("fakf", 1, high_on), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace predvs
