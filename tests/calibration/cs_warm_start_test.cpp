@@ -4,6 +4,7 @@
 #include "predvs/calibration/noise_fit.h"
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/maneuver_tracks.h"
+#include "calibration/fixed_kf_reference.h"
 #include "servo/maneuver_track_cell.h"
 
 #include <gtest/gtest.h>
@@ -20,31 +21,16 @@ TEST(CsWarmStart, CsStructureReachesKfCaOnBursts60Hz) {
   // GIVEN the tuning grid's track bursts 60 Hz 0.5 px #1 (20 s, 2 % drops), fitted and scored on
   // the whole track as `track-study --fit --fit-split 1` does
   const double rate_hz = 60.0;
-  const ManeuverTrack g = maneuverTrackCell(ManeuverKind::Bursts, rate_hz, 0.5, 20.0, 1);
-  const FitTrack track{g.t_s, {g.u_px, g.v_px}};
-  NoiseFitOptions o;
-  o.objective = FitObjective::Prediction;
-  o.horizon_s = 2.0 / rate_hz;
-  o = inSampleFitOptions(o);
-  const auto truthRmse = [&](const std::string& name, const Params& params) {
-    auto p = makePredictor(name, 2, params);
-    return scoreOnTrack(g, *p, o.horizon_s).rmse_truth_px;
-  };
-  double best_fixed = 1e300;
-  NoiseFitOptions seeded = o;
-  for (const std::string name : {"kf-cv", "kf-ca", "cs-akf"}) {
-    const NoiseFitResult f = fitNoise(name, {}, track, o);
-    best_fixed = std::min(best_fixed, truthRmse(name, f.params));
-    seeded.seed_fits[name] = f.params;
-  }
+  const FixedKfReference ref(maneuverTrackCell(ManeuverKind::Bursts, rate_hz, 0.5, 20.0, 1), rate_hz);
+  const NoiseFitOptions& seeded = ref.seeded;
   // kf-ca's density is above what the old bound of sigma_min_sq (1e8) gave at alpha = 1/s (2e8)
-  EXPECT_GT(seeded.seed_fits["kf-ca"].get("q", 0.0), 2e8);
+  EXPECT_GT(seeded.seed_fits.at("kf-ca").get("q", 0.0), 2e8);
   // WHEN cs-akf-adaptive is fitted in the structure the study keeps there (CS mean, unweighted),
   // with both warm starts
   Params structure;
   structure.setText("mean", "current");
   structure.set("shrink_sigmas", 0.0);
-  const NoiseFitResult f = fitNoise("cs-akf-adaptive", structure, track, seeded);
+  const NoiseFitResult f = fitNoise("cs-akf-adaptive", structure, ref.track, seeded);
   // THEN the start values and kf-ca's warm start run (cs-akf's cannot: its floor, 0.27 a_max^2 =
   // 2.6e7, is above the default ceiling 1e6), kf-ca's is kept, and the fit is within the issue's
   // 10 % of the best fitted fixed KF (1.102 in the study with the bound at 1e8; now 1.08)
@@ -52,7 +38,7 @@ TEST(CsWarmStart, CsStructureReachesKfCaOnBursts60Hz) {
   EXPECT_EQ(f.starts, 2);
   EXPECT_TRUE(f.warm_start_kept);
   EXPECT_EQ(f.best_start, 2);  // o.starts (1) + rank 1: the second warm start, kf-ca's
-  EXPECT_LT(truthRmse("cs-akf-adaptive", f.params) / best_fixed, 1.10);
+  EXPECT_LT(ref.truthRmse("cs-akf-adaptive", f.params) / ref.best_fixed_px, 1.10);
 }
 
 TEST(CsWarmStart, KfCaSeedsTheFloorAsDensityOverTwoAlpha) {
