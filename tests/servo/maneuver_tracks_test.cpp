@@ -235,19 +235,26 @@ TEST(DefaultsThatHold, WideGridLossesOf58fa0beAreWins) {
 /// gap at an unusual speed (`coast_fast_ratio`, wipD) cs-akf loses bursts 60 Hz 0.5 px #525 by a
 /// hair (x0.997 -> x1.011: the gap after the stop costs less, the single dropped frames in the burst
 /// more): printed, not asserted (docs/PERFORMANCE.md "Unusual speeds and the shape of the coast").
-TEST(DefaultsThatHold, StopBeforeGapLossesOfE96250cAreWins) {
-  struct Track {
-    double rate_hz, noise_px, duration_s, drop;
-    std::uint64_t seed;
-  };
-  const std::vector<Track> tracks = {
-      {60, 0.5, 10, 0.05, 525}, {60, 1.5, 10, 0.05, 510}, {60, 0.5, 12, 0.08, 614},
-      {60, 0.5, 12, 0.08, 623}, {60, 1.5, 12, 0.08, 623},
-  };
-  for (const Track& tr : tracks)
+/// One generated bursts track of a drop grid, and the predictor (if any) whose ratio to hold is
+/// printed there, not asserted (a known loss, documented where the track is listed).
+struct BurstTrack {
+  double rate_hz, noise_px, duration_s, drop;
+  std::uint64_t seed;
+  std::string printed_only;
+};
+
+void expectEveryPredictorBeatsHoldOnBursts(const std::vector<BurstTrack>& tracks) {
+  for (const BurstTrack& tr : tracks)
     expectEveryPredictorBeatsHold(
         maneuverTrackCell(ManeuverKind::Bursts, tr.rate_hz, tr.noise_px, tr.duration_s, tr.seed, tr.drop), tr.rate_hz,
-        cellLabel(ManeuverKind::Bursts, tr.rate_hz, tr.noise_px, tr.seed), tr.seed == 525 ? "cs-akf" : "");
+        cellLabel(ManeuverKind::Bursts, tr.rate_hz, tr.noise_px, tr.seed), tr.printed_only);
+}
+
+TEST(DefaultsThatHold, StopBeforeGapLossesOfE96250cAreWins) {
+  expectEveryPredictorBeatsHoldOnBursts({
+      {60, 0.5, 10, 0.05, 525, "cs-akf"}, {60, 1.5, 10, 0.05, 510, ""}, {60, 0.5, 12, 0.08, 614, ""},
+      {60, 0.5, 12, 0.08, 623, ""}, {60, 1.5, 12, 0.08, 623, ""},
+  });
 }
 
 /// Tracks of the three drop grids (seeds 501-530, 10 s, 5 %; 601-630, 12 s, 8 %; 701-730, 12 s, 10 %;
@@ -257,18 +264,10 @@ TEST(DefaultsThatHold, StopBeforeGapLossesOfE96250cAreWins) {
 /// unusual speed (channel_predictor.h, `coast_fast_ratio`, with `coast_shape`) every predictor beats
 /// hold on each.
 TEST(DefaultsThatHold, UnusualSpeedLossesOf13b32f0AreWins) {
-  struct Track {
-    double rate_hz, noise_px, duration_s, drop;
-    std::uint64_t seed;
-  };
-  const std::vector<Track> tracks = {
-      {30, 3, 10, 0.05, 522}, {60, 1.5, 10, 0.05, 519}, {60, 3, 10, 0.05, 519},
-      {60, 3, 12, 0.08, 623}, {60, 3, 12, 0.1, 722},
-  };
-  for (const Track& tr : tracks)
-    expectEveryPredictorBeatsHold(
-        maneuverTrackCell(ManeuverKind::Bursts, tr.rate_hz, tr.noise_px, tr.duration_s, tr.seed, tr.drop), tr.rate_hz,
-        cellLabel(ManeuverKind::Bursts, tr.rate_hz, tr.noise_px, tr.seed));
+  expectEveryPredictorBeatsHoldOnBursts({
+      {30, 3, 10, 0.05, 522, ""}, {60, 1.5, 10, 0.05, 519, ""}, {60, 3, 10, 0.05, 519, ""},
+      {60, 3, 12, 0.08, 623, ""}, {60, 3, 12, 0.1, 722, ""},
+  });
 }
 
 }  // namespace
