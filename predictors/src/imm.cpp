@@ -18,6 +18,9 @@ constexpr double kLog2Pi = 1.8378770664093453;
 constexpr double kMuFloor = 1e-6;
 /// Default forgetting time of the forecast weights' evidence (s): docs/MODELS.md §14.
 constexpr double kDefaultForecastTauS = 30.0;
+/// Default factor on the CP mode's forecast weight on a frame without a measurement, while coasting
+/// (imm.h, "Coasting without the CP mode"; docs/MODELS.md §14).
+constexpr double kDefaultCoastCp = 0.0;
 /// Default floor of a forecast weight relative to the largest (docs/MODELS.md §14).
 constexpr double kDefaultForecastFloor = 0.01;
 /// Lowest calibration factor of a forecast variance (imm.h, "Calibration"): keeps v_j > 0 where a
@@ -122,6 +125,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       coast_stop_fraction_(coastStopFractionParam(params)),
       coast_fast_ratio_(coastFastRatioParam(params)),
       coast_shape_(coastShapeParam(params)),
+      coast_cp_(params.get("coast_cp", kDefaultCoastCp, 0.0, 1.0)),
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
   const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
@@ -507,6 +511,15 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       if (fc_tau_s_ > 0.0) {
         for (int j = 0; j < m; ++j) ch.logw[static_cast<size_t>(j)] *= keep;
         normaliseForecastWeights(ch);
+        // While coasting, the CP mode's forecast weight is scaled by coast_cp (imm.h, "Coasting
+        // without the CP mode"): the moving modes' coasted forecasts already tend to hold. The
+        // next measured frame recomputes the weights from the scores, so this lasts the gap.
+        if (coast_tau_s_ > 0.0 && coast_cp_ < 1.0 && modes_[0].kind == ImmMode::Cp) {
+          ch.fw[0] *= coast_cp_;
+          double sum = 0.0;
+          for (int j = 0; j < m; ++j) sum += ch.fw[static_cast<size_t>(j)];
+          for (int j = 0; j < m; ++j) ch.fw[static_cast<size_t>(j)] /= sum;
+        }
       }
     }
     ch.g = mixed;

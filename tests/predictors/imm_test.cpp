@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <vector>
 #include <random>
 
@@ -294,6 +295,43 @@ TEST(Imm, BlendLearnsNoStepWhereEveryModeForecastsTheLastMeasurement) {
   }
   std::printf("[ imm ] blend start: %d of %d start values held the second frame\n", held, starts);
   EXPECT_EQ(held, 0);
+}
+
+TEST(Imm, CoastsThroughAGapWithoutItsCpModeAndGetsItBackAfter) {
+  // GIVEN a target at rest for 3 s (30 Hz, 1 px noise), where the CP mode earns most of the
+  // forecast, fed to imm with its defaults (coasting on, coast_cp 0), to one that keeps the CP
+  // weight in gaps (coast_cp 1) and to one that does not coast (coast_tau_s 0)
+  ImmPredictor def(1, Params{}), keep(1, Params{{"coast_cp", 1.0}}), nocoast(1, Params{{"coast_tau_s", 0.0}});
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const auto feed = [&](double t, double z_px) {
+    Eigen::VectorXd z(1);
+    z << z_px;
+    def.update(t, z);
+    keep.update(t, z);
+    nocoast.update(t, z);
+  };
+  const double rate_hz = 30.0;
+  int k = 0;
+  for (; k <= 90; ++k) feed(k / rate_hz, 100.0 + n(rng));
+  const double w_cp = keep.forecastWeight(0, ImmMode::Cp);
+  EXPECT_EQ(def.forecastWeight(0, ImmMode::Cp), w_cp);  // measured frames: the same weights
+  EXPECT_GT(w_cp, 0.5);
+  // WHEN two frames are not measured
+  for (int g = 0; g < 2; ++g, ++k) {
+    feed(k / rate_hz, std::numeric_limits<double>::quiet_NaN());
+    // THEN the coasting imm forecasts with its CV and CA modes alone; the others keep CP's share
+    EXPECT_EQ(def.forecastWeight(0, ImmMode::Cp), 0.0);
+    EXPECT_NEAR(def.forecastWeight(0, ImmMode::Cv) + def.forecastWeight(0, ImmMode::Ca), 1.0, 1e-12);
+    EXPECT_GT(keep.forecastWeight(0, ImmMode::Cp), 0.5);
+    EXPECT_EQ(nocoast.forecastWeight(0, ImmMode::Cp), keep.forecastWeight(0, ImmMode::Cp));
+  }
+  // AND WHEN the next frame is measured, THEN the CP mode's weight is back, the same as the
+  // instance that kept it (the gap only scaled the weights, not the scores), and so are the forecasts
+  feed(k / rate_hz, 100.0 + n(rng));
+  EXPECT_EQ(def.forecastWeight(0, ImmMode::Cp), keep.forecastWeight(0, ImmMode::Cp));
+  EXPECT_GT(def.forecastWeight(0, ImmMode::Cp), 0.5);
+  EXPECT_EQ(def.predictPosition(0, (k + 2) / rate_hz), keep.predictPosition(0, (k + 2) / rate_hz));
 }
 
 TEST(StartupNoiseEstimator, RecoversNoiseOnAcceleratingMotionAndIgnoresAJump) {

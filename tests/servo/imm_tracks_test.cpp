@@ -103,6 +103,40 @@ TEST(ImmOnTracks, TheStudyMissesOfMainAreWithinTenPercent) {
   }
 }
 
+// The tracks of the study grids where imm missed 10 % at main 056b9cd: the tuning grid's smooth
+// 60 Hz 3 px #3 and turns 60 Hz 1.5 px #3 (20 s), and hand 60 Hz 1.5 px #103 (15 s). Most of each
+// miss is in gaps (smooth #3: an occlusion from 0.2 to 0.43 s while the CP mode carried up to 0.98
+// of the forecast), where the CP mode's weight pulled the coasted forecast towards hold a second
+// time; imm now coasts without it (imm.h, "Coasting without the CP mode"; coast_cp).
+TEST(ImmOnTracks, CoastingWithoutTheCpModeBringsTheMissesOf056b9cdWithinTenPercent) {
+  const MissedCell cells[] = {
+      {ManeuverKind::Smooth, 60.0, 3.0, 20.0, 3, 0.02},
+      {ManeuverKind::Turns, 60.0, 1.5, 20.0, 3, 0.02},
+      {ManeuverKind::Hand, 60.0, 1.5, 15.0, 103, 0.02},
+  };
+  for (const MissedCell& m : cells) {
+    // GIVEN the track of that cell, 2 frames ahead as track-study scores it
+    const ManeuverTrack t = maneuverTrackCell(m.kind, m.rate_hz, m.noise_px, m.duration_s, m.seed, m.drop_prob);
+    const double horizon = 2.0 / m.rate_hz;
+    const auto score = [&](const char* name, const Params& params = Params{}) {
+      auto p = makePredictor(name, 2, params);
+      return scoreOnTrack(t, *p, horizon).rmse_truth_px;
+    };
+    const double hold = score("hold"), best = std::min(score("kf-cv"), score("kf-ca"));
+    // WHEN imm keeps its CP mode's forecast weight through the gaps (before) and coasts without it
+    const double before = score("imm", Params{{"coast_cp", 1.0}}), imm = score("imm");
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s %g Hz %g px #%d", maneuverKindName(m.kind).c_str(), m.rate_hz, m.noise_px,
+                  static_cast<int>(m.seed));
+    const std::string cell = buf;
+    std::printf("[ imm ] %s: imm / best %.3f (coast_cp 1: %.3f)\n", cell.c_str(), imm / best, before / best);
+    // THEN it was not within 10 % of the better single model and now is, and beats hold
+    EXPECT_GT(before, 1.1 * best) << cell;
+    EXPECT_LE(imm, 1.1 * best) << cell;
+    EXPECT_LT(imm, hold) << cell;
+  }
+}
+
 TEST(ImmOnTracks, CalibratedScoresPickTheModeWithTheSmallerErrorsNotTheSmallerStatedVariance) {
   // GIVEN turns, 10 Hz, 0.5 px #1 of the tuning grid, where kf-cv forecasts better than kf-ca
   // (5.10 against 5.89 px) but the CV mode states a variance about 3.5 times its squared errors

@@ -74,6 +74,17 @@
 // (stops 10 Hz 0.5 px #504, 5 % drops: 11.1 px against kf-cv's 9.5; 9.4 with the fix). Which
 // sign it has depends on the last bits of z (the same track read back from a CSV with 10
 // significant digits gave 9.3 px).
+// Coasting without the CP mode (coast_cp, default 0; 1 = as before): on a frame where a channel is
+// not measured and coasting is on (coast_tau_s > 0), the CP mode's forecast weight is multiplied
+// by coast_cp and the weights renormalised; the next measured frame recomputes them from the
+// scores L_j, which the gap does not change but for the forgetting. Why: coasting already makes
+// the moving modes' forecasts tend to hold through a gap (channel_predictor.h), so the CP share
+// pulled imm's coasted forecast towards hold a second time. The CP weight was learnt on one-frame
+// forecasts, where at 60 Hz the noise hides the motion (a CP share up to 0.98 in the first 0.5 s
+// of smooth 60 Hz 3 px #3), and served a 14-frame extrapolation. Without coasting (the paper
+// scenarios E7, E8 pin coast_tau_s = 0) the CP mode is imm's only pull towards hold in a gap and
+// keeps its weight (measured on E7 with `extrapolate`: coast_cp 0 there would make imm 1.23 times
+// kf-cv instead of 0.85). Figures: docs/PERFORMANCE.md "imm coasts without its CP mode".
 // This is dynamic model averaging with a forgetting factor (Raftery, Karny & Ettler, Technometrics
 // 52(1), 2010) stated in seconds (so the same at any frame rate) on the modes' realised one-frame
 // forecasts. Why not mu: mu_j rests on one-frame likelihoods of the MIXED priors, and the chain's
@@ -104,7 +115,8 @@
 // law of every other predictor (channel_predictor.h, docs/MODELS.md §15), so imm coasts like its
 // single models; forecast_tau_s (s, default 30; 0 = forecast with mu), forecast_calibration (1;
 // 0 = the forecast weights score with the model's s_j, above), forecast_floor
-// (relative weight, default 0.01, in [1e-12, 0.5]); shrink_sigmas and shrink_v_sigmas (the CA
+// (relative weight, default 0.01, in [1e-12, 0.5]); coast_cp (in [0, 1], default 0; above);
+// shrink_sigmas and shrink_v_sigmas (the CA
 // mode's forecast weighting, kf-ca's keys and defaults: 2 and 2; 0 = unweighted). hold_blend_tau_s (s,
 // default kDefaultHoldBlendTauS; 0 = off): the
 // combined forecast blended with hold by the least-squares weight of its one-frame forecasts, as
@@ -217,6 +229,7 @@ class ImmPredictor : public Predictor {
   double blend_tau_s_;  ///< s; the forecast's blend with hold (hold_blend_tau_s, channel_predictor.h); 0 = off
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
   double coast_fast_ratio_, coast_shape_;  ///< coast_fast_ratio, coast_shape (channel_predictor.h), with the blend only
+  double coast_cp_;  ///< coast_cp: factor on the CP mode's forecast weight on an unmeasured frame while coasting
   /// The mu-combined velocity of channel ch's posterior (px/s) and its variance (spread included).
   double combinedVelocity(const Channel& ch) const;
   double combinedVelocityVariance(const Channel& ch) const;
