@@ -524,7 +524,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     }
     ch.g = mixed;
     if (blend_tau_s_ > 0.0 && isMeasured(z(c)))
-      ch.blend.recent.remember(t_s, z(c), combinedVelocity(ch), std::exp(-(t_s - ch.blend.recent.lastTime()) / blend_tau_s_));
+      ch.blend.recent.remember(t_s, z(c), combinedVelocity(ch), blendForgetting(t_s - ch.blend.recent.lastTime()));
   }
 }
 

@@ -265,6 +265,13 @@ class ImmPredictor : public Predictor {
   ModeMatrix computeChain(double dt) const;
   const PeriodModels& periodModels(double dt) const;
   mutable RecentValues<PeriodModels, kChainCacheSize> period_models_;
+  /// exp(-dt / hold_blend_tau_s) for the time dt since a channel's last measurement (the forgetting
+  /// of the blend's recent speeds), kept for the last few distinct dt as the per-channel filters'
+  /// blendForgetting (channel_predictor.h): the same bits as std::exp, no exp per measured frame.
+  double blendForgetting(double dt) {
+    return blend_gap_keep_.get({dt}, [&] { return std::exp(-dt / blend_tau_s_); });
+  }
+  RecentValues<double> blend_gap_keep_;
   /// exp(log forecast_floor): the forecast weight of a floored mode before normalising.
   double fc_floor_exp_ = 0.0;
   std::vector<Channel> chan_;
