@@ -138,12 +138,13 @@ struct PredictArgs {
   bool no_warm_start = false;      ///< --no-warm-start (track-study's)
 };
 
-/// Sets the params of a parameter file on the specs of the same name (--params FILE).
+/// Sets the params of a parameter file on the specs shown under the name of one of its entries
+/// (--params FILE; a file names registry predictors, so a labelled spec is not set by it).
 void applyParamsFile(const std::string& file, std::vector<PredictorSpec>& specs) {
   bool any = false;
   for (const auto& f : readParamsFile(file))
     for (auto& s : specs)
-      if (s.name == f.name) {
+      if (s.shownName() == f.name) {
         for (const auto& kv : f.params.values()) s.params.set(kv.first, kv.second);
         for (const auto& kv : f.params.texts()) s.params.setText(kv.first, kv.second);
         any = true;
@@ -165,23 +166,35 @@ void paramsFileOverrides(const std::string& file, std::vector<ScenarioOverride>&
   }
 }
 
+/// --predictor of predict and track: 'all' (every registered predictor) or a comma list whose
+/// elements are [LABEL=]TYPE[:KEY=VALUE...], the syntax of compare's --predictors
+/// (parsePredictorChoice, scenario_run.h): the registry predictor TYPE shown as LABEL, with those
+/// parameters, so that one predictor can run with several parameter sets side by side.
+std::vector<PredictorSpec> predictorSpecs(const std::string& text) {
+  std::vector<PredictorSpec> specs;
+  if (text == "all") {
+    for (const auto& p : predictorRegistry()) specs.push_back({p.name, {}, {}});
+    return specs;
+  }
+  const auto items = splitList(text);
+  if (items.empty()) throw std::invalid_argument("--predictor: expected NAME, a comma list NAME,NAME,... or 'all'");
+  for (const auto& item : items) {
+    if (item == "all") throw std::invalid_argument("--predictor: 'all' stands alone, not in a list");
+    const PredictorChoice c = parsePredictorChoice(item, "--predictor");
+    requirePredictor("--predictor", c.type);  // a bare word: a registry name (no scenario labels here)
+    PredictorSpec spec{c.type, c.params, c.labelled ? c.label : std::string()};
+    for (const auto& s : specs)
+      if (s.shownName() == spec.shownName())
+        throw std::invalid_argument("--predictor: '" + spec.shownName() +
+                                    "' is listed twice (give each its own LABEL=TYPE[:KEY=VALUE...])");
+    specs.push_back(std::move(spec));
+  }
+  return specs;
+}
+
 int runPredict(const PredictArgs& a, const std::string& command_line, std::ostream& out) {
   // Validate every argument before touching the file system.
-  std::vector<PredictorSpec> specs;
-  if (a.predictor == "all") {
-    for (const auto& p : predictorRegistry()) specs.push_back({p.name, {}});
-  } else {
-    // A comma list, like --predictors of servo and compare.
-    const auto names = splitList(a.predictor);
-    if (names.empty()) throw std::invalid_argument("--predictor: expected NAME, a comma list NAME,NAME,... or 'all'");
-    for (const auto& name : names) {
-      if (name == "all") throw std::invalid_argument("--predictor: 'all' stands alone, not in a list");
-      requirePredictor("--predictor", name);
-      for (const auto& s : specs)
-        if (s.name == name) throw std::invalid_argument("--predictor: '" + name + "' is listed twice");
-      specs.push_back({name, {}});
-    }
-  }
+  std::vector<PredictorSpec> specs = predictorSpecs(a.predictor);
   if (!a.params_file.empty()) applyParamsFile(a.params_file, specs);
   for (const auto& kv : a.params) {
     const auto eq = kv.find('=');
@@ -197,14 +210,15 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
     if (dot != std::string::npos) {
       scope = key.substr(0, dot);
       key = key.substr(dot + 1);
-      requirePredictor("--param " + kv.substr(0, eq), scope);
+      const bool run = std::any_of(specs.begin(), specs.end(), [&](const PredictorSpec& s) { return s.shownName() == scope; });
+      if (!run) requirePredictor("--param " + kv.substr(0, eq), scope);  // unknown, or known but not run (below)
     } else if (specs.size() > 1) {
       throw std::invalid_argument("--param " + key + ": with --predictor all or several predictors, scope each "
                                   "parameter as PREDICTOR." + key + "=VALUE");
     }
     bool applied = false;
     for (auto& s : specs)
-      if (scope.empty() || s.name == scope) {
+      if (scope.empty() || s.shownName() == scope) {
         if (word)
           s.params.setText(key, text);
         else
@@ -294,10 +308,11 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
         // warm start for fits scored in sample only (no --fit-split), as track-study's
         if (!a.no_warm_start && a.fit_split.empty()) fit_options.seed_fits[s.name] = fit.params;
         std::ostringstream o;
+        if (!s.label.empty()) o << s.label << " = ";  // printFit names the registry predictor
         printFit(fit, o);
         logs[j] = o.str();
       } catch (const std::invalid_argument& e) {
-        throw std::invalid_argument(a.input + ": --fit " + s.name + ": " + e.what());
+        throw std::invalid_argument(a.input + ": --fit " + s.shownName() + ": " + e.what());
       }
     }
     for (const auto& l : logs) fit_log << l;
@@ -349,15 +364,7 @@ int runTrack(const TrackArgs& a, const std::string& command_line, std::ostream& 
   TrackOptions o;
   o.images = a.images;
   o.source = a.source;
-  if (a.predictor == "all") {
-    for (const auto& p : predictorRegistry()) o.predictors.push_back({p.name, {}});
-  } else {
-    for (const auto& name : splitList(a.predictor)) {
-      requirePredictor("--predictor", name);
-      o.predictors.push_back({name, {}});
-    }
-    if (o.predictors.empty()) throw std::invalid_argument("--predictor: expected NAME, a comma list or 'all'");
-  }
+  o.predictors = predictorSpecs(a.predictor);
   o.delay_frames = static_cast<int>(parseIntegerArg("--delay-frames", a.delay_frames, 0, 100000));
   o.fps = parseNumberArg("--fps", a.fps);
   if (!(o.fps > 0.0)) throw std::invalid_argument("--fps: expected a number > 0, got '" + a.fps + "'");
@@ -443,7 +450,10 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   predict->add_option("--input", pa.input, "CSV track: t,u,v | t,u0,v0,u1,v1,... | t,point,u,v (+ optional *_true columns); t in s, u,v in px")
       ->required()
       ->type_name("FILE");
-  predict->add_option("--predictor", pa.predictor, "predictor name (see `predvs list`), a comma list NAME,NAME,..., or 'all' to compare every one")
+  predict->add_option("--predictor", pa.predictor,
+                      "predictor name (see `predvs list`), a comma list NAME,NAME,..., or 'all' to compare every one; "
+                      "an element may be [LABEL=]NAME[:KEY=VALUE...] (compare's syntax), so one predictor runs with "
+                      "several parameter sets, e.g. kf-cv,kf-cv-r5=kf-cv:r=5")
       ->required()
       ->type_name("NAME[,NAME...]");
   auto* h = predict->add_option("--horizon-s", pa.horizon_s, "prediction horizon in seconds (>= 0)")->type_name("S");
@@ -455,14 +465,16 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->required()
       ->type_name("DIR");
   predict->add_option("--param", pa.params,
-                      "predictor parameter KEY=VALUE (repeatable); with several predictors write PREDICTOR.KEY=VALUE")
+                      "predictor parameter KEY=VALUE (repeatable); with several predictors write PREDICTOR.KEY=VALUE "
+                      "(PREDICTOR: a name or a LABEL of --predictor)")
       ->type_name("KEY=VALUE");
   predict->add_flag("--no-plots", pa.no_plots, "do not draw predictions.png (no gnuplot needed)");
   predict->add_option("--jobs", pa.jobs,
                       "threads running the predictors and writing predictions.csv (default: every core; the outputs do not depend on it)")
       ->type_name("N");
   predict->add_option("--params", pa.params_file,
-                      "parameter file (YAML, as written by fit-noise) for the predictors it names; --param wins")
+                      "parameter file (YAML, as written by fit-noise) for the predictors it names (not a LABEL=NAME "
+                      "entry of --predictor: give it --param LABEL.KEY=VALUE); --param wins")
       ->type_name("FILE");
   predict->add_flag("--fit", pa.fit,
                     "fit each predictor's noise (fit-noise) on the track first, then predict with the fitted values");
@@ -501,7 +513,8 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->required()
       ->type_name("SPEC");
   track->add_option("--source", ta.source, "image tracker (see `predvs list`)")->capture_default_str()->type_name("NAME");
-  track->add_option("--predictor", ta.predictor, "predictor name, comma list, or 'all'")
+  track->add_option("--predictor", ta.predictor,
+                    "predictor name, comma list, or 'all'; an element may be [LABEL=]NAME[:KEY=VALUE...] as in predict")
       ->capture_default_str()
       ->type_name("NAME|A,B|all");
   track->add_option("--delay-frames", ta.delay_frames, "prediction horizon H in frames")->capture_default_str()->type_name("H");

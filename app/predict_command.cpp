@@ -295,7 +295,7 @@ void writePredictionsCsv(const std::string& path, const FeatureTrack& track, con
   const bool single = track.points() == 1;
   std::ofstream file(path, std::ios::binary);
   std::string header = single ? "t,u,v,t_target" : "t,point,u,v,t_target";
-  for (const auto& run : report.runs) header += "," + run.spec.name + ".u_pred," + run.spec.name + ".v_pred";
+  for (const auto& run : report.runs) header += "," + run.spec.shownName() + ".u_pred," + run.spec.shownName() + ".v_pred";
   header += '\n';
   file.write(header.data(), static_cast<std::streamsize>(header.size()));
   const size_t chunks = (track.size() + kCsvChunkRows - 1) / kCsvChunkRows;
@@ -371,7 +371,8 @@ void writeSummaryJson(const FeatureTrack& track, const PredictionReport& report,
   summary["predictors"] = nlohmann::json::array();
   for (const auto& run : report.runs) {
     nlohmann::json p;
-    p["name"] = run.spec.name;
+    p["name"] = run.spec.shownName();
+    if (!run.spec.label.empty()) p["type"] = run.spec.name;  // a labelled entry: its registry name
     p["params"] = nlohmann::json::object();
     for (const auto& kv : run.spec.params.values()) p["params"][kv.first] = kv.second;
     p["vs_measurement"] = errorsJson(run.vs_measurement);
@@ -409,7 +410,7 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
   size_t plot_rows = track.size();
   {
     std::string dat = "# t_s u_px v_px t_target_s u_true_px v_true_px";
-    for (const auto& run : report.runs) dat += " " + run.spec.name + ".u_pred " + run.spec.name + ".v_pred";
+    for (const auto& run : report.runs) dat += " " + run.spec.shownName() + ".u_pred " + run.spec.shownName() + ".v_pred";
     std::vector<double> bin;
     auto num = [&](double x) {  // datNumber's format; the binary value is the text's
       if (!std::isfinite(x)) {
@@ -513,7 +514,7 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
     gp << " with points pt 7 ps 0.5 lc rgb 'black' title 'measured'";
     for (size_t k = 0; k < report.runs.size(); ++k)
       gp << ", '' @fmt using 4:" << (7 + 2 * k + static_cast<size_t>(axis)) << " with lines lw 1.5 lc rgb '"
-         << seriesColor(k) << "' title " << gnuplotQuote(report.runs[k].spec.name);
+         << seriesColor(k) << "' title " << gnuplotQuote(report.runs[k].spec.shownName());
     if (track.hasTruth())
       gp << ", '' @fmt using 1:" << (5 + axis) << " with lines dt 2 lw 2 lc rgb 'black' title 'true'";
     gp << "\n";
@@ -549,7 +550,7 @@ void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& r
 void printPredictionTable(const PredictionReport& report, const FeatureTrack& track, std::ostream& out) {
   const bool has_truth = track.hasTruth();
   size_t w = 9;
-  for (const auto& run : report.runs) w = std::max(w, run.spec.name.size());
+  for (const auto& run : report.runs) w = std::max(w, run.spec.shownName().size());
   out << std::left << std::setw(static_cast<int>(w)) << "predictor" << std::right << std::setw(20)
       << "RMSE vs meas [px]";
   if (has_truth) out << std::setw(20) << "RMSE vs truth [px]";
@@ -558,7 +559,7 @@ void printPredictionTable(const PredictionReport& report, const FeatureTrack& tr
   for (const auto& run : report.runs) nw = std::max(nw, std::to_string(run.vs_measurement.n).size() + 2);
   out << std::setw(static_cast<int>(nw)) << "n" << "\n";
   for (const auto& run : report.runs) {
-    out << std::left << std::setw(static_cast<int>(w)) << run.spec.name << std::right << std::setw(20)
+    out << std::left << std::setw(static_cast<int>(w)) << run.spec.shownName() << std::right << std::setw(20)
         << fixedNumber(run.vs_measurement.rmse_px, 3);
     if (has_truth) out << std::setw(20) << fixedNumber(run.vs_truth.rmse_px, 3);
     out << std::setw(static_cast<int>(nw)) << run.vs_measurement.n << "\n";
@@ -573,7 +574,7 @@ void printPredictionTable(const PredictionReport& report, const FeatureTrack& tr
     for (const auto& name : track.point_names) out << std::setw(static_cast<int>(cw)) << name;
     out << "\n";
     for (const auto& run : report.runs) {
-      out << std::left << std::setw(static_cast<int>(w)) << run.spec.name << std::right;
+      out << std::left << std::setw(static_cast<int>(w)) << run.spec.shownName() << std::right;
       for (const auto& pt : run.points)
         out << std::setw(static_cast<int>(cw)) << fixedNumber(which == 0 ? pt.vs_measurement.rmse_px : pt.vs_truth.rmse_px, 3);
       out << "\n";

@@ -34,10 +34,13 @@ namespace predvs {
 
 class StagedOutputDir;
 
-/// A predictor name with its parameters.
+/// A predictor name with its parameters, and the label it is shown under (`predict --predictor
+/// kf-cv,kf-cv-r5=kf-cv:r=5`: the same predictor twice, each with its parameters; empty = name).
 struct PredictorSpec {
-  std::string name;
+  std::string name;  ///< the registry name (predictor.h)
   Params params;
+  std::string label{};  ///< the name in predictions.csv, summary.json, the plot and the table; empty = name
+  const std::string& shownName() const { return label.empty() ? name : label; }
 };
 
 /// RMSE of predictions against a reference (see file comment). NaN when n == 0.

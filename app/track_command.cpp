@@ -263,7 +263,7 @@ void writeCsvs(const TrackResult& r, int delay_frames, const StagedOutputDir& di
   {
     std::ofstream csv(dir.file("predictions.csv"));
     csv << "t,point,u,v,t_target";
-    for (const auto& pr : r.predictions) csv << "," << pr.spec.name << ".u_pred," << pr.spec.name << ".v_pred";
+    for (const auto& pr : r.predictions) csv << "," << pr.spec.shownName() << ".u_pred," << pr.spec.shownName() << ".v_pred";
     csv << "\n";
     const double horizon_s = delay_frames * r.frame_period_s;
     for (size_t row = 0; row < r.rows(); ++row)
@@ -279,10 +279,10 @@ void writeCsvs(const TrackResult& r, int delay_frames, const StagedOutputDir& di
     std::ofstream csv(dir.file("leaderboard.csv"));
     csv << "predictor,point,rmse_px,median_px,max_px,n\n";
     for (const auto& pr : r.predictions) {
-      csv << pr.spec.name << ",all," << csvCell(pr.pooled.rmse_px) << "," << csvCell(pr.pooled.median_px) << ","
+      csv << pr.spec.shownName() << ",all," << csvCell(pr.pooled.rmse_px) << "," << csvCell(pr.pooled.median_px) << ","
           << csvCell(pr.pooled.max_px) << "," << pr.pooled.n << "\n";
       for (size_t p = 0; p < n; ++p)
-        csv << pr.spec.name << "," << p << "," << csvCell(pr.per_point[p].rmse_px) << "," << csvCell(pr.per_point[p].median_px)
+        csv << pr.spec.shownName() << "," << p << "," << csvCell(pr.per_point[p].rmse_px) << "," << csvCell(pr.per_point[p].median_px)
             << "," << csvCell(pr.per_point[p].max_px) << "," << pr.per_point[p].n << "\n";
     }
     if (!csv) throw std::runtime_error(dir.file("leaderboard.csv") + ": write failed");
@@ -298,7 +298,8 @@ nlohmann::json predictorsJson(const TrackResult& r) {
   nlohmann::json arr = nlohmann::json::array();
   for (const auto& pr : r.predictions) {
     nlohmann::json j;
-    j["name"] = pr.spec.name;
+    j["name"] = pr.spec.shownName();
+    if (!pr.spec.label.empty()) j["type"] = pr.spec.name;  // a labelled entry: its registry name
     j["params"] = paramsJson(pr.spec.params);
     j["all"] = statsJson(pr.pooled);
     j["per_point"] = nlohmann::json::array();
@@ -405,7 +406,7 @@ void writeStrip(const TrackResult& r, const std::vector<StripImage>& strip, int 
   what << "o predicted " << delay_frames << " frame(s) earlier:";
   legend.push_back({what.str(), vpColor::black});
   for (size_t pi = 0; pi < r.predictions.size(); ++pi)
-    legend.push_back({"o " + r.predictions[pi].spec.name, hexColor(seriesColor(pi))});
+    legend.push_back({"o " + r.predictions[pi].spec.shownName(), hexColor(seriesColor(pi))});
   const size_t per_col = (legend.size() + cols_legend - 1) / cols_legend;
   for (size_t i = 0; i < legend.size(); ++i) {
     const unsigned col = static_cast<unsigned>(i / per_col), line = static_cast<unsigned>(i % per_col);
@@ -455,7 +456,7 @@ std::vector<std::string> writePlots(const TrackResult& r, int delay_frames, cons
   {
     std::ofstream dat(dir.file("errors_plot.dat"));
     dat << "# t_target_s";
-    for (const auto& pr : r.predictions) dat << " " << pr.spec.name;
+    for (const auto& pr : r.predictions) dat << " " << pr.spec.shownName();
     dat << "\n" << std::setprecision(8);
     const size_t H = static_cast<size_t>(delay_frames);
     for (size_t row = H; row < r.rows(); ++row) {
@@ -483,7 +484,7 @@ std::vector<std::string> writePlots(const TrackResult& r, int delay_frames, cons
   panel.xlabel = "time of the predicted frame t [s]";
   for (size_t k = 0; k < r.predictions.size(); ++k)
     panel.lines.push_back({"errors_plot.dat", "1:" + std::to_string(2 + k), "lines lw 1.2", seriesColor(k),
-                           r.predictions[k].spec.name, ""});
+                           r.predictions[k].spec.shownName(), ""});
   errors.panels.push_back(panel);
   drawFigure(dir, errors);
   drawn.push_back("errors.png");
@@ -495,7 +496,7 @@ constexpr size_t kPrintedPoints = 10;
 
 void printLeaderboard(const TrackResult& r, int delay_frames, std::ostream& out) {
   size_t w = 9;
-  for (const auto& pr : r.predictions) w = std::max(w, pr.spec.name.size());
+  for (const auto& pr : r.predictions) w = std::max(w, pr.spec.shownName().size());
   out << "Prediction " << delay_frames << " frame(s) ahead vs the measurement " << delay_frames
       << " frame(s) later, px (all points pooled; per-point RMSE"
       << (r.point_names.size() > kPrintedPoints ? " of the first " + std::to_string(kPrintedPoints) + ", every point in leaderboard.csv" : "")
@@ -507,7 +508,7 @@ void printLeaderboard(const TrackResult& r, int delay_frames, std::ostream& out)
   out << "\n";
   for (size_t k = 0; k < r.predictions.size(); ++k) {
     const auto& pr = r.predictions[k];
-    out << std::left << std::setw(4) << (k + 1) << std::setw(static_cast<int>(w)) << pr.spec.name << std::right
+    out << std::left << std::setw(4) << (k + 1) << std::setw(static_cast<int>(w)) << pr.spec.shownName() << std::right
         << std::setw(9) << fixedNumber(pr.pooled.rmse_px, 3) << std::setw(9) << fixedNumber(pr.pooled.median_px, 3) << std::setw(9)
         << fixedNumber(pr.pooled.max_px, 2) << std::setw(9) << pr.pooled.n;
     for (size_t p = 0; p < shown && p < pr.per_point.size(); ++p) out << std::setw(8) << fixedNumber(pr.per_point[p].rmse_px, 3);

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -231,6 +232,65 @@ TEST_F(PredictTracksTest, PredictorCommaList) {
   expectError(predict(in, none, "kf-cv,kf-cv"), "--predictor: 'kf-cv' is listed twice", none);
   expectError(predict(in, none, "all,kf-cv"), "--predictor: 'all' stands alone", none);
   expectError(predict(in, none, ","), "--predictor: expected NAME", none);
+}
+
+/// The u_pred column of `name` in predictions.csv (its text per row).
+std::vector<std::string> predColumn(const std::string& csv_path, const std::string& name) {
+  std::istringstream in(slurp(csv_path));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  std::stringstream hs(line);
+  for (std::string cell; std::getline(hs, cell, ',');) header.push_back(cell);
+  const auto it = std::find(header.begin(), header.end(), name + ".u_pred");
+  EXPECT_NE(it, header.end()) << name << " not in " << line;
+  const auto col = static_cast<size_t>(it - header.begin());
+  std::vector<std::string> out;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    for (std::string cell; std::getline(ls, cell, ',');) cells.push_back(cell);
+    out.push_back(col < cells.size() ? cells[col] : "");
+  }
+  return out;
+}
+
+TEST_F(PredictTracksTest, OnePredictorUnderTwoLabelsWithItsOwnParameters) {
+  // GIVEN kf-cv twice, once as itself and once labelled with r = 9 (compare's [LABEL=]TYPE:KEY=VALUE),
+  // and imm as itself and labelled, with a --param addressed to a label and a --params file naming
+  // imm (a file names registry predictors: it sets the entry shown as imm, not the labelled one)
+  const std::string in = write("long.csv", longCsv()), out = path("out"), ref = path("ref");
+  const std::string file = write("p.yaml", "predictors:\n  - name: imm\n    params: {q_cv: 300}\n");
+  const CliRun r = predict(in, out, "kf-cv,kf-cv-r9=kf-cv:r=9,imm,imm-cp1=imm:coast_cp=1",
+                           {"--param", "kf-cv-r9.q=3000", "--params", file});
+  ASSERT_EQ(r.code, 0) << r.err;
+  // THEN each label is a predictor of its own in every output, the labelled ones naming their type
+  const auto j = readJson(out + "/summary.json");
+  ASSERT_EQ(j["predictors"].size(), 4u);
+  EXPECT_EQ(j["predictors"][0]["name"], "kf-cv");
+  EXPECT_FALSE(j["predictors"][0].contains("type"));
+  EXPECT_EQ(j["predictors"][1]["name"], "kf-cv-r9");
+  EXPECT_EQ(j["predictors"][1]["type"], "kf-cv");
+  EXPECT_EQ(j["predictors"][1]["params"]["r"], 9.0);
+  EXPECT_EQ(j["predictors"][1]["params"]["q"], 3000.0);
+  EXPECT_EQ(j["predictors"][2]["name"], "imm");
+  EXPECT_EQ(j["predictors"][2]["params"]["q_cv"], 300.0);
+  EXPECT_EQ(j["predictors"][3]["type"], "imm");
+  EXPECT_EQ(j["predictors"][3]["params"]["coast_cp"], 1.0);
+  EXPECT_FALSE(j["predictors"][3]["params"].contains("q_cv"));
+  EXPECT_NE(r.out.find("kf-cv-r9"), std::string::npos) << r.out;
+  // AND a labelled entry predicts exactly as its type run alone with those parameters
+  ASSERT_EQ(predict(in, ref, "kf-cv", {"--param", "r=9", "--param", "q=3000"}).code, 0);
+  EXPECT_EQ(predColumn(out + "/predictions.csv", "kf-cv-r9"), predColumn(ref + "/predictions.csv", "kf-cv"));
+  EXPECT_NE(predColumn(out + "/predictions.csv", "kf-cv-r9"), predColumn(out + "/predictions.csv", "kf-cv"));
+  // AND what cannot be run is refused, naming the element, with no output directory
+  const std::string none = path("none");
+  expectError(predict(in, none, "kf-cv,kf-cv=kf-cv:r=2"), "--predictor: 'kf-cv' is listed twice", none);
+  expectError(predict(in, none, "kf-cv,x=nope"), "--predictor 'x=nope': unknown predictor 'nope'", none);
+  expectError(predict(in, none, "kf-cv,a b=kf-cv"), "predictor label 'a b'", none);
+  expectError(predict(in, none, "kf-cv,k2=kf-cv:r"), "expected KEY=VALUE after ':'", none);
+  expectError(predict(in, none, "kf-cv,k2=kf-cv:nokey=1"), "nokey", none);
+  expectError(predict(in, none, "kf-cv,k2=kf-cv", {"--param", "stkf.r=2"}), "'stkf' is not being run", none);
 }
 
 TEST_F(PredictTracksTest, ErrorsAreFileLineOneLiners) {
