@@ -748,7 +748,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   track_study->add_option("--duration-s", tsa.duration_s, "track duration, s")->capture_default_str()->type_name("S");
   track_study->add_option("--drop", tsa.drop_prob, "dropped-frame probability")->capture_default_str()->type_name("P");
   track_study->add_option("--delay-frames", tsa.delay_frames, "prediction horizon in frames")->capture_default_str()->type_name("H");
-  track_study->add_option("--predictors", ts_predictors, "comma list of predictors or 'all'")->capture_default_str()->type_name("A,B|all");
+  track_study->add_option("--predictors", ts_predictors, "comma list of predictors or 'all'; an element may be [LABEL=]NAME[:KEY=VALUE...] as in compare")->capture_default_str()->type_name("A,B|all");
   track_study->add_option("--param", tsa.params, "parameter of one predictor (repeatable)")->type_name("PREDICTOR.KEY=VALUE");
   track_study->add_flag("--fit", tsa.fit,
                         "fit each predictor's noise on each track (fit-noise): on its first part, scored on the rest "

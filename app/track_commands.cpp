@@ -2,6 +2,7 @@
 
 #include "parallel_runs.h"
 #include "report.h"
+#include "scenario_run.h"
 
 #include "output_dir.h"
 
@@ -79,14 +80,46 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     kinds = maneuverKinds();
   else
     for (const auto& k : a.kinds) kinds.push_back(parseManeuverKind(k));
-  std::vector<std::string> names = a.predictors;
-  if (names.empty() || (names.size() == 1 && names[0] == "all")) {
-    names.clear();
-    for (const auto& p : predictorRegistry()) names.push_back(p.name);
+  // names: the label of each entry (the registry name unless LABEL= was given), types: its
+  // registry predictor, inline: its KEY=VALUE (compare's [LABEL=]TYPE[:KEY=VALUE...]).
+  std::vector<std::string> names, types;
+  std::vector<Params> inline_params;
+  if (a.predictors.empty() || (a.predictors.size() == 1 && a.predictors[0] == "all")) {
+    for (const auto& p : predictorRegistry()) {
+      names.push_back(p.name);
+      types.push_back(p.name);
+      inline_params.emplace_back();
+    }
+  } else {
+    for (const auto& item : a.predictors) {
+      const PredictorChoice c = parsePredictorChoice(item, "--predictors");
+      if (!isPredictor(c.type)) throw std::invalid_argument("--predictors: unknown predictor '" + c.type + "'");
+      if (std::find(names.begin(), names.end(), c.label) != names.end())
+        throw std::invalid_argument("--predictors: '" + c.label + "' listed twice (give each its own LABEL=TYPE:...)");
+      names.push_back(c.label);
+      types.push_back(c.type);
+      inline_params.push_back(c.params);
+    }
   }
-  for (const auto& n : names)
-    if (!isPredictor(n)) throw std::invalid_argument("--predictors: unknown predictor '" + n + "'");
-  if (std::find(names.begin(), names.end(), "hold") == names.end()) names.insert(names.begin(), "hold");
+  // hold first (every ratio is to its RMSE on the same track): added when not listed, moved when
+  // listed later.
+  const auto hold_at = std::find(names.begin(), names.end(), "hold");
+  if (hold_at == names.end()) {
+    names.insert(names.begin(), "hold");
+    types.insert(types.begin(), "hold");
+    inline_params.insert(inline_params.begin(), Params{});
+  } else {
+    const auto k = static_cast<size_t>(hold_at - names.begin());
+    if (types[k] != "hold") throw std::invalid_argument("--predictors: the label 'hold' is hold's own");
+    std::rotate(names.begin(), names.begin() + static_cast<long>(k), names.begin() + static_cast<long>(k) + 1);
+    std::rotate(types.begin(), types.begin() + static_cast<long>(k), types.begin() + static_cast<long>(k) + 1);
+    std::rotate(inline_params.begin(), inline_params.begin() + static_cast<long>(k),
+                inline_params.begin() + static_cast<long>(k) + 1);
+  }
+  const auto typeOf = [&](const std::string& label) -> std::string {
+    const auto it = std::find(names.begin(), names.end(), label);
+    return it == names.end() ? label : types[static_cast<size_t>(it - names.begin())];
+  };
   if (a.seeds < 1) throw std::invalid_argument("--seeds: expected an integer >= 1");
   if (a.delay_frames < 0) throw std::invalid_argument("--delay-frames: expected an integer >= 0");
   for (double r : a.rates_hz)
@@ -99,7 +132,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     if (eq == std::string::npos || dot == std::string::npos || dot > eq)
       throw std::invalid_argument("--param: expected PREDICTOR.KEY=VALUE, got '" + kv + "'");
     const std::string name = kv.substr(0, dot), key = kv.substr(dot + 1, eq - dot - 1), text = kv.substr(eq + 1);
-    if (!isPredictor(name)) throw std::invalid_argument("--param " + kv + ": unknown predictor '" + name + "'");
+    if (!isPredictor(typeOf(name))) throw std::invalid_argument("--param " + kv + ": unknown predictor '" + name + "'");
     double v = 0.0;
     switch (classifyParamText(text, &v)) {
       case ParamText::Number: fixed[name].set(key, v); break;
@@ -108,9 +141,15 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
         throw std::invalid_argument("--param " + kv + ": expected a number or a word (auto, cv, ...)");
     }
   }
+  for (size_t j = 0; j < names.size(); ++j)  // an entry's KEY=VALUE, then --param LABEL.KEY on top
+    for (const auto& kv : inline_params[j].values())
+      if (!fixed[names[j]].has(kv.first)) fixed[names[j]].set(kv.first, kv.second);
+  for (size_t j = 0; j < names.size(); ++j)
+    for (const auto& kv : inline_params[j].texts())
+      if (!fixed[names[j]].has(kv.first)) fixed[names[j]].setText(kv.first, kv.second);
   for (const auto& [name, p] : fixed) {
     try {
-      makePredictor(name, 2, p);
+      makePredictor(typeOf(name), 2, p);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("--param: ") + e.what());
     }
@@ -183,18 +222,18 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     std::vector<std::string> variants(names.size());
     for (size_t j = 0; j < names.size(); ++j) fitted[j] = fixed.count(names[j]) ? fixed.at(names[j]) : Params{};
     if (a.fit)
-      for (size_t j : fitOrder(names, fitted)) {
-        if (names[j] == "hold") continue;
-        const NoiseFitResult fit = fitNoise(names[j], fitted[j], head, fo);
+      for (size_t j : fitOrder(types, fitted)) {
+        if (types[j] == "hold") continue;
+        const NoiseFitResult fit = fitNoise(types[j], fitted[j], head, fo);
         fitted[j] = fit.params;
         variants[j] = fit.variant;
-        if (fit_seeds) fo.seed_fits[names[j]] = fit.params;
+        if (fit_seeds) fo.seed_fits[types[j]] = fit.params;
       }
     for (size_t j = 0; j < names.size(); ++j) {
       const std::string& name = names[j];
       const Params& params = fitted[j];
       const std::string& variant = variants[j];
-      auto p = makePredictor(name, 2, params);
+      auto p = makePredictor(types[j], 2, params);
       const TrackScore sc = scoreOnTrack(track, *p, horizon, first_scored);
       if (name == "hold") hold_rmse = sc.rmse_truth_px;
       per_track[i].push_back({maneuverKindName(c.kind), c.rate_hz, c.noise_px, static_cast<long>(c.seed), name, sc,
