@@ -175,10 +175,9 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
   const int n = track.points();
   const size_t np = static_cast<size_t>(n);
   // Every predictor built first, in order (an unknown name or parameter throws as before).
-  std::vector<std::unique_ptr<Predictor>> instances;
   report.runs.resize(predictors.size());
   for (size_t k = 0; k < predictors.size(); ++k) {
-    instances.push_back(makePredictor(predictors[k].name, 2 * n, predictors[k].params));
+    makePredictor(predictors[k].name, 2 * n, predictors[k].params);
     PredictionRun& run = report.runs[k];
     run.spec = predictors[k];
     run.points.resize(np);  // their vectors are sized by the item that fills them, on the pool
@@ -210,7 +209,13 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
         pt.u_pred_px.resize(track.size());     // per predictor and point in a row on the calling thread)
         pt.v_pred_px.resize(track.size());
       }
-      runPredictor(*instances[k], track, horizon_s, track.size(), report.runs[k]);
+      // The instance that runs is built here, on the thread that runs it: built in a row on the
+      // calling thread, the predictors' states were neighbours on its heap, and two predictors
+      // running at once on the two threads could share cache lines (false sharing: about half of
+      // the runs on the 2-million-row track took 1 s more CPU, docs/PERFORMANCE.md). The instances
+      // built above only check the names and parameters.
+      const std::unique_ptr<Predictor> predictor = makePredictor(predictors[k].name, 2 * n, predictors[k].params);
+      runPredictor(*predictor, track, horizon_s, track.size(), report.runs[k]);
     } catch (...) {
       errors[k] = std::current_exception();
     }
