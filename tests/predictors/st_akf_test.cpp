@@ -46,6 +46,44 @@ TEST(StAkf, NoFadingOnAModelMatchedSignalFadingAfterAManoeuvre) {
   EXPECT_GT(lambda_jump, 10.0);
 }
 
+TEST(StAkf, TheFirstMeasurementAfterAGapDoesNotFadeWhileCoasting) {
+  // GIVEN a target moving at 300 px/s, 60 Hz, 2 px of noise (r fixed: the fading is on from the
+  // start), then 10 frames without a measurement: the coasted velocity decays (coast_tau_s 0.2 s),
+  // the target does not, so the first measurement after the gap is far from the coasted forecast
+  const double T = 1.0 / 60.0;
+  const auto run = [&](const Params& params, double* lambda_after, double* lambda_next) {
+    StAkfPredictor<3> f(1, params);
+    std::mt19937 rng(3);
+    std::normal_distribution<double> noise(0.0, 2.0);
+    int k = 0;
+    for (; k < 120; ++k) f.update(k * T, vec1(300.0 * k * T + noise(rng)));
+    for (int g = 0; g < 10; ++g, ++k) f.update(k * T, vec1(std::nan("")));
+    f.update(k * T, vec1(300.0 * k * T + noise(rng)));
+    *lambda_after = f.fadingFactors(0).maxCoeff();
+    ++k;
+    f.update(k * T, vec1(300.0 * k * T + noise(rng)));
+    *lambda_next = f.fadingFactors(0).maxCoeff();
+  };
+  double def_after = 0.0, def_next = 0.0, old_after = 0.0, old_next = 0.0;
+  double plain_after = 0.0, plain_next = 0.0, plain_old_after = 0.0, plain_old_next = 0.0;
+  // WHEN st-akf runs with its defaults, with fade_after_gap: 1 (before), and without coasting
+  run(Params{{"r", 4.0}}, &def_after, &def_next);
+  run(Params{{"r", 4.0}, {"fade_after_gap", 1.0}}, &old_after, &old_next);
+  run(Params{{"r", 4.0}, {"coast_tau_s", 0.0}}, &plain_after, &plain_next);
+  run(Params{{"r", 4.0}, {"coast_tau_s", 0.0}, {"fade_after_gap", 1.0}}, &plain_old_after, &plain_old_next);
+  std::printf("[ st-akf ] lambda at / after the first measurement after a gap: default %.2f / %.2f, "
+              "fade_after_gap 1: %.2f / %.2f\n", def_after, def_next, old_after, old_next);
+  // THEN with the defaults that measurement does not fade P, nor does the one after it (its
+  // innovation never entered V0); with fade_after_gap: 1 the coast's own error faded both
+  EXPECT_EQ(def_after, 1.0);
+  EXPECT_EQ(def_next, 1.0);
+  EXPECT_GT(old_after, 2.0);
+  EXPECT_GT(old_next, 1.0);
+  // AND without coasting every measured frame fades as in the paper: the key changes nothing
+  EXPECT_EQ(plain_after, plain_old_after);
+  EXPECT_EQ(plain_next, plain_old_next);
+}
+
 TEST(StAkf, MultipleFactorsFollowThePresetRatios) {
   // GIVEN preset ratios a = (1, 2, 4) and a manoeuvre that makes the filter fade
   // (r given: with `r: auto` there is no fading until the estimate is frozen, after 53 frames)
@@ -176,7 +214,8 @@ TEST(StAkfModel, DefaultModelGivesTheNumbersOfBeforeTheModelKey) {
   for (const auto& e : expected) {
     for (bool spelt : {false, true}) {
       SCOPED_TRACE(std::string(e.name) + (spelt ? " model: ca" : " default"));
-      Params params{{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};  // pinned before the weighted, blended forecast
+      // pinned before the weighted, blended forecast and the no-fading frame after a gap
+      Params params{{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}, {"fade_after_gap", 1.0}};
       if (spelt) params.setText("model", "ca");
       auto f = makePredictor(e.name, 2, params);
       // WHEN they filter the scenario THEN the 2-frame predictions and the alarms are the pinned ones
