@@ -486,7 +486,8 @@ NoiseFitResult fitOneStructure(const std::string& predictor, const Params& base,
       bool& moved = warm_moved[s.start];
       for (size_t i = 0; i < k; ++i)
         if (m.keys[i].key == s.key) {
-          w[i] = std::clamp(std::log(v), b.lo[i] + margin, b.hi[i] - margin);
+          const double seeded = std::clamp(std::log(v), b.lo[i] + margin, b.hi[i] - margin);
+          w[i] = s.raise_only ? std::max(w[i], seeded) : seeded;
           moved = moved || w[i] != theta0[i];
         }
     }

@@ -312,7 +312,12 @@ std::vector<FitSeed> CsAkfAdaptivePredictor::fitSeeds() const {
   std::vector<FitSeed> seeds = {{"alpha", "cs-akf", "alpha", 1.0, 1.0, 0},
                                 {"sigma_min_sq", "cs-akf", "a_max", kRayleigh, 2.0, 0},
                                 {"sigma_min_sq", "kf-ca", "q", per_density, 1.0, 1}};
-  if (adapt_) seeds.push_back({"sigma_max_sq", "kf-ca", "q", per_density, 1.0, 1});
+  if (adapt_) {
+    // Start 0 with the ceiling lifted to that floor where the floor is above the ceiling's start
+    // value (cs-akf's a_max above ~1900 px/s^2 against 1e6): the start was infeasible and skipped.
+    seeds.push_back({"sigma_max_sq", "cs-akf", "a_max", kRayleigh, 2.0, 0, /*raise_only=*/true});
+    seeds.push_back({"sigma_max_sq", "kf-ca", "q", per_density, 1.0, 1});
+  }
   return seeds;
 }
 

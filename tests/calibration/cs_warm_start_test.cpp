@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -31,14 +32,18 @@ TEST(CsWarmStart, CsStructureReachesKfCaOnBursts60Hz) {
   structure.setText("mean", "current");
   structure.set("shrink_sigmas", 0.0);
   const NoiseFitResult f = fitNoise("cs-akf-adaptive", structure, ref.track, seeded);
-  // THEN the start values and kf-ca's warm start run (cs-akf's cannot: its floor, 0.27 a_max^2 =
-  // 2.6e7, is above the default ceiling 1e6), kf-ca's is kept, and the fit is within the issue's
-  // 10 % of the best fitted fixed KF (1.102 in the study with the bound at 1e8; now 1.08)
+  // THEN the start values and both warm starts run: cs-akf's too, its floor 0.27 a_max^2 = 2.6e7
+  // being above the default ceiling 1e6, which the seed lifts to it (FitSeed::raise_only; before,
+  // that start was infeasible and skipped: 2 starts, kf-ca's kept, 1.08 times the best fixed KF);
+  // a warm start is kept, and the fit is within the 10 % of the best fitted fixed KF
+  const double ratio = ref.truthRmse("cs-akf-adaptive", f.params) / ref.best_fixed_px;
+  std::printf("[ cs warm start ] starts %d, kept %d, cs-akf-adaptive / best fixed KF %.3f\n", f.starts,
+              f.best_start, ratio);
   EXPECT_TRUE(f.warm_start);
-  EXPECT_EQ(f.starts, 2);
+  EXPECT_EQ(f.starts, 3);
   EXPECT_TRUE(f.warm_start_kept);
-  EXPECT_EQ(f.best_start, 2);  // o.starts (1) + rank 1: the second warm start, kf-ca's
-  EXPECT_LT(ref.truthRmse("cs-akf-adaptive", f.params) / ref.best_fixed_px, 1.10);
+  EXPECT_GE(f.best_start, 1);  // o.starts (1) + rank: a warm start
+  EXPECT_LT(ratio, 1.10);
 }
 
 TEST(CsWarmStart, KfCaSeedsTheFloorAsDensityOverTwoAlpha) {
@@ -52,9 +57,15 @@ TEST(CsWarmStart, KfCaSeedsTheFloorAsDensityOverTwoAlpha) {
   for (const bool adapt : {true, false}) {
     const Params& p = adapt ? on : off;
     int kf_ca_keys = 0;
+    int lifted_ceilings = 0;
     for (const FitSeed& s : makePredictor("cs-akf-adaptive", 1, p)->fitSeeds()) {
       if (s.from_predictor != "kf-ca") {
         EXPECT_EQ(s.start, 0);
+        // start 0's ceiling, with the adaptation on: lifted to cs-akf's floor, never lowered
+        if (s.key == "sigma_max_sq") {
+          EXPECT_TRUE(s.raise_only);
+          ++lifted_ceilings;
+        }
         continue;
       }
       ++kf_ca_keys;
@@ -64,6 +75,7 @@ TEST(CsWarmStart, KfCaSeedsTheFloorAsDensityOverTwoAlpha) {
       EXPECT_TRUE(s.key == "sigma_min_sq" || s.key == "sigma_max_sq");
     }
     EXPECT_EQ(kf_ca_keys, adapt ? 2 : 1);
+    EXPECT_EQ(lifted_ceilings, adapt ? 1 : 0);
   }
   // AND with the adaptation off the (unused) ceiling no longer bounds the floor
   Params high = off;

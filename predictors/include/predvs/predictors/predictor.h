@@ -78,6 +78,9 @@ struct FitSeed {
   /// one start point (one more local fit each, in increasing index), e.g. a CS structure seeded
   /// once from cs-akf (index 0) and once from kf-ca (index 1). Default 0: a single warm start.
   int start = 0;
+  /// Only ever raises the key's start value, to max(start value, seeded value): a ceiling lifted to
+  /// a floor seeded above it, so that the start point is feasible (cs_akf.cpp, fitSeeds).
+  bool raise_only = false;
 };
 
 class Predictor {
