@@ -88,6 +88,7 @@ FakfClassicPredictor<N>::FakfClassicPredictor(int channels, const Params& params
   if (params.has("model") && fakfClassicModelStates(params) != N)
     throw std::invalid_argument("fakf-classic: parameter 'model' does not match the state size of the filter built");
   this->readCoastParam(params);
+  this->readAdaptAfterGapParam(params);
   this->readShrinkParams(params, N == 2 ? kDefaultShrinkSigmasFakfClassic : kDefaultShrinkSigmasFakfClassicCa, true);
   if (isAutoProcessNoise(params, "q")) this->enableAutoProcessNoise();
   if (!(r_min_ <= this->r0_ && this->r0_ <= r_max_))
@@ -118,6 +119,10 @@ void FakfClassicPredictor<N>::step(int c, double dt, double z) {
   const double eps = z - s.g.x(0);
   if (!this->nominalNoiseFinal(c)) R = this->nominalNoise(c);  // start-up estimate: adapt from it once frozen
   const double S = s.g.P(0, 0) + R;  // theoretical innovation power with R(k-1)
+  if (this->adaptationPausedAfterGap(c)) {  // the coast's own error: not in the window (channel_predictor.h)
+    s.innovation = measurementUpdate(s.g, z, R);
+    return;
+  }
   win.push(eps);
   if (adapt_ && win.full() && this->nominalNoiseFinal(c)) {
     const double dom = win.meanSquare() - S;
@@ -173,6 +178,7 @@ FakfPredictor::FakfPredictor(int channels, const Params& params)
       gamma_(fuzzy::makeFakfGammaSystem(gammaConfig(params))) {
   if (!(r_min_ <= r0_ && r0_ <= r_max_)) throw std::invalid_argument("fakf: need r_min <= r <= r_max");
   relative_bounds_ = !params.has("r_min") && !params.has("r_max");
+  readAdaptAfterGapParam(params);
   FakfPredictor::resetAdaptation();
 }
 
@@ -202,6 +208,7 @@ void FakfPredictor::inflatePrior(int c, double dt) {
   const double eps = pending_z_ - g.x(0);
   if (!nominalNoiseFinal(c)) ch.r = nominalNoise(c);  // start-up estimate: adapt from it once frozen
   const double S = g.P(0, 0) + ch.r;  // theoretical innovation power with R(k-1)
+  if (adaptationPausedAfterGap(c)) return;  // the coast's own error: not in the window (channel_predictor.h)
   ch.window.push(eps);
   if (!ch.window.full() || !nominalNoiseFinal(c)) return;
 

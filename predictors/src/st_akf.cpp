@@ -29,12 +29,12 @@ StAkfPredictor<N>::StAkfPredictor(int channels, const Params& params)
       rho_(params.get("rho", 0.95, 0.0, 1.0)),
       beta_(params.get("beta", 5.0, 1.0, 1e6)),
       adapt_(adaptationParam(params, "st-akf")),
-      fade_after_gap_(params.get("fade_after_gap", 0.0, 0.0, 1.0) >= 0.5),
       ext_(static_cast<size_t>(channels)) {
   // Built directly (tests) the template argument is the model; a `model` given must agree with it.
   if (params.has("model") && motionModelStates(params, kDefaultModel, "st-akf") != N)
     throw std::invalid_argument("st-akf: parameter 'model' does not match the state size of the filter built");
   this->readCoastParam(params);
+  this->readAdaptAfterGapParam(params);
   this->readShrinkParams(params, N == 2 ? kDefaultShrinkSigmasStAkfCv : kDefaultShrinkSigmasStAkf, kDefaultShrinkVelocityStAkf);
   if (isAutoProcessNoise(params, "q")) this->enableAutoProcessNoise();
   const double a1 = params.get("a1", 1.0, 1.0, 1e6), a2 = params.get("a2", 1.0, 1.0, 1e6);
@@ -70,17 +70,14 @@ void StAkfPredictor<N>::step(int c, double dt, double z) {
   const Mat<N> Q = processNoise(c, dt);
   if (!isMeasured(z)) {  // predict only: no innovation, so no fading information
     timeUpdate(s.g, F, Q);
-    ex.after_gap = true;
     return;
   }
   // The first measurement after a gap, while coasting (channel_predictor.h): its innovation holds
-  // the coast's own departure from the model over the gap, not a one-step mismatch of the model,
-  // so it neither fades P nor enters V0 (fade_after_gap: 1 restores both). Without coasting (the
+  // the coast's own departure from the model over the gap, not a one-step misfit of the model,
+  // so it neither fades P nor enters V0 (adapt_after_gap: 1 restores both). Without coasting (the
   // papers' occlusion scenarios E7 and E8 pin coast_tau_s = 0) every measured frame fades, as in
   // the paper.
-  const bool first_after_gap = ex.after_gap;
-  ex.after_gap = false;
-  if (first_after_gap && !fade_after_gap_ && this->coastTauS() > 0.0) {
+  if (this->adaptationPausedAfterGap(c)) {
     const double R = this->measurementNoise(c);
     timeUpdate(s.g, F, Q);
     ex.lambda.setOnes();

@@ -22,13 +22,13 @@ using namespace model_switch;
 TEST(FakfClassicModel, DefaultModelGivesTheNumbersOfBeforeTheModelKey) {
   // GIVEN fakf-classic with its defaults, with and without `model: cv` spelt out (reference: the
   // same scenario through main at b41f742, before `model` existed, printed with %.17g; without the
-  // significance-weighted forecast and the blend with hold, which came later: shrink_sigmas 0,
-  // hold_blend_tau_s 0, channel_predictor.h)
+  // significance-weighted forecast, the blend with hold and the pause of the adaptation after a
+  // gap, which came later: shrink_sigmas 0, hold_blend_tau_s 0, adapt_after_gap 1, channel_predictor.h)
   const Pinned expected[2] = {{275.65671514078326, 19.259969196438178, 5.3110343284514707},
                               {3221.7393093856708, 546.09810957252671, 5.8619042444128189}};
   for (bool spelt : {false, true}) {
     SCOPED_TRACE(spelt ? "model: cv" : "default");
-    Params params{{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};
+    Params params{{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}, {"adapt_after_gap", 1.0}};
     if (spelt) params.setText("model", "cv");
     auto f = makePredictor("fakf-classic", 2, params);
     // WHEN it filters the scenario THEN the 2-frame predictions are the pinned ones

@@ -66,15 +66,15 @@ TEST(StAkf, TheFirstMeasurementAfterAGapDoesNotFadeWhileCoasting) {
   };
   double def_after = 0.0, def_next = 0.0, old_after = 0.0, old_next = 0.0;
   double plain_after = 0.0, plain_next = 0.0, plain_old_after = 0.0, plain_old_next = 0.0;
-  // WHEN st-akf runs with its defaults, with fade_after_gap: 1 (before), and without coasting
+  // WHEN st-akf runs with its defaults, with adapt_after_gap: 1 (before), and without coasting
   run(Params{{"r", 4.0}}, &def_after, &def_next);
-  run(Params{{"r", 4.0}, {"fade_after_gap", 1.0}}, &old_after, &old_next);
+  run(Params{{"r", 4.0}, {"adapt_after_gap", 1.0}}, &old_after, &old_next);
   run(Params{{"r", 4.0}, {"coast_tau_s", 0.0}}, &plain_after, &plain_next);
-  run(Params{{"r", 4.0}, {"coast_tau_s", 0.0}, {"fade_after_gap", 1.0}}, &plain_old_after, &plain_old_next);
+  run(Params{{"r", 4.0}, {"coast_tau_s", 0.0}, {"adapt_after_gap", 1.0}}, &plain_old_after, &plain_old_next);
   std::printf("[ st-akf ] lambda at / after the first measurement after a gap: default %.2f / %.2f, "
-              "fade_after_gap 1: %.2f / %.2f\n", def_after, def_next, old_after, old_next);
+              "adapt_after_gap 1: %.2f / %.2f\n", def_after, def_next, old_after, old_next);
   // THEN with the defaults that measurement does not fade P, nor does the one after it (its
-  // innovation never entered V0); with fade_after_gap: 1 the coast's own error faded both
+  // innovation never entered V0); with adapt_after_gap: 1 the coast's own error faded both
   EXPECT_EQ(def_after, 1.0);
   EXPECT_EQ(def_next, 1.0);
   EXPECT_GT(old_after, 2.0);
@@ -215,7 +215,7 @@ TEST(StAkfModel, DefaultModelGivesTheNumbersOfBeforeTheModelKey) {
     for (bool spelt : {false, true}) {
       SCOPED_TRACE(std::string(e.name) + (spelt ? " model: ca" : " default"));
       // pinned before the weighted, blended forecast and the no-fading frame after a gap
-      Params params{{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}, {"fade_after_gap", 1.0}};
+      Params params{{"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}, {"adapt_after_gap", 1.0}};
       if (spelt) params.setText("model", "ca");
       auto f = makePredictor(e.name, 2, params);
       // WHEN they filter the scenario THEN the 2-frame predictions and the alarms are the pinned ones

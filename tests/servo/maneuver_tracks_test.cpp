@@ -273,7 +273,7 @@ TEST(DefaultsThatHold, UnusualSpeedLossesOf13b32f0AreWins) {
 /// Tracks of the drop grids on which st-akf (and st-akf-pm) lost to hold at 056b9cd: the first
 /// measurement after a gap faded P on the coast's own error, so the next few noisy measurements set
 /// the velocity (bursts 60 Hz 3 px #510: x1.142; hand 60 Hz 3 px #725: x1.101 and x1.099). With no
-/// fading on that frame while coasting (st_akf.h, `fade_after_gap`) every predictor beats hold on
+/// fading on that frame while coasting (st_akf.h, `adapt_after_gap`) every predictor beats hold on
 /// both.
 TEST(DefaultsThatHold, FadingAfterAGapLossesOf056b9cdAreWins) {
   expectEveryPredictorBeatsHoldOnBursts({{60, 3, 10, 0.05, 510, ""}});

@@ -41,6 +41,15 @@
 // displacement v tau Gamma(1 + 1/k) is 0.90 v tau at k = 1.5 instead of v tau). A shortened gap
 // (tau_gap < tau) coasts exponentially with tau_gap.
 //
+// The first measurement after a gap (issue 11 item 3, docs/MODELS.md §3 and §5): while a channel
+// coasts, the innovation of its first measured frame after unmeasured ones holds the coast's own
+// departure from the model over the gap (the velocity decayed on purpose), not a one-step misfit of
+// the model. A filter that adapts on its innovations (st-akf's and st-akf-pm's fading factors,
+// fakf-classic's R, fakf's R and P inflation) and calls readAdaptAfterGapParam() does not adapt on
+// that frame, nor let it into its statistics: adaptationPausedAfterGap(c). `adapt_after_gap: 1` adapts there too (as before);
+// without coasting (coast_tau_s = 0, the papers' occlusion scenarios E7 and E8) every measured
+// frame adapts, as in the papers.
+//
 // Significance-weighted forecast (issue 11 item 3, docs/MODELS.md §15): a derived filter that calls
 // readShrinkParams() extrapolates the prediction horizon from
 //   [p, w_v v(, w_v w_a a)],   w_a = w(a, P_aa; shrink_sigmas),  w_v = w(v, P_vv; shrink_v_sigmas),
@@ -327,6 +336,8 @@ class ChannelPredictor : public Predictor {
           coast(s.g.x, dt, coast_tau_s_);
         }
       }
+      s.after_gap_now = s.unmeasured_last && isMeasured(z(c));
+      s.unmeasured_last = !isMeasured(z(c));
       step(c, dt, z(c));
       if (blend_tau_s_ > 0.0) learnBlend(c, t_s, z(c), blend_keep);
       if (!q_auto_.empty() && s.innovation.valid) q_auto_[static_cast<size_t>(c)].observe(s.innovation.eps, s.innovation.S, dt);
@@ -392,6 +403,8 @@ class ChannelPredictor : public Predictor {
     /// x_start[head] is the forecast start of g as it is now: kept by the last update (cleared at
     /// the start of every update, set by rememberForecastStart), so predictPosition reuses it.
     bool start_now = false;
+    bool unmeasured_last = false;  ///< the last update after initialisation had no measurement
+    bool after_gap_now = false;    ///< this update measures the channel, the last one did not
   };
 
   /// Keeps the forecast start (x(k|k), significance-weighted) of channel c at t_s for the blend.
@@ -455,6 +468,16 @@ class ChannelPredictor : public Predictor {
     coast_shape_ = coastShapeParam(params);
   }
   double coastTauS() const { return coast_tau_s_; }
+  /// Reads `adapt_after_gap` (0 | 1, default 0; file comment, "The first measurement after a
+  /// gap"); called by the derived constructors whose adaptation learns from the innovations.
+  void readAdaptAfterGapParam(const Params& params) {
+    adapt_after_gap_ = params.get("adapt_after_gap", 0.0, 0.0, 1.0) >= 0.5;
+  }
+  /// True, inside step(), when channel c's adaptation skips this update: it is the first measured
+  /// one after a gap, the filter coasts, and `adapt_after_gap` is 0 (file comment).
+  bool adaptationPausedAfterGap(int c) const {
+    return !adapt_after_gap_ && coast_tau_s_ > 0.0 && state_[static_cast<size_t>(c)].after_gap_now;
+  }
   /// Reads `shrink_sigmas` (n of the acceleration weight w_a, dimensionless >= 0, default
   /// default_sigmas; with N = 2 there is no acceleration and it only sets the default of the next
   /// key) and `shrink_v_sigmas` (n of the velocity weight w_v, default: shrink_sigmas when
@@ -529,6 +552,7 @@ class ChannelPredictor : public Predictor {
   double coast_stop_fraction_ = 0.0;  ///< coast_stop_fraction (with the blend only)
   double coast_fast_ratio_ = 0.0;     ///< coast_fast_ratio (with the blend only)
   double coast_shape_ = 1.0;          ///< coast_shape (with the blend only)
+  bool adapt_after_gap_ = true;       ///< adapt_after_gap; true until readAdaptAfterGapParam()
   double shrink_a_sigmas_ = 0.0;  ///< 0 until readShrinkParams(): unweighted forecast
   double shrink_v_sigmas_ = 0.0;
   double blend_tau_s_ = 0.0;

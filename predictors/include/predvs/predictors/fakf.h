@@ -85,7 +85,9 @@ inline constexpr double kDefaultShrinkSigmasFakfClassicCa = 3.0;
 /// either model, e.g. a noise fit's structural variants that change `model` alone), window (N_w,
 /// 10), dom_range (DoM universe half-width, 10 px^2), dr_max (dR universe half-width, 0.5 px^2 per
 /// frame; choice: the original paper's ranges are not in paper 000), r_min (r/100 px^2),
-/// r_max (100 r px^2), coast_tau_s (s, 0.2, channel_predictor.h), shrink_sigmas (significance
+/// r_max (100 r px^2), coast_tau_s (s, 0.2, channel_predictor.h), adapt_after_gap (0 | 1,
+/// default 0: while coasting, the first measured frame after a gap neither enters the window nor
+/// adapts R; channel_predictor.h), shrink_sigmas (significance
 /// weight of the forecast, default kDefaultShrinkSigmasFakfClassic = 0.5 on cv, 3 on ca; 0 = the
 /// unweighted filter) and shrink_v_sigmas (velocity, default shrink_sigmas), channel_predictor.h;
 /// adaptation (on | off, default on; off: R stays at r, kalman_math.h adaptationParam);
@@ -188,7 +190,9 @@ inline constexpr double kDefaultFakfRBand = 1.5;
 /// dp_range (10 px^2), beta_min (0.8), beta_max (1.2), de_min (2 px), de_max (50 px),
 /// gamma_min (100), gamma_max (1000), r_min (r/100 px^2), r_max (100 r px^2) when r is a number,
 /// r_band (1.5, kDefaultFakfRBand: with `r: auto` R stays within a factor r_band of the estimate),
-/// inflate_below_de_min (0), de_sigma (3, see above). The CS parameters default to cs-akf-adaptive's, so `fakf` is exactly
+/// inflate_below_de_min (0), de_sigma (3, see above), adapt_after_gap (0 | 1, default 0: while
+/// coasting, the first measured frame after a gap neither enters the window nor adapts R or
+/// inflates P; channel_predictor.h). The CS parameters default to cs-akf-adaptive's, so `fakf` is exactly
 /// that filter plus the fuzzy layer; its CS variance floor sigma_min_sq decides the smooth-motion
 /// error (tests/predictors/fakf_test.cpp reports the figures).
 ///

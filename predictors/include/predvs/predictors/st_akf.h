@@ -67,10 +67,10 @@ inline constexpr bool kDefaultShrinkVelocityStAkf = true;
 /// p0_vel ((px/s)^2, 1e4), p0_acc ((px/s^2)^2, 1e4), rho (0.95), beta (default 5 since issue 11,
 /// 1 before), a1, a2, a3 (1: preset ratios of the fading factors of p, v, a; each >= 1),
 /// coast_tau_s (s, 0.2, channel_predictor.h), adaptation (on | off, default on; off: no fading,
-/// kalman_math.h adaptationParam), fade_after_gap (0 | 1, default 0: while coasting, the first
+/// kalman_math.h adaptationParam), adapt_after_gap (0 | 1, default 0: while coasting, the first
 /// measured frame after a gap neither fades nor enters V0, its innovation being the coast's own
 /// departure from the model; 1 = fade there too, as before; without coasting every measured frame
-/// fades; docs/MODELS.md §5), shrink_sigmas (significance weight of the forecast
+/// fades; channel_predictor.h, docs/MODELS.md §5), shrink_sigmas (significance weight of the forecast
 /// acceleration, default 1.5 on ca, 0.5 on cv; 0 = the unweighted filter) and shrink_v_sigmas
 /// (velocity, default shrink_sigmas): channel_predictor.h.
 /// Choice: with `model: cv` the keys of the acceleration state, p0_acc and a3, are accepted (range
@@ -117,11 +117,9 @@ class StAkfPredictor : public ChannelPredictor<N> {
     bool has_V0 = false;
     Vec<N> lambda = Vec<N>::Ones();
     double s_unfaded = 0.0;
-    bool after_gap = false;  ///< the last step had no measurement
   };
   double q_, rho_, beta_;
   bool adapt_;  ///< `adaptation` on (default) / off: no fading (kalman_math.h adaptationParam)
-  bool fade_after_gap_;  ///< fade_after_gap: fade on the first measured frame after a gap while coasting
 
  protected:
   double q() const { return q_; }
