@@ -46,9 +46,9 @@
 // departure from the model over the gap (the velocity decayed on purpose), not a one-step misfit of
 // the model. A filter that adapts on its innovations (st-akf's and st-akf-pm's fading factors,
 // fakf-classic's R, fakf's R and P inflation) and calls readAdaptAfterGapParam() does not adapt on
-// that frame, nor let it into its statistics: adaptationPausedAfterGap(c). `adapt_after_gap: 1` adapts there too (as before);
-// without coasting (coast_tau_s = 0, the papers' occlusion scenarios E7 and E8) every measured
-// frame adapts, as in the papers.
+// that frame, nor let it into its statistics: adaptationPausedAfterGap(c). `adapt_after_gap: 1`
+// adapts there too (as before); without coasting (coast_tau_s = 0, the papers' occlusion scenarios
+// E7 and E8) every measured frame adapts, as in the papers.
 //
 // Significance-weighted forecast (issue 11 item 3, docs/MODELS.md §15): a derived filter that calls
 // readShrinkParams() extrapolates the prediction horizon from
