@@ -278,19 +278,17 @@ inline double coastFastRatioParam(const Params& params) {
 /// The `coast_shape` parameter (1..10, default kDefaultCoastShape; 1 = exponential; file comment).
 inline double coastShapeParam(const Params& params) { return params.get("coast_shape", kDefaultCoastShape, 1.0, 10.0); }
 
-/// The coasting decay of an unmeasured frame (above) on a state [p, v(, a)]:
-/// v <- v e, a <- a e^2, e = exp(-dt / tau_s); tau_s > 0.
-template <int N>
-inline void coast(Vec<N>& x, double dt, double tau_s) {
-  const double e = std::exp(-dt / tau_s);
-  x(1) *= e;
-  if constexpr (N == 3) x(2) *= e * e;
-}
-/// v <- v e, a <- a e^2 for a given factor e (the gap's coasting, HoldBlend::gapDecay).
+/// v <- v e, a <- a e^2 on a state [p, v(, a)] for a given factor e (the gap's coasting,
+/// HoldBlend::gapDecay, or coast() below).
 template <int N>
 inline void coastBy(Vec<N>& x, double e) {
   x(1) *= e;
   if constexpr (N == 3) x(2) *= e * e;
+}
+/// The coasting decay of an unmeasured frame (above): coastBy(x, exp(-dt / tau_s)); tau_s > 0.
+template <int N>
+inline void coast(Vec<N>& x, double dt, double tau_s) {
+  coastBy(x, std::exp(-dt / tau_s));
 }
 
 template <int N>
@@ -336,9 +334,8 @@ class ChannelPredictor : public Predictor {
           coast(s.g.x, dt, coast_tau_s_);
         }
       }
-      s.after_gap_now = s.unmeasured_last && isMeasured(z(c));
-      s.unmeasured_last = !isMeasured(z(c));
       step(c, dt, z(c));
+      s.unmeasured_last = !isMeasured(z(c));
       if (blend_tau_s_ > 0.0) learnBlend(c, t_s, z(c), blend_keep);
       if (!q_auto_.empty() && s.innovation.valid) q_auto_[static_cast<size_t>(c)].observe(s.innovation.eps, s.innovation.S, dt);
     }
@@ -403,8 +400,9 @@ class ChannelPredictor : public Predictor {
     /// x_start[head] is the forecast start of g as it is now: kept by the last update (cleared at
     /// the start of every update, set by rememberForecastStart), so predictPosition reuses it.
     bool start_now = false;
-    bool unmeasured_last = false;  ///< the last update after initialisation had no measurement
-    bool after_gap_now = false;    ///< this update measures the channel, the last one did not
+    /// The last update after initialisation had no measurement (inside step(): the one before
+    /// this update; set after it).
+    bool unmeasured_last = false;
   };
 
   /// Keeps the forecast start (x(k|k), significance-weighted) of channel c at t_s for the blend.
@@ -473,10 +471,11 @@ class ChannelPredictor : public Predictor {
   void readAdaptAfterGapParam(const Params& params) {
     adapt_after_gap_ = params.get("adapt_after_gap", 0.0, 0.0, 1.0) >= 0.5;
   }
-  /// True, inside step(), when channel c's adaptation skips this update: it is the first measured
-  /// one after a gap, the filter coasts, and `adapt_after_gap` is 0 (file comment).
+  /// True, inside step() on a measured frame, when channel c's adaptation skips it: the update before
+  /// had no measurement (so this is the first measured one after a gap), the filter coasts, and
+  /// `adapt_after_gap` is 0 (file comment).
   bool adaptationPausedAfterGap(int c) const {
-    return !adapt_after_gap_ && coast_tau_s_ > 0.0 && state_[static_cast<size_t>(c)].after_gap_now;
+    return !adapt_after_gap_ && coast_tau_s_ > 0.0 && state_[static_cast<size_t>(c)].unmeasured_last;
   }
   /// Reads `shrink_sigmas` (n of the acceleration weight w_a, dimensionless >= 0, default
   /// default_sigmas; with N = 2 there is no acceleration and it only sets the default of the next
