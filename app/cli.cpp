@@ -166,30 +166,9 @@ void paramsFileOverrides(const std::string& file, std::vector<ScenarioOverride>&
   }
 }
 
-/// --predictor of predict and track: 'all' (every registered predictor) or a comma list whose
-/// elements are [LABEL=]TYPE[:KEY=VALUE...], the syntax of compare's --predictors
-/// (parsePredictorChoice, scenario_run.h): the registry predictor TYPE shown as LABEL, with those
-/// parameters, so that one predictor can run with several parameter sets side by side.
+/// --predictor of predict and track (parsePredictorSpecs, predict_command.h).
 std::vector<PredictorSpec> predictorSpecs(const std::string& text) {
-  std::vector<PredictorSpec> specs;
-  if (text == "all") {
-    for (const auto& p : predictorRegistry()) specs.push_back({p.name, {}, {}});
-    return specs;
-  }
-  const auto items = splitList(text);
-  if (items.empty()) throw std::invalid_argument("--predictor: expected NAME, a comma list NAME,NAME,... or 'all'");
-  for (const auto& item : items) {
-    if (item == "all") throw std::invalid_argument("--predictor: 'all' stands alone, not in a list");
-    const PredictorChoice c = parsePredictorChoice(item, "--predictor");
-    requirePredictor("--predictor", c.type);  // a bare word: a registry name (no scenario labels here)
-    PredictorSpec spec{c.type, c.params, c.labelled ? c.label : std::string()};
-    for (const auto& s : specs)
-      if (s.shownName() == spec.shownName())
-        throw std::invalid_argument("--predictor: '" + spec.shownName() +
-                                    "' is listed twice (give each its own LABEL=TYPE[:KEY=VALUE...])");
-    specs.push_back(std::move(spec));
-  }
-  return specs;
+  return parsePredictorSpecs("--predictor", text == "all" ? std::vector<std::string>{"all"} : splitList(text));
 }
 
 int runPredict(const PredictArgs& a, const std::string& command_line, std::ostream& out) {

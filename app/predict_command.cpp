@@ -1,6 +1,7 @@
 #include "predict_command.h"
 
 #include "report.h"
+#include "scenario_run.h"
 
 #include "general_number.h"
 #include "gnuplot.h"
@@ -165,6 +166,31 @@ std::vector<size_t> longestFirst(const FeatureTrack& track, const std::vector<Pr
 }
 
 }  // namespace
+
+std::vector<PredictorSpec> parsePredictorSpecs(const std::string& option, const std::vector<std::string>& items) {
+  std::vector<PredictorSpec> specs;
+  if (items.size() == 1 && items[0] == "all") {
+    for (const auto& p : predictorRegistry()) specs.push_back({p.name, {}, {}});
+    return specs;
+  }
+  if (items.empty()) throw std::invalid_argument(option + ": expected NAME, a comma list NAME,NAME,... or 'all'");
+  for (const auto& item : items) {
+    if (item == "all") throw std::invalid_argument(option + ": 'all' stands alone, not in a list");
+    const PredictorChoice c = parsePredictorChoice(item, option);
+    if (!isPredictor(c.type)) {  // a bare word: a registry name (no scenario labels here)
+      std::string known;
+      for (const auto& p : predictorRegistry()) known += (known.empty() ? "" : ", ") + p.name;
+      throw std::invalid_argument(option + ": unknown predictor '" + c.type + "' (known: " + known + ")");
+    }
+    PredictorSpec spec{c.type, c.params, c.labelled ? c.label : std::string()};
+    for (const auto& s : specs)
+      if (s.shownName() == spec.shownName())
+        throw std::invalid_argument(option + ": '" + spec.shownName() +
+                                    "' is listed twice (give each its own LABEL=TYPE[:KEY=VALUE...])");
+    specs.push_back(std::move(spec));
+  }
+  return specs;
+}
 
 PredictionReport predictTrack(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
                               double horizon_s, int jobs) {

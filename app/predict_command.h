@@ -43,6 +43,14 @@ struct PredictorSpec {
   const std::string& shownName() const { return label.empty() ? name : label; }
 };
 
+/// The predictors of a command line (`predict` and `track` --predictor, `track-study` --predictors):
+/// `items` is the comma list split, either {"all"} (every registered predictor) or elements
+/// [LABEL=]TYPE[:KEY=VALUE...], compare's syntax (parsePredictorChoice, scenario_run.h): the registry
+/// predictor TYPE shown as LABEL with those parameters, so one predictor can run with several
+/// parameter sets side by side. Throws std::invalid_argument "OPTION: ..." for an empty list, 'all'
+/// in a list, an unknown TYPE, a malformed element or a name shown twice.
+std::vector<PredictorSpec> parsePredictorSpecs(const std::string& option, const std::vector<std::string>& items);
+
 /// RMSE of predictions against a reference (see file comment). NaN when n == 0.
 struct PredictionErrors {
   double rmse_px = 0.0;

@@ -2,7 +2,7 @@
 
 #include "parallel_runs.h"
 #include "report.h"
-#include "scenario_run.h"
+#include "predict_command.h"
 
 #include "output_dir.h"
 
@@ -81,25 +81,14 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   else
     for (const auto& k : a.kinds) kinds.push_back(parseManeuverKind(k));
   // names: the label of each entry (the registry name unless LABEL= was given), types: its
-  // registry predictor, inline: its KEY=VALUE (compare's [LABEL=]TYPE[:KEY=VALUE...]).
+  // registry predictor, inline: its KEY=VALUE (parsePredictorSpecs, predict_command.h).
   std::vector<std::string> names, types;
   std::vector<Params> inline_params;
-  if (a.predictors.empty() || (a.predictors.size() == 1 && a.predictors[0] == "all")) {
-    for (const auto& p : predictorRegistry()) {
-      names.push_back(p.name);
-      types.push_back(p.name);
-      inline_params.emplace_back();
-    }
-  } else {
-    for (const auto& item : a.predictors) {
-      const PredictorChoice c = parsePredictorChoice(item, "--predictors");
-      if (!isPredictor(c.type)) throw std::invalid_argument("--predictors: unknown predictor '" + c.type + "'");
-      if (std::find(names.begin(), names.end(), c.label) != names.end())
-        throw std::invalid_argument("--predictors: '" + c.label + "' listed twice (give each its own LABEL=TYPE:...)");
-      names.push_back(c.label);
-      types.push_back(c.type);
-      inline_params.push_back(c.params);
-    }
+  for (const PredictorSpec& s :
+       parsePredictorSpecs("--predictors", a.predictors.empty() ? std::vector<std::string>{"all"} : a.predictors)) {
+    names.push_back(s.shownName());
+    types.push_back(s.name);
+    inline_params.push_back(s.params);
   }
   // hold first (every ratio is to its RMSE on the same track): added when not listed, moved when
   // listed later.

@@ -61,7 +61,7 @@ TEST_F(TrackStudyLabels, OnePredictorUnderTwoLabelsIsTheSameAsWithParam) {
 
 TEST_F(TrackStudyLabels, ListsThatCannotRunAreRefused) {
   const std::string none = path("none");
-  expectError(run({"track-study", "--predictors", "kf-cv,kf-cv=kf-ca", "--out", none}), "'kf-cv' listed twice", none);
+  expectError(run({"track-study", "--predictors", "kf-cv,kf-cv=kf-ca", "--out", none}), "--predictors: 'kf-cv' is listed twice", none);
   expectError(run({"track-study", "--predictors", "kf-cv,x=nope", "--out", none}), "unknown predictor 'nope'", none);
   expectError(run({"track-study", "--predictors", "hold=kf-cv", "--out", none}), "the label 'hold' is hold's own", none);
   expectError(run({"track-study", "--predictors", "k2=kf-cv:zz=1", "--out", none}), "zz", none);
