@@ -74,29 +74,24 @@ void StAkfPredictor<N>::step(int c, double dt, double z) {
   }
   // The first measurement after a gap, while coasting (channel_predictor.h): its innovation holds
   // the coast's own departure from the model over the gap, not a one-step misfit of the model,
-  // so it neither fades P nor enters V0 (adapt_after_gap: 1 restores both). Without coasting (the
+  // so it neither enters V0 nor fades P (adapt_after_gap: 1 restores both). Without coasting (the
   // papers' occlusion scenarios E7 and E8 pin coast_tau_s = 0) every measured frame fades, as in
   // the paper.
-  if (this->adaptationPausedAfterGap(c)) {
-    const double R = this->measurementNoise(c);
-    timeUpdate(s.g, F, Q);
-    ex.lambda.setOnes();
-    ex.s_unfaded = s.g.P(0, 0) + R;
-    s.innovation = measurementUpdate(s.g, z, R);  // Joseph form
-    return;
-  }
+  const bool paused = this->adaptationPausedAfterGap(c);
   const double R = this->measurementNoise(c);
   const Vec<N> x_pred = F * s.g.x;
   const Mat<N> FPFt = F * s.g.P * F.transpose();
-  const double gamma = z - x_pred(0);
-  ex.V0 = ex.has_V0 ? (rho_ * ex.V0 + gamma * gamma) / (1.0 + rho_) : gamma * gamma;
-  ex.has_V0 = true;
+  if (!paused) {
+    const double gamma = z - x_pred(0);
+    ex.V0 = ex.has_V0 ? (rho_ * ex.V0 + gamma * gamma) / (1.0 + rho_) : gamma * gamma;
+    ex.has_V0 = true;
+  }
   const double Nv = ex.V0 - Q(0, 0) - beta_ * R;
   const double M = a_(0) * FPFt(0, 0);
   // No fading while R is still the start-up estimate (r: auto, its first ~53 frames): an innovation
   // power above the filter's then only says that the prior R was too small, not that the target
   // manoeuvres, and fading on it sets the gain to ~1 and the acceleration to the noise.
-  const double cf = adapt_ && M > 0.0 && this->nominalNoiseFinal(c) ? Nv / M : 0.0;
+  const double cf = !paused && adapt_ && M > 0.0 && this->nominalNoiseFinal(c) ? Nv / M : 0.0;
   for (int i = 0; i < N; ++i) ex.lambda(i) = std::max(1.0, a_(i) * cf);
   ex.s_unfaded = FPFt(0, 0) + Q(0, 0) + R;
   const Vec<N> sqrt_l = ex.lambda.cwiseSqrt();
