@@ -119,16 +119,16 @@ void FakfClassicPredictor<N>::step(int c, double dt, double z) {
   const double eps = z - s.g.x(0);
   if (!this->nominalNoiseFinal(c)) R = this->nominalNoise(c);  // start-up estimate: adapt from it once frozen
   const double S = s.g.P(0, 0) + R;  // theoretical innovation power with R(k-1)
-  if (this->adaptationPausedAfterGap(c)) {  // the coast's own error: not in the window (channel_predictor.h)
-    s.innovation = measurementUpdate(s.g, z, R);
-    return;
-  }
-  win.push(eps);
-  if (adapt_ && win.full() && this->nominalNoiseFinal(c)) {
-    const double dom = win.meanSquare() - S;
-    const double lo = this->autoNoise() && relative_bounds_ ? 0.01 * this->nominalNoise(c) : r_min_;
-    const double hi = this->autoNoise() && relative_bounds_ ? 100.0 * this->nominalNoise(c) : r_max_;
-    R = std::clamp(R + dom_.evaluate(dom), lo, hi);
+  // The first measurement after a gap while coasting is the coast's own error: it neither enters
+  // the window nor adapts R (channel_predictor.h).
+  if (!this->adaptationPausedAfterGap(c)) {
+    win.push(eps);
+    if (adapt_ && win.full() && this->nominalNoiseFinal(c)) {
+      const double dom = win.meanSquare() - S;
+      const double lo = this->autoNoise() && relative_bounds_ ? 0.01 * this->nominalNoise(c) : r_min_;
+      const double hi = this->autoNoise() && relative_bounds_ ? 100.0 * this->nominalNoise(c) : r_max_;
+      R = std::clamp(R + dom_.evaluate(dom), lo, hi);
+    }
   }
   s.innovation = measurementUpdate(s.g, z, R);
 }
