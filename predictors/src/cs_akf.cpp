@@ -218,7 +218,8 @@ CsKalmanPredictor::CsKalmanPredictor(int channels, const Params& params, bool au
 }
 
 Mat<3> CsKalmanPredictor::processNoise(int c, double dt) const {
-  return singerProcessNoise(alpha_, accelerationVariance(c), dt);
+  // processNoiseScale(c): the raise of cs-akf-adaptive and fakf (1 for cs-akf, which does not read it)
+  return singerProcessNoise(alpha_, accelerationVariance(c) * processNoiseScale(c), dt);
 }
 
 void CsKalmanPredictor::step(int c, double dt, double z) {
@@ -281,6 +282,7 @@ CsAkfAdaptivePredictor::CsAkfAdaptivePredictor(int channels, const Params& param
   // With the adaptation off sigma^2 stays at sigma_min_sq and the ceiling is not used (nor fitted).
   if (adapt_ && !(sigma_min_sq_ <= sigma_max_sq_))
     throw std::invalid_argument("predictor parameter 'sigma_min_sq' must not exceed 'sigma_max_sq'");
+  readProcessNoiseAdaptation(params, {"sigma_min_sq", "sigma_max_sq"});
 }
 
 void CsAkfAdaptivePredictor::afterStep(int c, double dt, double z) {

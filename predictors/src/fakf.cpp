@@ -90,7 +90,7 @@ FakfClassicPredictor<N>::FakfClassicPredictor(int channels, const Params& params
   this->readCoastParam(params);
   this->readAdaptAfterGapParam(params);
   this->readShrinkParams(params, N == 2 ? kDefaultShrinkSigmasFakfClassic : kDefaultShrinkSigmasFakfClassicCa, true);
-  if (isAutoProcessNoise(params, "q")) this->enableAutoProcessNoise();
+  this->readProcessNoiseAdaptation(params);
   if (!(r_min_ <= this->r0_ && this->r0_ <= r_max_))
     throw std::invalid_argument("fakf-classic: need r_min <= r <= r_max");
   relative_bounds_ = !params.has("r_min") && !params.has("r_max");

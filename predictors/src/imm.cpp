@@ -128,6 +128,11 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       coast_cp_(params.get("coast_cp", kDefaultCoastCp, 0.0, 1.0)),
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
+  // The raise of q (process_noise_adapt.h) as kf-cv's and kf-ca's: on the combined innovation, it
+  // scales the moving modes' densities together; only when neither q_cv nor q_ca is given.
+  const double raise_ratio = processNoiseRaiseRatio(params);
+  if (!params.has("q_cv") && !params.has("q_ca") && blend_tau_s_ > 0.0 && raise_ratio > 0.0)
+    q_raise_ = ProcessNoiseMatcher::raise(raise_ratio);
   const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
   const double tau_cp = params.get("tau_cp_s", 5.0, 1e-6, 1e6);
   const double tau_cv = params.get("tau_cv_s", 30.0, 1e-6, 1e6);
@@ -153,6 +158,7 @@ void ImmPredictor::reset() {
   for (int j = 0; j < modeCount(); ++j) init.mu[static_cast<size_t>(j)] = 1.0 / modeCount();
   init.fw = init.mu;
   init.fc_cal.fill(1.0);
+  init.q_raise = q_raise_.value_or(ProcessNoiseMatcher());
   chan_.assign(static_cast<size_t>(channels()), init);
 }
 
@@ -191,20 +197,31 @@ Mat<3> ImmPredictor::transition(int j, double dt) const {
   return F;
 }
 
-Mat<3> ImmPredictor::processNoise(int j, double dt) const {
+Mat<3> ImmPredictor::processNoise(int j, double dt, double scale) const {
   Mat<3> Q = Mat<3>::Zero();
   switch (modes_[static_cast<size_t>(j)].kind) {
     case ImmMode::Cp:
       Q(0, 0) = q_cp_ * dt;
       break;
     case ImmMode::Cv:
-      Q.topLeftCorner<2, 2>() = cvProcessNoise(q_cv_, dt);
+      Q.topLeftCorner<2, 2>() = cvProcessNoise(q_cv_ * scale, dt);
       break;
     case ImmMode::Ca:
-      Q = alpha_ > 0.0 ? singerProcessNoise(alpha_, q_ca_ / (2.0 * alpha_), dt) : caProcessNoise(q_ca_, dt);
+      Q = alpha_ > 0.0 ? singerProcessNoise(alpha_, q_ca_ * scale / (2.0 * alpha_), dt) : caProcessNoise(q_ca_ * scale, dt);
       break;
   }
   return Q;
+}
+
+const std::array<Mat<3>, ImmPredictor::kMaxModes>& ImmPredictor::raisedProcessNoise(
+    const Channel& ch, const std::array<Mat<3>, kMaxModes>& Q, std::array<Mat<3>, kMaxModes>& scratch) const {
+  const double scale = ch.q_raise.scale();
+  if (scale == 1.0) return Q;
+  for (int j = 0; j < modeCount(); ++j) {
+    const auto jj = static_cast<size_t>(j);
+    scratch[jj] = modes_[jj].kind == ImmMode::Cp ? Q[jj] : (Q[jj] * scale).eval();
+  }
+  return scratch;
 }
 
 ImmPredictor::ModeMatrix ImmPredictor::chain(double dt) const { return periodModels(dt).chain; }
@@ -325,13 +342,15 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
   const PeriodModels& fm = periodModels(dt);
   const ModeMatrix& Pi = fm.chain;
   const std::array<Mat<3>, kMaxModes>& F = fm.F;
-  const std::array<Mat<3>, kMaxModes>& Q = fm.Q;
   const double keep = fm.keep;              // forecast weights' forgetting, exp(-dt / forecast_tau_s)
   const double blend_keep = fm.blend_keep;  // the blend's, exp(-dt / hold_blend_tau_s)
   const int ca = m - 1;  // the CA mode is the last (constructor)
+  std::array<Mat<3>, kMaxModes> Q_raised;
   for (int c = 0; c < channels(); ++c) {
     Channel& ch = chan_[static_cast<size_t>(c)];
     ch.innovation = Innovation{};
+    // Each mode's Q over dt, the moving modes' scaled by this channel's raise of q.
+    const std::array<Mat<3>, kMaxModes>& Q = raisedProcessNoise(ch, fm.Q, Q_raised);
     if (r_auto_) ch.r_est.push(t_s, z(c));
     const double R = measurementNoise(c);
     if (!ch.initialized) {
@@ -430,6 +449,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         maxll = std::max(maxll, loglik[jj]);
       }
       ch.innovation = Innovation{z(c) - xbar, S, true};
+      if (q_raise_) ch.q_raise.observe(ch.innovation.eps, S, dt);
       std::array<double, kMaxModes> w{};
       double sum = 0.0;
       for (int j = 0; j < m; ++j) {
@@ -617,7 +637,7 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
   std::array<Gaussian<3>, kMaxModes> g;
   for (int j = 0; j < modeCount(); ++j) {
     g[static_cast<size_t>(j)] = forecastStart(ch, j);
-    timeUpdate(g[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt));
+    timeUpdate(g[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt, ch.q_raise.scale()));
   }
   Gaussian<3> out = combine(g, w);
   if (blend_tau_s_ > 0.0) {

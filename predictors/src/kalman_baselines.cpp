@@ -17,7 +17,7 @@ KfCvPredictor::KfCvPredictor(int channels, const Params& params)
       q_(processNoiseParam(params, "q", kDefaultQCv, 0.0, 1e12)) {
   readCoastParam(params);
   readShrinkParams(params, kDefaultShrinkSigmasKfCv, /*weigh_velocity=*/true);
-  if (isAutoProcessNoise(params, "q")) enableAutoProcessNoise();
+  readProcessNoiseAdaptation(params);
   if (isAutoMeasurementNoise(params)) enableAutoNoise();
 }
 
@@ -27,7 +27,7 @@ KfCaPredictor::KfCaPredictor(int channels, const Params& params)
       q_(processNoiseParam(params, "q", kDefaultQCa, 0.0, 1e15)) {
   readCoastParam(params);
   readShrinkParams(params, kDefaultShrinkSigmasKfCa, kDefaultShrinkVelocityKfCa);
-  if (isAutoProcessNoise(params, "q")) enableAutoProcessNoise();
+  readProcessNoiseAdaptation(params);
   if (isAutoMeasurementNoise(params)) enableAutoNoise();
 }
 

@@ -19,18 +19,28 @@ double processNoiseParam(const Params& params, const std::string& key, double fa
   return params.get(key, fallback, lo, hi);
 }
 
-ProcessNoiseMatcher::ProcessNoiseMatcher(double tau_s, double scale_min, double scale_max)
-    : tau_s_(tau_s), log_min_(std::log(scale_min)), log_max_(std::log(scale_max)) {
-  if (!(tau_s_ > 0.0) || !(scale_min > 0.0) || !(scale_min <= 1.0 && 1.0 <= scale_max))
-    throw std::invalid_argument("process-noise adaptation: need tau_s > 0 and scale_min <= 1 <= scale_max");
+double processNoiseRaiseRatio(const Params& params) {
+  const double c = params.get("q_raise_ratio", kDefaultQRaiseRatio, 0.0, kQAutoRatioMax);
+  if (c > 0.0 && c < 1.0)
+    throw std::invalid_argument("parameter 'q_raise_ratio' expects 0 (no raise) or a ratio from 1 to " +
+                                std::to_string(static_cast<int>(kQAutoRatioMax)));
+  return c;
+}
+
+ProcessNoiseMatcher::ProcessNoiseMatcher(double tau_s, double scale_min, double scale_max, double target)
+    : tau_s_(tau_s), log_min_(std::log(scale_min)), log_max_(std::log(scale_max)), target_(target) {
+  if (!(tau_s_ > 0.0) || !(scale_min > 0.0) || !(scale_min <= 1.0 && 1.0 <= scale_max) || !(target > 0.0))
+    throw std::invalid_argument("process-noise adaptation: need tau_s > 0, scale_min <= 1 <= scale_max and target > 0");
 }
 
 void ProcessNoiseMatcher::observe(double eps, double S, double dt_s) {
   if (!(S > 0.0) || !(dt_s > 0.0) || !std::isfinite(eps)) return;
   const double ratio = std::min(eps * eps / S, kQAutoRatioMax);
-  log_scale_ = std::clamp(log_scale_ + dt_s / tau_s_ * (ratio - 1.0), log_min_, log_max_);
+  const double l = std::clamp(log_scale_ + dt_s / tau_s_ * (ratio - target_), log_min_, log_max_);
+  if (l != log_scale_) {
+    log_scale_ = l;
+    scale_ = std::exp(l);
+  }
 }
-
-double ProcessNoiseMatcher::scale() const { return std::exp(log_scale_); }
 
 }  // namespace predvs

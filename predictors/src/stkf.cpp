@@ -117,6 +117,7 @@ StkfFilter<N>::StkfFilter(int channels, const Params& params)
                          N == 3 ? kDefaultShrinkSigmasStkfCa
                                 : (white_acceleration_ ? kDefaultShrinkSigmasKfCv : kDefaultShrinkSigmasStkf),
                          kDefaultShrinkVelocityStkf);
+  this->readProcessNoiseAdaptation(params, {"q", "q_pos", "q_vel"});
   if (isAutoMeasurementNoise(params)) this->enableAutoNoise();
 }
 
@@ -170,16 +171,17 @@ Mat<N> StkfFilter<N>::transition(int, double dt) const {
 }
 
 template <int N>
-Mat<N> StkfFilter<N>::processNoise(int, double dt) const {
+Mat<N> StkfFilter<N>::processNoise(int c, double dt) const {
+  const double raise = this->processNoiseScale(c);  // the raise of q (process_noise_adapt.h); 1 when off
   if constexpr (N == 2) {
-    if (white_acceleration_) return cvProcessNoise(q_, dt);
+    if (white_acceleration_) return cvProcessNoise(q_ * raise, dt);
     Mat<2> Q = Mat<2>::Zero();
-    const double scale = dt / q_period_s_;
+    const double scale = raise * dt / q_period_s_;
     Q(0, 0) = scale * q_pos_;
     Q(1, 1) = scale * q_vel_;
     return Q;
   } else {
-    return caProcessNoise(q_, dt);
+    return caProcessNoise(q_ * raise, dt);
   }
 }
 

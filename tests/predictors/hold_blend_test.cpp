@@ -26,7 +26,8 @@ TEST(HoldBlend, ForecastIsHoldPlusTheLeastSquaresWeightTimesTheModelStep) {
   // off: it changes the coasted filter; coast_stop_test.cpp; so do the speed rule and the shape of
   // the coast, coast_fast_test.cpp)
   const double tau_s = 2.0;
-  KfCvPredictor on(1, {{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0}});
+  KfCvPredictor on(1, {{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0},
+                       {"q_raise_ratio", 0.0}});  // the blend alone: q stays the twin's
   KfCvPredictor off(1, {{"hold_blend_tau_s", 0.0}});
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 2.0);

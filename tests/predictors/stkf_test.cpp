@@ -241,7 +241,7 @@ TEST(StkfModels, CaSelfTunesROnTheScatterAboutAQuadratic) {
   // GIVEN a parabola (constant acceleration) sampled at 10 Hz
   auto parabola = [](int n, double ripple) { return 20.0 + 4.0 * n + 0.5 * n * n + ripple * std::sin(2.1 * n); };
   const int k = 8, frames = 30;
-  const Params common{{"r", 2.0}, {"window", k}};
+  const Params common{{"r", 2.0}, {"window", k}, {"q_raise_ratio", 0.0}};  // the self-tuning alone
   StkfCaPredictor ca(1, modelParams("ca", common));
   StkfPredictor cv(1, common);
   for (int n = 0; n < frames; ++n) {

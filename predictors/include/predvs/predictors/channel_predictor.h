@@ -95,6 +95,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -506,10 +507,26 @@ class ChannelPredictor : public Predictor {
     }
     return g;
   }
-  /// Makes the process noise of every channel adapted by covariance matching (`q: auto`,
-  /// process_noise_adapt.h); called by a derived constructor when its `q` is absent or `auto`.
-  void enableAutoProcessNoise() { q_auto_.assign(state_.size(), ProcessNoiseMatcher()); }
-  /// q / q0 of channel c: 1 unless enableAutoProcessNoise() was called. A derived processNoise()
+  /// The adaptation of the process noise (process_noise_adapt.h), from the keys that set it
+  /// (`fixing_keys`: `q`, or the CS models' a_max / variance bounds) and `q_raise_ratio`: `q: auto`,
+  /// covariance matching; none of the keys given and the blend with hold on (readShrinkParams()
+  /// first), the raise above the default density while the innovations exceed q_raise_ratio times
+  /// their predicted variance; a number given, none (the density fixed). Called by the derived
+  /// constructors whose processNoise() scales its density by processNoiseScale().
+  void readProcessNoiseAdaptation(const Params& params, std::initializer_list<const char*> fixing_keys = {"q"}) {
+    const double raise_ratio = processNoiseRaiseRatio(params);
+    bool given = false;
+    for (const char* key : fixing_keys) {
+      if (std::string(key) == "q" && isAutoProcessNoise(params, key)) {
+        q_auto_.assign(state_.size(), ProcessNoiseMatcher());
+        return;
+      }
+      given = given || params.has(key);
+    }
+    if (!given && blend_tau_s_ > 0.0 && raise_ratio > 0.0)
+      q_auto_.assign(state_.size(), ProcessNoiseMatcher::raise(raise_ratio));
+  }
+  /// q / q0 of channel c: 1 unless readProcessNoiseAdaptation() adapts it. A derived processNoise()
   /// multiplies its nominal density by it.
   double processNoiseScale(int c) const { return q_auto_.empty() ? 1.0 : q_auto_[static_cast<size_t>(c)].scale(); }
   bool autoNoise() const { return !r_est_.empty(); }
@@ -543,7 +560,7 @@ class ChannelPredictor : public Predictor {
 
   std::vector<ChannelState> state_;
   std::vector<StartupNoiseEstimator> r_est_;  ///< empty unless enableAutoNoise()
-  std::vector<ProcessNoiseMatcher> q_auto_;   ///< empty unless enableAutoProcessNoise()
+  std::vector<ProcessNoiseMatcher> q_auto_;   ///< empty unless readProcessNoiseAdaptation() adapts q
   double r0_;
   double p0_vel_;
   double p0_acc_;

@@ -238,6 +238,10 @@ class CsAkfPredictor : public CsKalmanPredictor {
 ///   sigma_max_sq ((px/s^2)^2, default 1e6 ~ (4-pi)/pi * 3600^2; 1000 before issue 11): the ceiling.
 ///   adaptation   (word, on | off, default on): off fixes sigma^2 at sigma_min_sq (a fixed CS /
 ///                Singer filter; fakf: also R at r and no P inflation), kalman_math.h adaptationParam.
+///   q_raise_ratio (default 2; 0 = off): when neither bound is given and the blend with hold is on,
+///                the Singer density is multiplied by a factor >= 1 that rises while the innovations
+///                are more than this many times their predicted variance (process_noise_adapt.h,
+///                docs/MODELS.md §15); cs-akf (fixed r = 1 px^2 by default) does not read it.
 ///   adapt_tau_s  (s, default 0): time constant of the reference acceleration. 0 is the variant
 ///                above (reference = a(k-1|k-1)); tau > 0 replaces a(k-1|k-1) by a low-passed
 ///                a_ref += (1 - exp(-dt/tau)) (a(k|k) - a_ref), which measures the change over ~tau

@@ -80,7 +80,9 @@ inline constexpr double kDefaultShrinkSigmasFakfClassicCa = 3.0;
 ///   R(k)   = clamp(R(k-1) + dR(k), r_min, r_max)
 /// The adaptation only sees the innovation and S, so it is the same on both models.
 /// Parameters: model (cv | ca, default cv), q (cv: 1e4 px^2/s^3 = kDefaultQCv; ca: 3e5 px^2/s^5 =
-/// kDefaultQFakfClassicCa), r (initial R, px^2, default `auto`), p0_vel ((px/s)^2, 1e4),
+/// kDefaultQFakfClassicCa; raised as kf-cv's when not given, q_raise_ratio (default 2; 0 = no
+/// raise); `auto`: adapted both ways; process_noise_adapt.h), r (initial R, px^2, default `auto`),
+/// p0_vel ((px/s)^2, 1e4),
 /// p0_acc ((px/s^2)^2, 1e4; choice: accepted and unused on cv, so that one configuration runs on
 /// either model, e.g. a noise fit's structural variants that change `model` alone), window (N_w,
 /// 10), dom_range (DoM universe half-width, 10 px^2), dr_max (dR universe half-width, 0.5 px^2 per

@@ -107,7 +107,10 @@
 // (210-211 of 216). Weighting with mu propagated by the chain over h (an earlier choice) mixes in
 // the full-horizon extrapolation of a mode the target would only switch to part-way: E2 1.20.
 // Parameters (px and s): q_cp (px^2/s, default 2), q_cv (px^2/s^3, default kDefaultQCv), q_ca
-// (px^2/s^5, default kDefaultQCa), alpha (1/s, default 0: CA; > 0: Singer), r (px^2; default `auto`,
+// (px^2/s^5, default kDefaultQCa; when neither q_cv nor q_ca is given and the blend with hold is
+// on, both are raised together, per channel, while the combined innovation is more than
+// q_raise_ratio (default 2; 0 = no raise) times its predicted variance: process_noise_adapt.h),
+// alpha (1/s, default 0: CA; > 0: Singer), r (px^2; default `auto`,
 // predictors/noise_estimate.h; a number fixes it), tau_cp_s (5), tau_cv_s (30), tau_ca_s (3)
 // (stationary shares 13 / 79 / 8 %), cp (1; 0 leaves the CP mode out), p0_vel ((px/s)^2, 1e4),
 // p0_acc ((px/s^2)^2, 1e4), coast_tau_s (s, default kDefaultCoastTauS; 0 = off): on a frame with
@@ -143,6 +146,7 @@
 #include "predvs/predictors/recent_values.h"
 
 #include <array>
+#include <optional>
 #include <vector>
 
 namespace predvs {
@@ -211,9 +215,16 @@ class ImmPredictor : public Predictor {
     StartupNoiseEstimator r_est;
     HoldBlend blend;  ///< the blend with hold (channel_predictor.h)
     bool last_measured = false;
+    /// The raise of q (process_noise_adapt.h); its scale stays 1 unless q_raise_ is set.
+    ProcessNoiseMatcher q_raise;
   };
   Mat<3> transition(int j, double dt) const;
-  Mat<3> processNoise(int j, double dt) const;
+  /// Mode j's Q over dt, the CV and CA densities multiplied by `scale` (the raise of q).
+  Mat<3> processNoise(int j, double dt, double scale = 1.0) const;
+  /// Q (each mode's over this dt) with the channel's raise applied to the moving modes: Q itself
+  /// when the scale is 1, else the scaled copies written into scratch.
+  const std::array<Mat<3>, kMaxModes>& raisedProcessNoise(const Channel& ch, const std::array<Mat<3>, kMaxModes>& Q,
+                                                          std::array<Mat<3>, kMaxModes>& scratch) const;
   Gaussian<3> combine(const std::array<Gaussian<3>, kMaxModes>& g, const std::array<double, kMaxModes>& w) const;
   /// The mixed prior of mode j from the posteriors g with weights w (mixing, above), on the states
   /// mode j has (the others 0): combine() of the posteriors as mode j sees them, the same bits there.
@@ -221,6 +232,8 @@ class ImmPredictor : public Predictor {
                Gaussian<3>& out) const;
 
   double q_cp_, q_cv_, q_ca_, alpha_, r_, p0_vel_, p0_acc_;
+  /// The raise of q, set when it is on (q_cv and q_ca not given, the blend on, q_raise_ratio > 0).
+  std::optional<ProcessNoiseMatcher> q_raise_;
   double coast_tau_s_;  ///< s; 0 = no coasting
   double fc_tau_s_;     ///< s; forgetting time of the forecast weights' evidence; 0 = forecast with mu
   double fc_floor_;     ///< log of forecast_floor: the lowest log forecast weight relative to the best

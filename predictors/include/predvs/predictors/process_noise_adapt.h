@@ -17,6 +17,19 @@
 // is at most exp(-dt / tau_s) per frame. Choices (measured with `predvs track-study`,
 // docs/PERFORMANCE.md "Defaults that hold"): tau_s = kDefaultQAutoTauS, scale bounds
 // [kQAutoScaleMin, kQAutoScaleMax] around q0. A frame without a measurement leaves l unchanged.
+//
+// The raise (the default of kf-cv, kf-ca, stkf, st-akf, st-akf-pm, fakf-classic, cs-akf-adaptive,
+// fakf and imm when the density is not given and the blend with hold is on; key `q_raise_ratio`,
+// docs/MODELS.md §15 "q rises when the innovations say so"): the same recursion with the target
+// ratio c = q_raise_ratio instead of 1 and the bounds [1, kQAutoScaleMax]:
+//
+//   l <- clamp(l + (dt / tau_s) (min(eps^2 / S, ratio_max) - c), 0, ln(scale_max)).
+//
+// The default q is the floor; q rises only while the innovations are, over about tau_s, more than
+// c times the variance the filter predicts, i.e. while the target moves well outside what the
+// default q was sized for (a fixed q cannot serve a 50 px/s drift and a 700 px/s oscillation at
+// once), and falls back to the default once they are not. The symmetric `q: auto` lowers q too: on
+// the generated tracks that costs more at two frames ahead than it gains (docs/MODELS.md §15).
 #pragma once
 
 #include "predvs/predictors/params.h"
@@ -32,6 +45,8 @@ inline constexpr double kQAutoScaleMin = 1e-3;
 inline constexpr double kQAutoScaleMax = 1e2;
 /// Largest eps^2 / S one frame contributes.
 inline constexpr double kQAutoRatioMax = 9.0;
+/// Default target ratio c of the raise (`q_raise_ratio`; 0 = no raise).
+inline constexpr double kDefaultQRaiseRatio = 2.0;
 
 /// True when the process-noise key `key` (e.g. "q") holds the word `auto`: q is then adapted
 /// (ProcessNoiseMatcher) from the predictor's default. False when it is absent (the default q,
@@ -42,21 +57,33 @@ bool isAutoProcessNoise(const Params& params, const std::string& key);
 /// Marks the key as read.
 double processNoiseParam(const Params& params, const std::string& key, double fallback, double lo, double hi);
 
+/// The `q_raise_ratio` parameter: c of the raise (file comment), 0 (no raise) or in [1, kQAutoRatioMax];
+/// default kDefaultQRaiseRatio. Throws std::invalid_argument naming the key for another value.
+double processNoiseRaiseRatio(const Params& params);
 /// The per-channel state of the adaptation: the log scale l of q.
 class ProcessNoiseMatcher {
  public:
+  /// `target`: the mean eps^2 / S the recursion settles at (1: covariance matching, `q: auto`).
   explicit ProcessNoiseMatcher(double tau_s = kDefaultQAutoTauS, double scale_min = kQAutoScaleMin,
-                               double scale_max = kQAutoScaleMax);
-  void reset() { log_scale_ = 0.0; }
+                               double scale_max = kQAutoScaleMax, double target = 1.0);
+  /// The raise (file comment): floor 1, target ratio `ratio`.
+  static ProcessNoiseMatcher raise(double ratio) {
+    return ProcessNoiseMatcher(kDefaultQAutoTauS, 1.0, kQAutoScaleMax, ratio);
+  }
+  void reset() {
+    log_scale_ = 0.0;
+    scale_ = 1.0;
+  }
   /// One measured frame: innovation eps (px) with predicted variance S (px^2), dt (s) since the
   /// previous update. Ignored when S <= 0 or dt <= 0.
   void observe(double eps, double S, double dt_s);
-  /// q / q0 now.
-  double scale() const;
+  /// q / q0 now (exp(l), kept with l: read on every time update).
+  double scale() const { return scale_; }
 
  private:
-  double tau_s_, log_min_, log_max_;
+  double tau_s_, log_min_, log_max_, target_;
   double log_scale_ = 0.0;
+  double scale_ = 1.0;
 };
 
 }  // namespace predvs

@@ -92,6 +92,9 @@ namespace predvs {
 /// Both models: shrink_sigmas (significance weight of the forecast acceleration, default 0 on cv,
 /// 3 on ca; 0 = the unweighted filter), shrink_v_sigmas (velocity, default shrink_sigmas):
 /// channel_predictor.h. The paper-001 scenarios pin shrink_sigmas 0 (and hold_blend_tau_s 0).
+/// q_raise_ratio (default 2; 0 = off): when none of q, q_pos, q_vel is given and the blend with hold
+/// is on, the process noise (either model) is multiplied by a factor >= 1 that rises while the
+/// innovations are more than this many times their predicted variance (process_noise_adapt.h).
 /// The ca defaults were chosen with `predvs track-study --predictors hold,stkf --param
 /// stkf.model=ca` (docs/PERFORMANCE.md "stkf on either motion model"): on the 216 generated
 /// tracks the self-tuned R costs at every window (k = 0, i.e. kf-ca: 214 beat hold, mean ratio
@@ -166,7 +169,7 @@ class StkfFilter : public ChannelPredictor<N> {
   using Base::p0_acc_;
 
   Mat<N> transition(int, double dt) const override;
-  Mat<N> processNoise(int, double dt) const override;
+  Mat<N> processNoise(int c, double dt) const override;
   double measurementNoise(int c) const override { return r_[static_cast<size_t>(c)]; }
   void resetAdaptation() override;
   void initialize(int c, double z) override;
