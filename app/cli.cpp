@@ -49,17 +49,6 @@ std::string oneLine(std::string s) {
   return s;
 }
 
-std::string knownPredictors() {
-  std::string known;
-  for (const auto& p : predictorRegistry()) known += (known.empty() ? "" : ", ") + p.name;
-  return known;
-}
-
-void requirePredictor(const std::string& option, const std::string& name) {
-  if (!isPredictor(name))
-    throw std::invalid_argument(option + ": unknown predictor '" + name + "' (known: " + knownPredictors() + ")");
-}
-
 /// A finite number from an argument; errors name the option.
 double parseNumberArg(const std::string& option, const std::string& text) {
   const char* begin = text.c_str();

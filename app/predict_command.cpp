@@ -167,6 +167,13 @@ std::vector<size_t> longestFirst(const FeatureTrack& track, const std::vector<Pr
 
 }  // namespace
 
+void requirePredictor(const std::string& option, const std::string& name) {
+  if (isPredictor(name)) return;
+  std::string known;
+  for (const auto& p : predictorRegistry()) known += (known.empty() ? "" : ", ") + p.name;
+  throw std::invalid_argument(option + ": unknown predictor '" + name + "' (known: " + known + ")");
+}
+
 std::vector<PredictorSpec> parsePredictorSpecs(const std::string& option, const std::vector<std::string>& items) {
   std::vector<PredictorSpec> specs;
   if (items.size() == 1 && items[0] == "all") {
@@ -177,11 +184,7 @@ std::vector<PredictorSpec> parsePredictorSpecs(const std::string& option, const 
   for (const auto& item : items) {
     if (item == "all") throw std::invalid_argument(option + ": 'all' stands alone, not in a list");
     const PredictorChoice c = parsePredictorChoice(item, option);
-    if (!isPredictor(c.type)) {  // a bare word: a registry name (no scenario labels here)
-      std::string known;
-      for (const auto& p : predictorRegistry()) known += (known.empty() ? "" : ", ") + p.name;
-      throw std::invalid_argument(option + ": unknown predictor '" + c.type + "' (known: " + known + ")");
-    }
+    requirePredictor(option, c.type);  // a bare word: a registry name (no scenario labels here)
     PredictorSpec spec{c.type, c.params, c.labelled ? c.label : std::string()};
     for (const auto& s : specs)
       if (s.shownName() == spec.shownName())

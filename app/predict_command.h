@@ -43,6 +43,9 @@ struct PredictorSpec {
   const std::string& shownName() const { return label.empty() ? name : label; }
 };
 
+/// Throws std::invalid_argument "OPTION: unknown predictor 'NAME' (known: ...)" unless NAME is registered.
+void requirePredictor(const std::string& option, const std::string& name);
+
 /// The predictors of a command line (`predict` and `track` --predictor, `track-study` --predictors):
 /// `items` is the comma list split, either {"all"} (every registered predictor) or elements
 /// [LABEL=]TYPE[:KEY=VALUE...], compare's syntax (parsePredictorChoice, scenario_run.h): the registry
