@@ -282,7 +282,7 @@ CsAkfAdaptivePredictor::CsAkfAdaptivePredictor(int channels, const Params& param
   // With the adaptation off sigma^2 stays at sigma_min_sq and the ceiling is not used (nor fitted).
   if (adapt_ && !(sigma_min_sq_ <= sigma_max_sq_))
     throw std::invalid_argument("predictor parameter 'sigma_min_sq' must not exceed 'sigma_max_sq'");
-  readProcessNoiseAdaptation(params, {"sigma_min_sq", "sigma_max_sq"});
+  readProcessNoiseRaise(params, {"sigma_min_sq", "sigma_max_sq"});
 }
 
 void CsAkfAdaptivePredictor::afterStep(int c, double dt, double z) {

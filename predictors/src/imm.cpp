@@ -130,9 +130,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
   // The raise of q (process_noise_adapt.h) as kf-cv's and kf-ca's: on the combined innovation, it
   // scales the moving modes' densities together; only when neither q_cv nor q_ca is given.
-  const double raise_ratio = processNoiseRaiseRatio(params);
-  if (!params.has("q_cv") && !params.has("q_ca") && blend_tau_s_ > 0.0 && raise_ratio > 0.0)
-    q_raise_ = ProcessNoiseMatcher::raise(raise_ratio);
+  q_raise_ = processNoiseRaise(params, {"q_cv", "q_ca"}, blend_tau_s_ > 0.0);
   const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
   const double tau_cp = params.get("tau_cp_s", 5.0, 1e-6, 1e6);
   const double tau_cv = params.get("tau_cv_s", 30.0, 1e-6, 1e6);

@@ -27,6 +27,15 @@ double processNoiseRaiseRatio(const Params& params) {
   return c;
 }
 
+std::optional<ProcessNoiseMatcher> processNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys,
+                                                     bool blend_on) {
+  const double ratio = processNoiseRaiseRatio(params);
+  for (const char* key : fixing_keys)
+    if (params.has(key)) return std::nullopt;
+  if (!blend_on || !(ratio > 0.0)) return std::nullopt;
+  return ProcessNoiseMatcher::raise(ratio);
+}
+
 ProcessNoiseMatcher::ProcessNoiseMatcher(double tau_s, double scale_min, double scale_max, double target)
     : tau_s_(tau_s), log_min_(std::log(scale_min)), log_max_(std::log(scale_max)), target_(target) {
   if (!(tau_s_ > 0.0) || !(scale_min > 0.0) || !(scale_min <= 1.0 && 1.0 <= scale_max) || !(target > 0.0))

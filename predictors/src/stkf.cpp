@@ -117,7 +117,7 @@ StkfFilter<N>::StkfFilter(int channels, const Params& params)
                          N == 3 ? kDefaultShrinkSigmasStkfCa
                                 : (white_acceleration_ ? kDefaultShrinkSigmasKfCv : kDefaultShrinkSigmasStkf),
                          kDefaultShrinkVelocityStkf);
-  this->readProcessNoiseAdaptation(params, {"q", "q_pos", "q_vel"});
+  this->readProcessNoiseRaise(params, {"q", "q_pos", "q_vel"});
   if (isAutoMeasurementNoise(params)) this->enableAutoNoise();
 }
 

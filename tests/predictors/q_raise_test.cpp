@@ -123,6 +123,21 @@ TEST(QRaise, OnByDefaultWithTheBlendOffWhenTheDensityIsGivenAndOnlyWhereItIsRead
   }
 }
 
+TEST(QRaise, QAutoStaysWhereTheQKeyTakesIt) {
+  // GIVEN `q: auto` THEN kf-cv takes it (covariance matching), and so does q_raise_ratio beside it
+  Params kf_auto;
+  kf_auto.setText("q", "auto");
+  EXPECT_NO_THROW(makePredictor("kf-cv", 1, kf_auto));
+  kf_auto.set("q_raise_ratio", 3.0);
+  EXPECT_NO_THROW(makePredictor("kf-cv", 1, kf_auto));
+  // AND stkf on its paper model, whose density is q_pos / q_vel and which has no `q`, rejects it,
+  // raise or not (the raise reads `q` only to know that it is not given)
+  Params stkf_auto;
+  stkf_auto.setText("model", "cv");
+  stkf_auto.setText("q", "auto");
+  EXPECT_THROW(makePredictor("stkf", 1, stkf_auto), std::invalid_argument);
+}
+
 TEST(QRaise, AFastWeaveAtTenHertzIsWonAgainstHold) {
   // GIVEN the weave, 2 frames (0.2 s) ahead
   const double hold = weave("hold", {}).rmse_px;

@@ -95,7 +95,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <initializer_list>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -507,27 +506,28 @@ class ChannelPredictor : public Predictor {
     }
     return g;
   }
-  /// The adaptation of the process noise (process_noise_adapt.h), from the keys that set it
-  /// (`fixing_keys`: `q`, or the CS models' a_max / variance bounds) and `q_raise_ratio`: `q: auto`,
-  /// covariance matching; none of the keys given and the blend with hold on (readShrinkParams()
-  /// first), the raise above the default density while the innovations exceed q_raise_ratio times
-  /// their predicted variance; a number given, none (the density fixed). Called by the derived
-  /// constructors whose processNoise() scales its density by processNoiseScale().
-  void readProcessNoiseAdaptation(const Params& params, std::initializer_list<const char*> fixing_keys = {"q"}) {
-    const double raise_ratio = processNoiseRaiseRatio(params);
-    bool given = false;
-    for (const char* key : fixing_keys) {
-      if (std::string(key) == "q" && isAutoProcessNoise(params, key)) {
-        q_auto_.assign(state_.size(), ProcessNoiseMatcher());
-        return;
-      }
-      given = given || params.has(key);
+  /// The adaptation of a density set by the key `q` (process_noise_adapt.h): `q: auto`, covariance
+  /// matching; `q` absent, the raise (readProcessNoiseRaise); a number, none (q fixed). Called by
+  /// the derived constructors whose `q` takes `auto` (kf-cv, kf-ca, st-akf, fakf-classic).
+  void readProcessNoiseAdaptation(const Params& params) {
+    if (isAutoProcessNoise(params, "q")) {
+      processNoiseRaiseRatio(params);  // a known key there too, unused
+      q_auto_.assign(state_.size(), ProcessNoiseMatcher());
+    } else {
+      readProcessNoiseRaise(params, {"q"});
     }
-    if (!given && blend_tau_s_ > 0.0 && raise_ratio > 0.0)
-      q_auto_.assign(state_.size(), ProcessNoiseMatcher::raise(raise_ratio));
   }
-  /// q / q0 of channel c: 1 unless readProcessNoiseAdaptation() adapts it. A derived processNoise()
-  /// multiplies its nominal density by it.
+  /// The raise above the default density while the innovations exceed q_raise_ratio times their
+  /// predicted variance, when none of `fixing_keys` (the keys that set the density: `q`, stkf's
+  /// q_pos / q_vel, the CS variance bounds) is given and the blend with hold is on
+  /// (readShrinkParams() first): processNoiseRaise(). Called by the derived constructors whose
+  /// processNoise() scales its density by processNoiseScale().
+  void readProcessNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys) {
+    if (const auto raise = processNoiseRaise(params, fixing_keys, blend_tau_s_ > 0.0))
+      q_auto_.assign(state_.size(), *raise);
+  }
+  /// q / q0 of channel c: 1 unless q is adapted (readProcessNoiseAdaptation, readProcessNoiseRaise).
+  /// A derived processNoise() multiplies its nominal density by it.
   double processNoiseScale(int c) const { return q_auto_.empty() ? 1.0 : q_auto_[static_cast<size_t>(c)].scale(); }
   bool autoNoise() const { return !r_est_.empty(); }
   /// The `r` entry of noiseParameters(): r0_, i.e. the number given for `r`, or, when `r` is
@@ -560,7 +560,7 @@ class ChannelPredictor : public Predictor {
 
   std::vector<ChannelState> state_;
   std::vector<StartupNoiseEstimator> r_est_;  ///< empty unless enableAutoNoise()
-  std::vector<ProcessNoiseMatcher> q_auto_;   ///< empty unless readProcessNoiseAdaptation() adapts q
+  std::vector<ProcessNoiseMatcher> q_auto_;   ///< empty unless q is adapted
   double r0_;
   double p0_vel_;
   double p0_acc_;

@@ -34,6 +34,8 @@
 
 #include "predvs/predictors/params.h"
 
+#include <initializer_list>
+#include <optional>
 #include <string>
 
 namespace predvs {
@@ -85,5 +87,11 @@ class ProcessNoiseMatcher {
   double log_scale_ = 0.0;
   double scale_ = 1.0;
 };
+
+/// The raise of a predictor (file comment), when it is on: none of `fixing_keys` (the keys that set
+/// its density) given, the blend with hold on and `q_raise_ratio` > 0; otherwise none. Reads (and
+/// checks) `q_raise_ratio` in every case.
+std::optional<ProcessNoiseMatcher> processNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys,
+                                                     bool blend_on);
 
 }  // namespace predvs
