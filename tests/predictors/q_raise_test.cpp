@@ -54,8 +54,8 @@ TEST(QRaise, TheRatioKeyIsZeroOrFromOneToTheClip) {
 
 /// A target weaving faster than the defaults were sized for: per channel an 80 px sine at 1 Hz plus
 /// a 40 px one at 0.25 Hz (peak speed about 560 px/s, acceleration up to 3300 px/s^2), 10 Hz, 1 px
-/// noise, 15 s. Returns the RMSE
-/// against the truth of the 2-frame forecasts after the first second, and the forecasts.
+/// noise, 15 s. Returns the RMSE against the truth of the 2-frame forecasts after the first second,
+/// and the forecasts.
 struct Scored {
   double rmse_px = 0.0;
   std::vector<double> forecasts;
