@@ -23,6 +23,8 @@ constexpr double kDefaultForecastTauS = 30.0;
 constexpr double kDefaultCoastCp = 0.0;
 /// Default floor of a forecast weight relative to the largest (docs/MODELS.md §14).
 constexpr double kDefaultForecastFloor = 0.01;
+/// Default power of the raise of q on the CV mode's density (imm.h, "The raise of q on each mode").
+constexpr double kDefaultQRaiseCvExponent = 0.5;
 /// Lowest calibration factor of a forecast variance (imm.h, "Calibration"): keeps v_j > 0 where a
 /// mode's forecasts are exact for long (a still target without noise: its mean ratio e^2 / s can
 /// reach 0), where log 0 and 0 / 0 would make its score NaN (which the floor's std::max then turns
@@ -126,10 +128,12 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       coast_fast_ratio_(coastFastRatioParam(params)),
       coast_shape_(coastShapeParam(params)),
       coast_cp_(params.get("coast_cp", kDefaultCoastCp, 0.0, 1.0)),
+      q_raise_cv_exponent_(params.get("q_raise_cv_exponent", kDefaultQRaiseCvExponent, 0.0, 1.0)),
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
   // The raise of q (process_noise_adapt.h) as kf-cv's and kf-ca's: on the combined innovation, it
-  // scales the moving modes' densities together; only when neither q_cv nor q_ca is given.
+  // scales the CA mode's density and, to the power q_raise_cv_exponent, the CV mode's (imm.h, "The
+  // raise of q on each mode"); only when neither q_cv nor q_ca is given.
   q_raise_ = processNoiseRaise(params, {"q_cv", "q_ca"}, blend_tau_s_ > 0.0);
   const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
   const double tau_cp = params.get("tau_cp_s", 5.0, 1e-6, 1e6);
@@ -211,13 +215,21 @@ Mat<3> ImmPredictor::processNoise(int j, double dt, double scale) const {
   return Q;
 }
 
+double ImmPredictor::modeRaise(const Channel& ch, int j) const {
+  switch (modes_[static_cast<size_t>(j)].kind) {
+    case ImmMode::Cp: return 1.0;
+    case ImmMode::Cv: return ch.q_raise_cv;
+    case ImmMode::Ca: break;
+  }
+  return ch.q_raise.scale();
+}
+
 const std::array<Mat<3>, ImmPredictor::kMaxModes>& ImmPredictor::raisedProcessNoise(
     const Channel& ch, const std::array<Mat<3>, kMaxModes>& Q, std::array<Mat<3>, kMaxModes>& scratch) const {
-  const double scale = ch.q_raise.scale();
-  if (scale == 1.0) return Q;
+  if (ch.q_raise.scale() == 1.0) return Q;
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);
-    scratch[jj] = modes_[jj].kind == ImmMode::Cp ? Q[jj] : (Q[jj] * scale).eval();
+    scratch[jj] = modes_[jj].kind == ImmMode::Cp ? Q[jj] : (Q[jj] * modeRaise(ch, j)).eval();
   }
   return scratch;
 }
@@ -447,7 +459,15 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         maxll = std::max(maxll, loglik[jj]);
       }
       ch.innovation = Innovation{z(c) - xbar, S, true};
-      if (q_raise_) ch.q_raise.observe(ch.innovation.eps, S, dt);
+      if (q_raise_) {
+        const double before = ch.q_raise.scale();
+        ch.q_raise.observe(ch.innovation.eps, S, dt);
+        const double scale = ch.q_raise.scale();
+        if (scale != before)
+          ch.q_raise_cv = q_raise_cv_exponent_ == 1.0   ? scale
+                          : q_raise_cv_exponent_ == 0.0 ? 1.0
+                                                        : std::pow(scale, q_raise_cv_exponent_);
+      }
       std::array<double, kMaxModes> w{};
       double sum = 0.0;
       for (int j = 0; j < m; ++j) {
@@ -635,7 +655,7 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
   std::array<Gaussian<3>, kMaxModes> g;
   for (int j = 0; j < modeCount(); ++j) {
     g[static_cast<size_t>(j)] = forecastStart(ch, j);
-    timeUpdate(g[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt, ch.q_raise.scale()));
+    timeUpdate(g[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt, modeRaise(ch, j)));
   }
   Gaussian<3> out = combine(g, w);
   if (blend_tau_s_ > 0.0) {

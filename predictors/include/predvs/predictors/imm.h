@@ -106,10 +106,20 @@
 // loop at 1.6 times kf-ca, 10 / 30 / 60 s give 0.91 / 0.81 / 0.80 with the tracks unchanged
 // (210-211 of 216). Weighting with mu propagated by the chain over h (an earlier choice) mixes in
 // the full-horizon extrapolation of a mode the target would only switch to part-way: E2 1.20.
+// The raise of q on each mode (q_raise_cv_exponent, default 0.5; 1 = both modes alike, as before):
+// the raise (process_noise_adapt.h, one scale s per channel, from the combined innovation) multiplies
+// the CA mode's density by s and the CV mode's by s^q_raise_cv_exponent. Why: a manoeuvre the
+// defaults were not sized for is the CA mode's to carry; raised as much, the CV mode follows it too,
+// with a lag that one-frame forecasts hide under the noise, keeps the forecast weight and gives
+// imm its lag (a weave of 3000 px/s^2 at 30 Hz, 2 px: CV forecast weight 0.92-0.98 for the whole
+// track, imm 1.5 times kf-ca's error). Measured on both track generators (docs/PERFORMANCE.md "imm
+// raises its CV mode less"); 0 (the CV mode never raised) won as much on the second generator and
+// cost more on make-track's drop grids.
 // Parameters (px and s): q_cp (px^2/s, default 2), q_cv (px^2/s^3, default kDefaultQCv), q_ca
 // (px^2/s^5, default kDefaultQCa; when neither q_cv nor q_ca is given and the blend with hold is
-// on, both are raised together, per channel, while the combined innovation is more than
-// q_raise_ratio (default 2; 0 = no raise) times its predicted variance: process_noise_adapt.h),
+// on, both are raised, per channel, while the combined innovation is more than q_raise_ratio
+// (default 2; 0 = no raise) times its predicted variance: process_noise_adapt.h; the CV mode by
+// the raise to the power q_raise_cv_exponent, above),
 // alpha (1/s, default 0: CA; > 0: Singer), r (px^2; default `auto`,
 // predictors/noise_estimate.h; a number fixes it), tau_cp_s (5), tau_cv_s (30), tau_ca_s (3)
 // (stationary shares 13 / 79 / 8 %), cp (1; 0 leaves the CP mode out), p0_vel ((px/s)^2, 1e4),
@@ -217,10 +227,14 @@ class ImmPredictor : public Predictor {
     bool last_measured = false;
     /// The raise of q (process_noise_adapt.h); its scale stays 1 unless q_raise_ is set.
     ProcessNoiseMatcher q_raise;
+    /// The CV mode's share of the raise: q_raise.scale()^q_raise_cv_exponent (the CA mode's is the scale).
+    double q_raise_cv = 1.0;
   };
   Mat<3> transition(int j, double dt) const;
-  /// Mode j's Q over dt, the CV and CA densities multiplied by `scale` (the raise of q).
+  /// Mode j's Q over dt, the CV or CA density multiplied by `scale` (mode j's raise of q, modeRaise()).
   Mat<3> processNoise(int j, double dt, double scale = 1.0) const;
+  /// The factor of the raise of q on mode j of channel ch: 1 for CP, q_raise_cv for CV, the scale for CA.
+  double modeRaise(const Channel& ch, int j) const;
   /// Q (each mode's over this dt) with the channel's raise applied to the moving modes: Q itself
   /// when the scale is 1, else the scaled copies written into scratch.
   const std::array<Mat<3>, kMaxModes>& raisedProcessNoise(const Channel& ch, const std::array<Mat<3>, kMaxModes>& Q,
@@ -243,6 +257,7 @@ class ImmPredictor : public Predictor {
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
   double coast_fast_ratio_, coast_shape_;  ///< coast_fast_ratio, coast_shape (channel_predictor.h), with the blend only
   double coast_cp_;  ///< coast_cp: factor on the CP mode's forecast weight on an unmeasured frame while coasting
+  double q_raise_cv_exponent_;  ///< q_raise_cv_exponent: the CV mode's density rises as the raise to this power
   /// The mu-combined velocity of channel ch's posterior (px/s) and its variance (spread included).
   double combinedVelocity(const Channel& ch) const;
   double combinedVelocityVariance(const Channel& ch) const;
