@@ -229,7 +229,7 @@ const std::array<Mat<3>, ImmPredictor::kMaxModes>& ImmPredictor::raisedProcessNo
   if (ch.q_raise.scale() == 1.0) return Q;
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);
-    scratch[jj] = modes_[jj].kind == ImmMode::Cp ? Q[jj] : (Q[jj] * modeRaise(ch, j)).eval();
+    scratch[jj] = (Q[jj] * modeRaise(ch, j)).eval();  // CP's factor is 1
   }
   return scratch;
 }
@@ -462,11 +462,8 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       if (q_raise_) {
         const double before = ch.q_raise.scale();
         ch.q_raise.observe(ch.innovation.eps, S, dt);
-        const double scale = ch.q_raise.scale();
-        if (scale != before)
-          ch.q_raise_cv = q_raise_cv_exponent_ == 1.0   ? scale
-                          : q_raise_cv_exponent_ == 0.0 ? 1.0
-                                                        : std::pow(scale, q_raise_cv_exponent_);
+        // pow(s, 1) is s and pow(s, 0) is 1 exactly: the exponent's ends need no case of their own.
+        if (ch.q_raise.scale() != before) ch.q_raise_cv = std::pow(ch.q_raise.scale(), q_raise_cv_exponent_);
       }
       std::array<double, kMaxModes> w{};
       double sum = 0.0;

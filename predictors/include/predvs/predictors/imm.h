@@ -235,8 +235,8 @@ class ImmPredictor : public Predictor {
   Mat<3> processNoise(int j, double dt, double scale = 1.0) const;
   /// The factor of the raise of q on mode j of channel ch: 1 for CP, q_raise_cv for CV, the scale for CA.
   double modeRaise(const Channel& ch, int j) const;
-  /// Q (each mode's over this dt) with the channel's raise applied to the moving modes: Q itself
-  /// when the scale is 1, else the scaled copies written into scratch.
+  /// Q (each mode's over this dt) with the channel's raise applied (modeRaise()): Q itself when the
+  /// scale is 1, else the scaled copies written into scratch.
   const std::array<Mat<3>, kMaxModes>& raisedProcessNoise(const Channel& ch, const std::array<Mat<3>, kMaxModes>& Q,
                                                           std::array<Mat<3>, kMaxModes>& scratch) const;
   Gaussian<3> combine(const std::array<Gaussian<3>, kMaxModes>& g, const std::array<double, kMaxModes>& w) const;
