@@ -19,7 +19,9 @@ hold's.
 
 Writes DIR/results.csv (one row per track and predictor: kind, rate, noise, seed, predictor,
 rmse_truth_px, ratio to hold) and prints, per predictor, the tracks on which it beats hold, the
-geometric mean of the ratio and the worst track. Exit status 0 even when some predictor loses (a
+geometric mean of the ratio and the worst track; and, as `predvs track-study` does, when kf-cv,
+kf-ca or cs-akf run, per other predictor the tracks on which it is within 10 % of the best of them
+(in all and per kind; issue 11 items 3 and 4). Exit status 0 even when some predictor loses (a
 study), unless --check is given: then 1 and one line per loss (the test `foreign_tracks` runs a
 small grid so); 2 on a bad argument or a failed predvs run.
 """
@@ -212,6 +214,35 @@ def run_one(args, kind, rate, noise, seed, work):
     return kind, rate, noise, seed, rows
 
 
+REFERENCE = ("kf-cv", "kf-ca", "cs-akf")  # the fixed KFs of issue 11's "best fixed KF"
+
+
+def print_within_best(results, names, kinds):
+    """Per predictor other than the fixed KFs: on how many tracks its RMSE is within 10 % of the
+    best of the fixed KFs that ran, the geometric mean and worst of that ratio, and the count per kind."""
+    ref = [n for n in REFERENCE if n in names]
+    others = [n for n in names if n not in ref]
+    if not ref or not others:
+        return
+    print(f"\n{'predictor':16s} {'within 10%':>12s} {'mean ratio':>10s}  worst   (ratio: RMSE vs truth / best of {', '.join(ref)})")
+    per_kind = {n: {k: [0, 0] for k in kinds} for n in others}
+    for n in others:
+        within, log_sum, worst, worst_at = 0, 0.0, 0.0, ""
+        for kind, rate, noise, seed, rows in results:
+            ratio = rows[n] / min(rows[r] for r in ref)
+            ok = ratio <= 1.1
+            within += ok
+            per_kind[n][kind][0] += ok
+            per_kind[n][kind][1] += 1
+            log_sum += math.log(ratio)
+            if ratio > worst:
+                worst, worst_at = ratio, f"{kind} {rate:g} Hz {noise:g} px #{seed}"
+        print(f"{n:16s} {within:5d}/{len(results):<6d} {math.exp(log_sum / len(results)):10.3f}  {worst:.3f} ({worst_at})")
+    print(f"{'per kind':16s} " + " ".join(f"{k:>8s}" for k in kinds))
+    for n in others:
+        print(f"{n:16s} " + " ".join(f"{c[0]:>4d}/{c[1]:<3d}" for c in per_kind[n].values()))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("bin", help="the predvs binary")
@@ -286,6 +317,7 @@ def main():
     for n in names:
         st = stats[n]
         print(f"{n:16s} {st[0]:5d}/{len(results):<6d} {math.exp(st[1] / len(results)):10.3f}  {st[2]:.3f} ({st[3]})")
+    print_within_best(results, names, kinds)
     if args.check and losses:
         print("\n".join(losses), file=sys.stderr)
         return 1
