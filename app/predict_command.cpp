@@ -5,6 +5,7 @@
 
 #include "general_number.h"
 #include "gnuplot.h"
+#include "large_buffer.h"
 #include "output_dir.h"
 #include "parallel_for.h"
 #include "plots.h"
@@ -118,29 +119,25 @@ PredictionErrors pooledErrors(const std::vector<PredictionErrors>& parts) {
 
 namespace {
 
-/// Runs one predictor along the track: run.points[p].u/v_pred_px[i] = its position of point p at
-/// t_i + horizon after the update with frame i (vectors already sized to the track).
-void runPredictor(Predictor& predictor, const FeatureTrack& track, double horizon_s, size_t rows,
-                  PredictionRun& run) {
-  const int n = track.points();
-  Eigen::VectorXd z(2 * n), x(2 * n);
+/// Runs one channel of a predictor along the track: appends to `out` (empty) the position at
+/// t_i + horizon of a 1-channel instance after its update with z[i] (NaN: predict-only), for rows
+/// i in [0, rows). The
+/// channels of a predictor are independent (predictor.h), so this is channel c of the instance
+/// that runs every channel, bit for bit (PredictorProperty.EachChannelIsThatOfAOneChannelPredictor,
+/// tests/predictors/property_test.cpp).
+void runChannel(Predictor& predictor, const std::vector<double>& t_s, const std::vector<double>& z, double horizon_s,
+                size_t rows, std::vector<double>& out) {
+  Eigen::VectorXd zi(1);
   for (size_t i = 0; i < rows; ++i) {
-    for (int p = 0; p < n; ++p) {
-      z(2 * p) = track.u_px[static_cast<size_t>(p)][i];
-      z(2 * p + 1) = track.v_px[static_cast<size_t>(p)][i];
-    }
-    predictor.update(track.t_s[i], z);
-    predictor.predictPositions(track.t_s[i] + horizon_s, x);
-    for (int p = 0; p < n; ++p) {
-      run.points[static_cast<size_t>(p)].u_pred_px[i] = x(2 * p);
-      run.points[static_cast<size_t>(p)].v_pred_px[i] = x(2 * p + 1);
-    }
+    zi(0) = z[i];
+    predictor.update(t_s[i], zi);
+    out.push_back(predictor.predictPosition(0, t_s[i] + horizon_s));
   }
 }
 
 /// The order in which the threads take the predictors: longest first (their wall time on the first
-/// kTrialRows rows of the track, measured on a throw-away instance), so that the last ones to finish
-/// are short. Only the speed depends on it, never the results. Registry order for one thread.
+/// kTrialRows rows of the first point's u, measured on a throw-away 1-channel instance), so that the
+/// last ones to finish are short. Only the speed depends on it, never the results. Registry order for one thread.
 std::vector<size_t> longestFirst(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
                                  double horizon_s, int jobs) {
   std::vector<size_t> order(predictors.size());
@@ -149,13 +146,12 @@ std::vector<size_t> longestFirst(const FeatureTrack& track, const std::vector<Pr
   if (jobs < 2 || predictors.size() < 2 || track.size() < 10 * kTrialRows) return order;
   std::vector<double> cost(predictors.size());
   for (size_t k = 0; k < predictors.size(); ++k) {
-    PredictionRun trial;
-    trial.points.resize(static_cast<size_t>(track.points()));
-    for (auto& pt : trial.points) pt.u_pred_px.resize(kTrialRows), pt.v_pred_px.resize(kTrialRows);
-    auto predictor = makePredictor(predictors[k].name, 2 * track.points(), predictors[k].params);
+    std::vector<double> trial;
+    trial.reserve(kTrialRows);
+    auto predictor = makePredictor(predictors[k].name, 1, predictors[k].params);
     const auto t0 = std::chrono::steady_clock::now();
     try {
-      runPredictor(*predictor, track, horizon_s, kTrialRows, trial);
+      runChannel(*predictor, track.t_s, track.u_px[0], horizon_s, kTrialRows, trial);
     } catch (...) {
       // The real run reports it.
     }
@@ -223,30 +219,39 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
     references.emplace_back(&track.v_true_px[p], &v_true_at[p]);
   }
   const std::vector<size_t> order = longestFirst(track, predictors, horizon_s, jobs);
-  // Each item owns its outputs; an exception is kept per item and the first predictor's in
-  // registry order is rethrown, as the serial loop would have.
-  std::vector<std::exception_ptr> errors(predictors.size());
-  parallelFor(order.size() + references.size(), jobs, [&](size_t item) {
-    if (item >= order.size()) {
-      const auto& ref = references[item - order.size()];
+  // One work item per predictor and channel (u and v of every point), longest predictor first:
+  // items of a channel's work balance the threads to within one such item (the gain on the
+  // 2-million-row track was about 1 %, docs/PERFORMANCE.md "Seventh pass"). Each item owns its
+  // output column; an exception is kept per item and the first in registry order (then channel
+  // order) is rethrown, as the serial loop would have.
+  const size_t nc = 2 * np;
+  const size_t channel_items = order.size() * nc;
+  std::vector<std::exception_ptr> errors(predictors.size() * nc);
+  parallelFor(channel_items + references.size(), jobs, [&](size_t item) {
+    if (item >= channel_items) {
+      const auto& ref = references[item - channel_items];
       *ref.second = interpolateShifted(track.t_s, *ref.first, horizon_s);  // once per point, for every predictor
       return;
     }
-    const size_t k = order[item];
+    const size_t k = order[item / nc];
+    const size_t c = item % nc;
     try {
-      for (auto& pt : report.runs[k].points) {  // zeroed here, on the thread that fills them (not 2 x 16 MB
-        pt.u_pred_px.resize(track.size());     // per predictor and point in a row on the calling thread)
-        pt.v_pred_px.resize(track.size());
-      }
+      PointPrediction& pt = report.runs[k].points[c / 2];
+      // Reserved here, on the thread that fills it, in huge pages where the kernel offers them, and
+      // filled without zeroing first (large_buffer.h).
+      std::vector<double>& out = c % 2 == 0 ? pt.u_pred_px : pt.v_pred_px;
+      out.clear();
+      reserveLarge(out, track.size());
       // The instance that runs is built here, on the thread that runs it: built in a row on the
       // calling thread, the predictors' states were neighbours on its heap, and two predictors
       // running at once on the two threads could share cache lines (false sharing: about half of
       // the runs on the 2-million-row track took 1 s more CPU, docs/PERFORMANCE.md). The instances
       // built above only check the names and parameters.
-      const std::unique_ptr<Predictor> predictor = makePredictor(predictors[k].name, 2 * n, predictors[k].params);
-      runPredictor(*predictor, track, horizon_s, track.size(), report.runs[k]);
+      const std::unique_ptr<Predictor> predictor = makePredictor(predictors[k].name, 1, predictors[k].params);
+      runChannel(*predictor, track.t_s, c % 2 == 0 ? track.u_px[c / 2] : track.v_px[c / 2], horizon_s, track.size(),
+                 out);
     } catch (...) {
-      errors[k] = std::current_exception();
+      errors[k * nc + c] = std::current_exception();
     }
   });
   for (const auto& e : errors)

@@ -87,9 +87,10 @@ struct PredictionReport {
 
 /// Runs every predictor along the track. Throws std::invalid_argument for an unknown predictor or
 /// parameter (message names them) or a non-positive horizon.
-/// jobs: threads (>= 1; the caller's thread is one of them). The predictors are independent, so
-/// each runs whole on one thread (longest first) and the interpolated references fill the gaps;
-/// the report is the same, bit for bit, for any jobs.
+/// jobs: threads (>= 1; the caller's thread is one of them). The predictors are independent, and
+/// so are a predictor's channels (predictor.h): each channel of each predictor runs as a 1-channel
+/// instance on one thread (longest predictor first) and the interpolated references fill the
+/// gaps; the report is the same, bit for bit, for any jobs.
 PredictionReport predictTrack(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
                               double horizon_s, int jobs = 1);
 

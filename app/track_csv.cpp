@@ -1,6 +1,7 @@
 #include "track_csv.h"
 
 #include "app_error.h"
+#include "large_buffer.h"
 #include "parallel_for.h"
 
 #include <algorithm>
@@ -246,10 +247,10 @@ bool parseWideInPieces(std::string_view text, size_t begin, int jobs, size_t min
   const std::vector<std::vector<double>*> dest = columnsOf(track);
   parallelFor(dest.size(), jobs, [&](size_t c) {
     std::vector<double>& to = *dest[c];
-    to.resize(offset[pieces]);
+    reserveLarge(to, offset[pieces]);  // huge pages where offered, no zeroing first (large_buffer.h)
     for (size_t k = 0; k < pieces; ++k) {
       std::vector<double>& from = *columnsOf(part[k])[c];
-      std::copy(from.begin(), from.end(), to.begin() + static_cast<std::ptrdiff_t>(offset[k]));
+      to.insert(to.end(), from.begin(), from.end());
       std::vector<double>().swap(from);
     }
   });

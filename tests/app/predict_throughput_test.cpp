@@ -3,6 +3,7 @@
 // messages), the plot data is thinned by the documented rule, and the summary table stays aligned
 // for counts of seven digits and more. The speed itself is measured by bench/predict_io_bench.cpp.
 #include "cli.h"
+#include "large_buffer.h"
 #include "output_dir.h"
 #include "predict_command.h"
 #include "track_csv.h"
@@ -404,6 +405,29 @@ TEST(PredictThroughput, BadJobsIsAOneLineErrorWithNoOutput) {
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
     EXPECT_FALSE(std::filesystem::exists(out)) << jobs;
   }
+}
+
+TEST(PredictThroughput, ReserveLargeReservesAndKeepsTheElements) {
+  // Speed only (large_buffer.h): what the vector holds and can hold is what reserve() gives.
+  std::vector<double> big;
+  const size_t n = 3 * (predvs::kLargeBufferMinBytes / sizeof(double)) + 12345;  // spans whole 2 MB pages
+  predvs::reserveLarge(big, n);
+  EXPECT_TRUE(big.empty());
+  ASSERT_GE(big.capacity(), n);
+  const double* data = big.data();
+  for (size_t i = 0; i < n; ++i) big.push_back(static_cast<double>(i));
+  EXPECT_EQ(big.data(), data);  // no reallocation on the way
+  EXPECT_EQ(big[n - 1], static_cast<double>(n - 1));
+
+  std::vector<double> small{1.0, 2.0, 3.0};
+  predvs::reserveLarge(small, 10);  // below the threshold: a plain reserve
+  EXPECT_GE(small.capacity(), 10u);
+  EXPECT_EQ(small, (std::vector<double>{1.0, 2.0, 3.0}));
+  predvs::reserveLarge(small, 2);  // less than held: nothing changes
+  EXPECT_EQ(small, (std::vector<double>{1.0, 2.0, 3.0}));
+  predvs::reserveLarge(small, n);  // grows with its elements copied
+  EXPECT_GE(small.capacity(), n);
+  EXPECT_EQ(small, (std::vector<double>{1.0, 2.0, 3.0}));
 }
 
 }  // namespace

@@ -269,6 +269,40 @@ TEST_P(PredictorProperty, NanChannelIsPredictOnlyForThatChannel) {
   }
 }
 
+TEST_P(PredictorProperty, EachChannelIsThatOfAOneChannelPredictor) {
+  // GIVEN a 3-channel predictor and three 1-channel ones, each fed one of its channels, on data
+  // with single missing entries, whole frames missing, 0.4 s gaps (coasting) and a manoeuvre that
+  // differs per channel (an acceleration jump on channel 1, a stop on channel 2), so that every
+  // adaptive layer (q's raise, fading, the monitor, the blend with hold) acts differently per channel
+  auto all = make(3);
+  std::vector<std::unique_ptr<Predictor>> one;
+  for (int c = 0; c < 3; ++c) one.push_back(make(1));
+  Stream s(3, 23);
+  Eigen::VectorXd z, zc(1);
+  for (int k = 0; k < 900; ++k) {
+    const double t = s.next(z);
+    if (t > 8.0) z(1) += 400.0 * (t - 8.0) * (t - 8.0);
+    if (t > 12.0) z(2) = 150.0 + 80.0 * std::min(t - 12.0, 0.5);
+    const bool gap = (k % 150) >= 138 || k % 41 == 0;
+    if (gap) z.setConstant(kNaN);
+    all->update(t, z);
+    for (int c = 0; c < 3; ++c) {
+      zc(0) = z(c);
+      one[static_cast<size_t>(c)]->update(t, zc);
+    }
+    // THEN every channel is, bit for bit, the 1-channel predictor's (what `predvs predict` relies
+    // on to run a predictor's channels as separate work items)
+    for (int c = 0; c < 3; ++c) {
+      const Predictor& p1 = *one[static_cast<size_t>(c)];
+      ASSERT_TRUE(sameEstimate(all->predict(c, t), p1.predict(0, t))) << "channel " << c << ", frame " << k;
+      ASSERT_TRUE(same(all->predictPosition(c, t + 0.1), p1.predictPosition(0, t + 0.1)))
+          << "channel " << c << ", frame " << k;
+      const Innovation a = all->innovation(c), b = p1.innovation(0);
+      ASSERT_TRUE(same(a.eps, b.eps) && same(a.S, b.S) && a.valid == b.valid) << "channel " << c << ", frame " << k;
+    }
+  }
+}
+
 TEST_P(PredictorProperty, NonIncreasingTimeThrows) {
   auto p = make(2);
   Eigen::VectorXd z = Eigen::VectorXd::Constant(2, 1.0);
