@@ -238,9 +238,12 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
     try {
       PointPrediction& pt = report.runs[k].points[c / 2];
       // Reserved here, on the thread that fills it, in huge pages where the kernel offers them, and
-      // filled without zeroing first (large_buffer.h).
-      std::vector<double>& out = c % 2 == 0 ? pt.u_pred_px : pt.v_pred_px;
-      out.clear();
+      // filled without zeroing first (large_buffer.h). Filled as a local vector and moved into the
+      // report at the end: the u and v columns' vector objects can share a cache line, and the items of
+      // a predictor's u and v run at the same time on two threads; a push_back into the report's
+      // vectors wrote that line on every frame from both threads (false sharing: 2 s more CPU on the
+      // 2-million-row track, docs/PERFORMANCE.md "Seventh pass").
+      std::vector<double> out;
       reserveLarge(out, track.size());
       // The instance that runs is built here, on the thread that runs it: built in a row on the
       // calling thread, the predictors' states were neighbours on its heap, and two predictors
@@ -250,6 +253,7 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
       const std::unique_ptr<Predictor> predictor = makePredictor(predictors[k].name, 1, predictors[k].params);
       runChannel(*predictor, track.t_s, c % 2 == 0 ? track.u_px[c / 2] : track.v_px[c / 2], horizon_s, track.size(),
                  out);
+      (c % 2 == 0 ? pt.u_pred_px : pt.v_pred_px) = std::move(out);
     } catch (...) {
       errors[k * nc + c] = std::current_exception();
     }
