@@ -121,10 +121,9 @@ namespace {
 
 /// Runs one channel of a predictor along the track: appends to `out` (empty) the position at
 /// t_i + horizon of a 1-channel instance after its update with z[i] (NaN: predict-only), for rows
-/// i in [0, rows). The
-/// channels of a predictor are independent (predictor.h), so this is channel c of the instance
-/// that runs every channel, bit for bit (PredictorProperty.EachChannelIsThatOfAOneChannelPredictor,
-/// tests/predictors/property_test.cpp).
+/// i in [0, rows). The channels of a predictor are independent (predictor.h), so this is channel c
+/// of the instance that runs every channel, bit for bit
+/// (PredictorProperty.EachChannelIsThatOfAOneChannelPredictor, tests/predictors/property_test.cpp).
 void runChannel(Predictor& predictor, const std::vector<double>& t_s, const std::vector<double>& z, double horizon_s,
                 size_t rows, std::vector<double>& out) {
   Eigen::VectorXd zi(1);
@@ -137,7 +136,8 @@ void runChannel(Predictor& predictor, const std::vector<double>& t_s, const std:
 
 /// The order in which the threads take the predictors: longest first (their wall time on the first
 /// kTrialRows rows of the first point's u, measured on a throw-away 1-channel instance), so that the
-/// last ones to finish are short. Only the speed depends on it, never the results. Registry order for one thread.
+/// last ones to finish are short. Only the speed depends on it, never the results. Registry order
+/// for one thread.
 std::vector<size_t> longestFirst(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
                                  double horizon_s, int jobs) {
   std::vector<size_t> order(predictors.size());
@@ -239,10 +239,10 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
       PointPrediction& pt = report.runs[k].points[c / 2];
       // Reserved here, on the thread that fills it, in huge pages where the kernel offers them, and
       // filled without zeroing first (large_buffer.h). Filled as a local vector and moved into the
-      // report at the end: the u and v columns' vector objects can share a cache line, and the items of
-      // a predictor's u and v run at the same time on two threads; a push_back into the report's
-      // vectors wrote that line on every frame from both threads (false sharing: 2 s more CPU on the
-      // 2-million-row track, docs/PERFORMANCE.md "Seventh pass").
+      // report at the end: the u and v columns' vector objects can share a cache line, and the
+      // items of a predictor's u and v run at the same time on two threads; a push_back into the
+      // report's vectors wrote that line on every frame from both threads (false sharing: 2 s more
+      // CPU on the 2-million-row track, docs/PERFORMANCE.md "Seventh pass").
       std::vector<double> out;
       reserveLarge(out, track.size());
       // The instance that runs is built here, on the thread that runs it: built in a row on the
