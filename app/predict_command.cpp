@@ -205,7 +205,7 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
     makePredictor(predictors[k].name, 2 * n, predictors[k].params);
     PredictionRun& run = report.runs[k];
     run.spec = predictors[k];
-    run.points.resize(np);  // their vectors are sized by the item that fills them, on the pool
+    run.points.resize(np);  // their vectors are filled, and moved in, by the pool's items
   }
   // The references at t + horizon, per point: measured and (if any) true. Items of the same pool
   // as the predictors, after them: short ones that fill the gaps at the end.

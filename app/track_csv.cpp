@@ -242,12 +242,12 @@ bool parseWideInPieces(std::string_view text, size_t begin, int jobs, size_t min
     any = true;
   }
   // Appended in order, one column per item.
-  std::vector<size_t> offset(pieces + 1, 0);
-  for (size_t k = 0; k < pieces; ++k) offset[k + 1] = offset[k] + part[k].t_s.size();
+  size_t rows = 0;
+  for (size_t k = 0; k < pieces; ++k) rows += part[k].t_s.size();
   const std::vector<std::vector<double>*> dest = columnsOf(track);
   parallelFor(dest.size(), jobs, [&](size_t c) {
     std::vector<double>& to = *dest[c];
-    reserveLarge(to, offset[pieces]);  // huge pages where offered, no zeroing first (large_buffer.h)
+    reserveLarge(to, rows);  // huge pages where offered, no zeroing first (large_buffer.h)
     for (size_t k = 0; k < pieces; ++k) {
       std::vector<double>& from = *columnsOf(part[k])[c];
       to.insert(to.end(), from.begin(), from.end());
