@@ -691,6 +691,12 @@ NamedValues ImmPredictor::diagnostics() const {
       out.emplace_back(std::string("mu_") + immModeName(md.kind) + "_" + std::to_string(c),
                        chan_[static_cast<size_t>(c)].mu[static_cast<size_t>(j)]);
     }
+  // The forecast weights after the mode probabilities: the weights the forecast combines the
+  // modes with (the probabilities themselves when forecast_tau_s = 0).
+  for (int c = 0; c < channels(); ++c)
+    for (int j = 0; j < modeCount(); ++j)
+      out.emplace_back(std::string("fw_") + immModeName(modes_[static_cast<size_t>(j)].kind) + "_" + std::to_string(c),
+                       forecastWeight(c, modes_[static_cast<size_t>(j)].kind));
   return out;
 }
 

@@ -98,7 +98,7 @@ def test_diagnostics_of_imm_are_named_per_channel():
     p.update(0.0, [0.0, 0.0])
     p.update(0.05, [1.0, 1.0])
     d = p.diagnostics()
-    assert set(d) >= {"mu_ca_0", "mu_ca_1"} and all(0.0 <= v <= 1.0 for v in d.values())
+    assert set(d) >= {"mu_ca_0", "mu_ca_1", "fw_ca_0", "fw_ca_1"} and all(0.0 <= v <= 1.0 for v in d.values())
 
 
 def test_params_file_round_trip(tmp_path):

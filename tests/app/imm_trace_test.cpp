@@ -1,4 +1,4 @@
-// imm's mode probabilities in the open-loop trace: `predvs servo` writes each predictor's
+// imm's mode probabilities and forecast weights in the open-loop trace: `predvs servo` writes each predictor's
 // diagnostics() as trailing log.csv columns (app/servo_report.cpp), and `compare` prints the
 // imm / best of kf-cv, kf-ca line under a table that has all three (app/report.h).
 #include "app/cli_test_utils.h"
@@ -24,8 +24,9 @@ class ImmTrace : public apptest::ScratchDirTest {
 
 TEST_F(ImmTrace, ServoLogHasTheModeProbabilitiesAndTheyFollowTheAccelerationJump) {
   // GIVEN E2 (the acceleration jumps from 1 to 30 px/s^2 at 14 s) with hold and imm;
-  // THEN log.csv has mu_cp_0 .. mu_ca_1, empty on hold's rows, summing to one per channel on imm's,
-  // and the CA mode holds most of the probability at the end (t > 18 s) but not before the jump.
+  // THEN log.csv has mu_cp_0 .. mu_ca_1 and fw_cp_0 .. fw_ca_1, empty on hold's rows, each summing
+  // to one per channel on imm's, and the CA mode holds most of the probability at the end
+  // (t > 18 s) but not before the jump; its forecast weight is larger after the jump than before.
   const CliRun r = run({"servo", "--scenario", "e2-accel-jump", "--predictors", "hold,imm", "--no-plots", "--out",
                         path("run")});
   ASSERT_EQ(r.code, 0) << r.err;
@@ -49,6 +50,8 @@ TEST_F(ImmTrace, ServoLogHasTheModeProbabilitiesAndTheyFollowTheAccelerationJump
     return static_cast<size_t>(it - head.begin());
   };
   const size_t t = col("t_s"), cp = col("mu_cp_0"), cv = col("mu_cv_0"), ca = col("mu_ca_0"), ca1 = col("mu_ca_1");
+  const size_t fcp = col("fw_cp_0"), fcv = col("fw_cv_0"), fca = col("fw_ca_0");
+  double fw_ca_late = 0.0, fw_ca_early = 0.0;
   int hold_rows = 0, late = 0, early = 0;
   double ca_late = 0.0, ca_early = 0.0;
   for (size_t i = 1; i < rows.size(); ++i) {
@@ -61,15 +64,19 @@ TEST_F(ImmTrace, ServoLogHasTheModeProbabilitiesAndTheyFollowTheAccelerationJump
     }
     const double sum = std::stod(row[cp]) + std::stod(row[cv]) + std::stod(row[ca]);
     EXPECT_NEAR(sum, 1.0, 1e-9) << "row " << i;
+    const double fw_sum = std::stod(row[fcp]) + std::stod(row[fcv]) + std::stod(row[fca]);
+    EXPECT_NEAR(fw_sum, 1.0, 1e-9) << "row " << i;
     const double ts = std::stod(row[t]);
-    if (ts > 18.0) ca_late += std::stod(row[ca]), ++late;
-    if (ts > 8.0 && ts < 14.0) ca_early += std::stod(row[ca]), ++early;
+    if (ts > 18.0) ca_late += std::stod(row[ca]), fw_ca_late += std::stod(row[fca]), ++late;
+    if (ts > 8.0 && ts < 14.0) ca_early += std::stod(row[ca]), fw_ca_early += std::stod(row[fca]), ++early;
   }
   EXPECT_GT(hold_rows, 0);
   ASSERT_GT(late, 0);
   ASSERT_GT(early, 0);
   EXPECT_GT(ca_late / late, 0.7);
   EXPECT_LT(ca_early / early, ca_late / late);
+  // The forecast weights follow the jump too.
+  EXPECT_LT(fw_ca_early / early, fw_ca_late / late);
 }
 
 TEST_F(ImmTrace, CompareSaysHowImmStandsAgainstItsSingleModels) {

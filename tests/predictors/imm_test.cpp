@@ -91,19 +91,40 @@ TEST(Imm, ConstantAccelerationModeWinsOnAnAcceleratingTarget) {
   EXPECT_GT(with_defaults.ca, 0.8);
 }
 
-TEST(Imm, DiagnosticsAreTheModeProbabilities) {
+TEST(Imm, DiagnosticsAreTheModeProbabilitiesThenTheForecastWeights) {
   ImmPredictor imm(2, Params{});
   EXPECT_EQ(imm.modeCount(), 3);
-  Eigen::Vector2d z(1.0, 2.0);
-  imm.update(0.0, z);
-  imm.update(0.1, z);
+  // A ramp on channel 0, a still target on channel 1: the weights move away from the equal start.
+  for (int k = 0; k < 30; ++k) imm.update(0.1 * k, Eigen::Vector2d(1.0 + 5.0 * k, 2.0));
   const NamedValues d = imm.diagnostics();
-  ASSERT_EQ(d.size(), 6u);
+  ASSERT_EQ(d.size(), 12u);
   EXPECT_EQ(d[0].first, "mu_cp_0");
   EXPECT_EQ(d[1].first, "mu_cv_0");
   EXPECT_EQ(d[2].first, "mu_ca_0");
   EXPECT_EQ(d[5].first, "mu_ca_1");
+  EXPECT_EQ(d[6].first, "fw_cp_0");
+  EXPECT_EQ(d[8].first, "fw_ca_0");
+  EXPECT_EQ(d[11].first, "fw_ca_1");
   EXPECT_EQ(d[2].second, imm.modeProbability(0, ImmMode::Ca));
+  for (int c = 0; c < 2; ++c) {
+    double sum = 0.0;
+    for (int j = 0; j < 3; ++j) {
+      const double w = d[static_cast<size_t>(6 + 3 * c + j)].second;
+      EXPECT_EQ(w, imm.forecastWeight(c, static_cast<ImmMode>(j)));
+      sum += w;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+  }
+  // The forecast weights are not the mode probabilities (forecast_tau_s > 0), and on the still
+  // channel the CP mode has more forecast weight than on the ramp.
+  EXPECT_NE(d[6].second, d[0].second);
+  EXPECT_GT(d[9].second, d[6].second);
+  // With forecast_tau_s = 0 the forecast weights are the mode probabilities.
+  ImmPredictor mu_only(1, Params{{"forecast_tau_s", 0.0}});
+  for (int k = 0; k < 10; ++k) mu_only.update(0.1 * k, Eigen::Matrix<double, 1, 1>(3.0 * k));
+  const NamedValues m = mu_only.diagnostics();
+  ASSERT_EQ(m.size(), 6u);
+  for (int j = 0; j < 3; ++j) EXPECT_EQ(m[static_cast<size_t>(3 + j)].second, m[static_cast<size_t>(j)].second);
   // Without the CP mode: two modes, CP's probability reads 0.
   ImmPredictor two(1, Params{{"cp", 0.0}});
   EXPECT_EQ(two.modeCount(), 2);

@@ -144,9 +144,11 @@
 // figures in this comment: the 216 tracks with defaults; E1-E4 and E7, 10 runs, imm with
 // q_cv = 100, q_ca = 1000, r = 1 on all of them (E7's file now pins q_cv = 200, r = 5 as its kf-cv)
 // against kf-ca with q = 1000, r = 1.
-// Forecast weights: forecastWeight(c, mode). Mode probabilities: modeProbability(c, mode), and diagnostics() "mu_cp_<c>", "mu_cv_<c>",
-// "mu_ca_<c>": the open-loop log.csv of `predvs servo` writes them as trailing columns (empty on
-// the other predictors' rows); the closed-loop log does not write predictor diagnostics yet.
+// Forecast weights: forecastWeight(c, mode). Mode probabilities: modeProbability(c, mode). Both in
+// diagnostics(), "mu_cp_<c>", "mu_cv_<c>", "mu_ca_<c>" and then "fw_cp_<c>", "fw_cv_<c>",
+// "fw_ca_<c>" (a mode the instance lacks has no column): the open-loop log.csv of `predvs servo`
+// writes them as trailing columns (empty on the other predictors' rows); the closed-loop log does
+// not write predictor diagnostics yet.
 #pragma once
 
 #include "predvs/predictors/channel_predictor.h"
