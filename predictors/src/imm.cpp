@@ -129,6 +129,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       coast_shape_(coastShapeParam(params)),
       coast_cp_(params.get("coast_cp", kDefaultCoastCp, 0.0, 1.0)),
       q_raise_cv_exponent_(params.get("q_raise_cv_exponent", kDefaultQRaiseCvExponent, 0.0, 1.0)),
+      blend_per_mode_(params.get("blend_per_mode", 1.0, 0.0, 1.0) >= 0.5),
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
   // The raise of q (process_noise_adapt.h) as kf-cv's and kf-ca's: on the combined innovation, it
@@ -391,6 +392,13 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     // exactly 0 when every mode forecasts z_hold (the first sample after the start, all velocities
     // 0), where sum_j w_j p_j - z_hold would leave a rounding residual of either sign whose
     // regression weight y / d is clamped to 0 or 1 (imm.h, "The blend's step").
+    // With the blend per mode, the forecast weights below score each mode's blended one-frame
+    // forecast, z_hold + w_j (p_j - z_hold), with the hold and the weights w_j of the last update
+    // (before this frame's sample joins them); after a gap, the unblended one.
+    const bool score_blended = blendsPerMode() && ch.last_measured;
+    const double z_hold_before = ch.blend.z_hold;
+    std::array<double, kMaxModes> w_before{};
+    for (int j = 0; j < m; ++j) w_before[static_cast<size_t>(j)] = ch.mode_blend[static_cast<size_t>(j)].w;
     if (blend_tau_s_ > 0.0 && measured && ch.last_measured) {
       const std::array<double, kMaxModes>& fw = forecastWeights(ch);
       double d_step = 0.0;
@@ -401,6 +409,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
                           : d == 2 ? ch.g[jj].x(0) + F[jj](0, 1) * ch.g[jj].x(1)
                                    : Vec<3>((F[jj] * x_ca).eval())(0);
         d_step += fw[jj] * (pj - ch.blend.z_hold);
+        if (blendsMode(j)) ch.mode_blend[jj].learn(pj - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep);
       }
       ch.blend.learn(d_step, z(c) - ch.blend.z_hold, blend_keep);
     }
@@ -500,6 +509,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
               fpf = f * g.P * f.transpose();
             }
           }
+          if (score_blended && blendsMode(j)) e = z(c) - (z_hold_before + w_before[jj] * ((z(c) - e) - z_hold_before));
           // The forecast's variance as the model states it, lowered to the realised one where the
           // model overstates it (calibration, imm.h): v_j = min(1, c_j) s_j, c_j from the frames
           // before this one; then this frame's ratio e^2 / s_j joins c_j.
@@ -651,11 +661,18 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
   if (!(dt > 0.0)) return toEstimate(combine(ch.g, w));
   std::array<Gaussian<3>, kMaxModes> g;
   for (int j = 0; j < modeCount(); ++j) {
-    g[static_cast<size_t>(j)] = forecastStart(ch, j);
-    timeUpdate(g[static_cast<size_t>(j)], transition(j, dt), processNoise(j, dt, modeRaise(ch, j)));
+    const auto jj = static_cast<size_t>(j);
+    g[jj] = forecastStart(ch, j);
+    timeUpdate(g[jj], transition(j, dt), processNoise(j, dt, modeRaise(ch, j)));
+    if (blendsMode(j)) {  // the mode blended with hold by its own weight (predictPosition's arithmetic)
+      const double wb = ch.mode_blend[jj].w;
+      g[jj].x(0) = ch.blend.z_hold + wb * (g[jj].x(0) - ch.blend.z_hold);
+      g[jj].x(1) *= wb;
+      g[jj].x(2) *= wb;
+    }
   }
   Gaussian<3> out = combine(g, w);
-  if (blend_tau_s_ > 0.0) {
+  if (blend_tau_s_ > 0.0 && !blendsPerMode()) {
     out.x(0) = ch.blend.position(out.x(0));
     out.x(1) *= ch.blend.w;
     out.x(2) *= ch.blend.w;
@@ -678,9 +695,9 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
     const double pj = d == 1   ? ch.g[jj].x(0)
                       : d == 2 ? ch.g[jj].x(0) + dt * ch.g[jj].x(1)
                                : Vec<3>((transition(j, dt) * forecastStartMean(ch, j)).eval())(0);
-    p += w[jj] * pj;
+    p += w[jj] * (blendsMode(j) ? ch.blend.z_hold + ch.mode_blend[jj].w * (pj - ch.blend.z_hold) : pj);
   }
-  return blend_tau_s_ > 0.0 ? ch.blend.position(p) : p;
+  return blend_tau_s_ > 0.0 && !blendsPerMode() ? ch.blend.position(p) : p;
 }
 
 NamedValues ImmPredictor::diagnostics() const {

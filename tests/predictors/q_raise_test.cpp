@@ -160,8 +160,12 @@ TEST(QRaise, ImmRaisesItsCvModeLessThanItsCaMode) {
   for (const double T : {0.1, 1.0 / 30.0, 1.0 / 60.0}) {
     const double kf_cv = weave("kf-cv", {}, T).rmse_px, kf_ca = weave("kf-ca", {}, T).rmse_px;
     // WHEN imm raises its CV mode's density by the square root of the raise (the default), and by
-    // the raise itself as its CA mode's (q_raise_cv_exponent 1, imm before the key)
-    const double imm = weave("imm", {}, T).rmse_px, alike = weave("imm", {{"q_raise_cv_exponent", 1.0}}, T).rmse_px;
+    // the raise itself as its CA mode's (q_raise_cv_exponent 1, imm before the key); both with the
+    // combination blended with hold (blend_per_mode 0), as when the exponent was chosen (the
+    // default blend per mode: the next test)
+    const Params combined{{"blend_per_mode", 0.0}};
+    const double imm = weave("imm", combined, T).rmse_px;
+    const double alike = weave("imm", {{"blend_per_mode", 0.0}, {"q_raise_cv_exponent", 1.0}}, T).rmse_px;
     std::printf("[ q raise ] %2.0f Hz: imm %.3f (raised alike %.3f) of kf-ca's %.2f px; kf-cv %.3f\n", 1.0 / T,
                 imm / kf_ca, alike / kf_ca, kf_ca, kf_cv / kf_ca);
     // THEN imm is at least 5 % better than with both modes raised alike (at 10 / 30 / 60 Hz by 8 /
@@ -171,12 +175,35 @@ TEST(QRaise, ImmRaisesItsCvModeLessThanItsCaMode) {
     EXPECT_LT(imm, 0.95 * alike) << 1.0 / T;
     if (T == 0.1) {
       EXPECT_LT(imm, 1.1 * std::min(kf_cv, kf_ca));
+      EXPECT_LT(weave("imm", {}, T).rmse_px, 1.1 * std::min(kf_cv, kf_ca));  // and with the defaults
     }
   }
   // AND the exponent is a power from 0 (the CV mode never raised) to 1
   EXPECT_NO_THROW(makePredictor("imm", 1, Params{{"q_raise_cv_exponent", 0.0}}));
   EXPECT_THROW(makePredictor("imm", 1, Params{{"q_raise_cv_exponent", 1.5}}), std::invalid_argument);
   EXPECT_THROW(makePredictor("kf-ca", 1, Params{{"q_raise_cv_exponent", 0.5}}), std::invalid_argument);
+}
+
+TEST(ImmBlend, EachModeBlendedWithHoldBringsImmCloserToKfCaOnAFastWeave) {
+  // GIVEN the weave at 10, 30 and 60 Hz (kf-ca the better single model)
+  for (const double T : {0.1, 1.0 / 30.0, 1.0 / 60.0}) {
+    const double kf_ca = weave("kf-ca", {}, T).rmse_px;
+    // WHEN imm blends each mode's forecast with hold by that mode's own weight (the default), and
+    // when it blends the combination (blend_per_mode 0, imm before the key)
+    const double per_mode = weave("imm", {}, T).rmse_px;
+    const double combined = weave("imm", {{"blend_per_mode", 0.0}}, T).rmse_px;
+    std::printf("[ imm blend ] %2.0f Hz: per mode %.3f, combined %.3f of kf-ca's %.2f px\n", 1.0 / T,
+                per_mode / kf_ca, combined / kf_ca, kf_ca);
+    // THEN per mode is no worse at 10 Hz and better at 30 and 60 Hz, where the CA model's
+    // extrapolation is noisiest and its own weight shrinks it most
+    if (T == 0.1)
+      EXPECT_LT(per_mode, 1.02 * combined);
+    else
+      EXPECT_LT(per_mode, 0.95 * combined) << 1.0 / T;
+  }
+  // AND the key is 0 or 1, imm's only
+  EXPECT_THROW(makePredictor("imm", 1, Params{{"blend_per_mode", 2.0}}), std::invalid_argument);
+  EXPECT_THROW(makePredictor("kf-ca", 1, Params{{"blend_per_mode", 1.0}}), std::invalid_argument);
 }
 
 }  // namespace

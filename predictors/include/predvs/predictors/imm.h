@@ -74,6 +74,18 @@
 // (stops 10 Hz 0.5 px #504, 5 % drops: 11.1 px against kf-cv's 9.5; 9.4 with the fix). Which
 // sign it has depends on the last bits of z (the same track read back from a CSV with 10
 // significant digits gave 9.3 px).
+// Each moving mode blended with hold on its own (blend_per_mode, default 1; 0 = the combination
+// blended as above): with the blend on, the CV and CA modes each learn their own least-squares
+// weight w_j on their own one-frame steps (the regression of channel_predictor.h, on p_j - z_hold),
+// each mode's forecast is blended before the combination, sum_j w_fj (z_hold + w_j (p_j - z_hold)),
+// CP's forecast unblended (it does not extrapolate), and the forecast weights score each mode's
+// blended one-frame forecast (the hold and w_j of the update before; after a gap, the unblended
+// one). Why: the blend is what makes kf-ca good at high frame rates, where its extrapolated
+// acceleration is mostly noise and w shrinks it towards hold; blended on the combination, imm's
+// CA mode had no such shrinking, its scores compared an unshrunk CA forecast with the CV one, and
+// on fast weaves at 50-60 Hz imm was 1.2-1.5 times kf-ca. Scoring the unblended forecasts with the
+// per-mode blend was worse there than either. Figures: docs/PERFORMANCE.md "imm blends each mode
+// with hold".
 // Coasting without the CP mode (coast_cp, default 0; 1 = as before): on a frame where a channel is
 // not measured and coasting is on (coast_tau_s > 0), the CP mode's forecast weight is multiplied
 // by coast_cp and the weights renormalised; the next measured frame recomputes them from the
@@ -132,8 +144,9 @@
 // shrink_sigmas and shrink_v_sigmas (the CA
 // mode's forecast weighting, kf-ca's keys and defaults: 2 and 2; 0 = unweighted). hold_blend_tau_s (s,
 // default kDefaultHoldBlendTauS; 0 = off): the
-// combined forecast blended with hold by the least-squares weight of its one-frame forecasts, as
-// every per-channel filter's (channel_predictor.h); with it, coast_stop_fraction (default 0.5; 0 = off):
+// forecast blended with hold by the least-squares weight of the one-frame forecasts, as every
+// per-channel filter's (channel_predictor.h): each moving mode's by its own weight, or with
+// blend_per_mode 0 the combination's (above); with it, coast_stop_fraction (default 0.5; 0 = off):
 // a gap that begins while the mu-combined velocity falls coasts with a shorter time constant
 // (channel_predictor.h, "A stop before the gap"). The initial
 // mode probabilities and forecast weights are equal. q_cp and the tau were chosen
@@ -231,6 +244,9 @@ class ImmPredictor : public Predictor {
     ProcessNoiseMatcher q_raise;
     /// The CV mode's share of the raise: q_raise.scale()^q_raise_cv_exponent (the CA mode's is the scale).
     double q_raise_cv = 1.0;
+    /// Each mode's own blend weight with hold (blend_per_mode; only s_dd, s_dy and w are used: the
+    /// hold and the gap's coasting are blend's).
+    std::array<HoldBlend, kMaxModes> mode_blend{};
   };
   Mat<3> transition(int j, double dt) const;
   /// Mode j's Q over dt, the CV or CA density multiplied by `scale` (mode j's raise of q, modeRaise()).
@@ -260,6 +276,14 @@ class ImmPredictor : public Predictor {
   double coast_fast_ratio_, coast_shape_;  ///< coast_fast_ratio, coast_shape (channel_predictor.h), with the blend only
   double coast_cp_;  ///< coast_cp: factor on the CP mode's forecast weight on an unmeasured frame while coasting
   double q_raise_cv_exponent_;  ///< q_raise_cv_exponent: the CV mode's density rises as the raise to this power
+  /// blend_per_mode: with the blend on, each mode's forecast is blended with hold by its own weight
+  /// before the combination, and the forecast weights score the blended one-frame forecasts.
+  bool blend_per_mode_;
+  /// True when the blend with hold is applied per mode (blend_per_mode_ and the blend on).
+  bool blendsPerMode() const { return blend_per_mode_ && blend_tau_s_ > 0.0; }
+  /// True when mode j's forecast is blended with hold by its own weight: blendsPerMode() and a
+  /// mode that extrapolates (CV, CA; CP's forecast stays where its posterior is, nothing to shrink).
+  bool blendsMode(int j) const { return blendsPerMode() && modes_[static_cast<size_t>(j)].dim > 1; }
   /// The mu-combined velocity of channel ch's posterior (px/s) and its variance (spread included).
   double combinedVelocity(const Channel& ch) const;
   double combinedVelocityVariance(const Channel& ch) const;
