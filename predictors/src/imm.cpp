@@ -397,8 +397,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     // (before this frame's sample joins them); after a gap, the unblended one.
     const bool score_blended = blendsPerMode() && ch.last_measured;
     const double z_hold_before = ch.blend.z_hold;
-    std::array<double, kMaxModes> w_before{};
-    for (int j = 0; j < m; ++j) w_before[static_cast<size_t>(j)] = ch.mode_blend[static_cast<size_t>(j)].w;
+    const std::array<BlendWeight, kMaxModes> weight_before = ch.mode_blend;
     if (blend_tau_s_ > 0.0 && measured && ch.last_measured) {
       const std::array<double, kMaxModes>& fw = forecastWeights(ch);
       double d_step = 0.0;
@@ -509,7 +508,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
               fpf = f * g.P * f.transpose();
             }
           }
-          if (score_blended && blendsMode(j)) e = z(c) - (z_hold_before + w_before[jj] * ((z(c) - e) - z_hold_before));
+          if (score_blended && blendsMode(j)) e = z(c) - weight_before[jj].blend(z_hold_before, z(c) - e);
           // The forecast's variance as the model states it, lowered to the realised one where the
           // model overstates it (calibration, imm.h): v_j = min(1, c_j) s_j, c_j from the frames
           // before this one; then this frame's ratio e^2 / s_j joins c_j.
@@ -665,10 +664,10 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
     g[jj] = forecastStart(ch, j);
     timeUpdate(g[jj], transition(j, dt), processNoise(j, dt, modeRaise(ch, j)));
     if (blendsMode(j)) {  // the mode blended with hold by its own weight (predictPosition's arithmetic)
-      const double wb = ch.mode_blend[jj].w;
-      g[jj].x(0) = ch.blend.z_hold + wb * (g[jj].x(0) - ch.blend.z_hold);
-      g[jj].x(1) *= wb;
-      g[jj].x(2) *= wb;
+      const BlendWeight& b = ch.mode_blend[jj];
+      g[jj].x(0) = b.blend(ch.blend.z_hold, g[jj].x(0));
+      g[jj].x(1) *= b.w;
+      g[jj].x(2) *= b.w;
     }
   }
   Gaussian<3> out = combine(g, w);
@@ -695,7 +694,7 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
     const double pj = d == 1   ? ch.g[jj].x(0)
                       : d == 2 ? ch.g[jj].x(0) + dt * ch.g[jj].x(1)
                                : Vec<3>((transition(j, dt) * forecastStartMean(ch, j)).eval())(0);
-    p += w[jj] * (blendsMode(j) ? ch.blend.z_hold + ch.mode_blend[jj].w * (pj - ch.blend.z_hold) : pj);
+    p += w[jj] * (blendsMode(j) ? ch.mode_blend[jj].blend(ch.blend.z_hold, pj) : pj);
   }
   return blend_tau_s_ > 0.0 && !blendsPerMode() ? ch.blend.position(p) : p;
 }

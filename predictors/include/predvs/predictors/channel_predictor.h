@@ -229,13 +229,28 @@ inline double holdBlendTauParam(const Params& params) {
   return params.get("hold_blend_tau_s", kDefaultHoldBlendTauS, 0.0, 1e6);
 }
 
-/// The blend with hold on one channel (file comment): hold's forecast, the forgetting sums of the
-/// regression and the weight it gives.
-struct HoldBlend {
-  double z_hold = 0.0;  ///< last measurement (hold's forecast), px
-  double s_dd = 0.0;    ///< forgetting sums of the regression, px^2
+/// The regression of the blend with hold (file comment): the forgetting sums of a model's
+/// one-frame steps against the measured ones, and the weight in [0, 1] they give. imm keeps one
+/// per mode besides its channel's HoldBlend (imm.h, "Each moving mode blended with hold").
+struct BlendWeight {
+  double s_dd = 0.0;  ///< forgetting sums of the regression, px^2
   double s_dy = 0.0;
-  double w = 1.0;       ///< weight of the model forecast against hold, [0, 1]
+  double w = 1.0;     ///< weight of the model forecast against hold, [0, 1]
+  /// One sample: the model's forecast step d = f - z_hold against the measured step y = z - z_hold
+  /// (both from the hold of the frame the forecast was made at), lambda = exp(-dt / tau).
+  void learn(double d, double y, double lambda) {
+    s_dd = lambda * s_dd + d * d;
+    s_dy = lambda * s_dy + d * y;
+    w = s_dd > 0.0 ? std::clamp(s_dy / s_dd, 0.0, 1.0) : 1.0;
+  }
+  /// The forecast f blended with hold's z_hold: z_hold + w (f - z_hold).
+  double blend(double z_hold, double f) const { return z_hold + w * (f - z_hold); }
+};
+
+/// The blend with hold on one channel (file comment): hold's forecast, the regression's weight
+/// (BlendWeight) and the coasting of a gap.
+struct HoldBlend : BlendWeight {
+  double z_hold = 0.0;  ///< last measurement (hold's forecast), px
   CoastStop recent;     ///< the last measured frames, for the coasting time of a gap
   double gap_tau_s = 0.0;  ///< coasting time of the current gap (s; file comment)
   /// Chooses gap_tau_s on a gap's first frame: min(tau_s, fraction t_stop, tau_s (rho_0 / rho)^p)
@@ -254,15 +269,8 @@ struct HoldBlend {
     const double u = t_s - recent.lastTime(), u0 = std::max(u - dt, 0.0);
     return std::exp(-(std::pow(u / tau_s, shape) - std::pow(u0 / tau_s, shape)));
   }
-  /// One sample: the model's forecast step d = f - z_hold against the measured step y = z - z_hold
-  /// (both from the hold of the frame the forecast was made at), lambda = exp(-dt / tau).
-  void learn(double d, double y, double lambda) {
-    s_dd = lambda * s_dd + d * d;
-    s_dy = lambda * s_dy + d * y;
-    w = s_dd > 0.0 ? std::clamp(s_dy / s_dd, 0.0, 1.0) : 1.0;
-  }
   /// The blended position hold + w (f - hold).
-  double position(double f) const { return z_hold + w * (f - z_hold); }
+  double position(double f) const { return blend(z_hold, f); }
 };
 
 /// The `coast_tau_s` parameter (s, >= 0, default kDefaultCoastTauS; 0 = no coasting).

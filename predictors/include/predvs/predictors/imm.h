@@ -244,9 +244,9 @@ class ImmPredictor : public Predictor {
     ProcessNoiseMatcher q_raise;
     /// The CV mode's share of the raise: q_raise.scale()^q_raise_cv_exponent (the CA mode's is the scale).
     double q_raise_cv = 1.0;
-    /// Each mode's own blend weight with hold (blend_per_mode; only s_dd, s_dy and w are used: the
-    /// hold and the gap's coasting are blend's).
-    std::array<HoldBlend, kMaxModes> mode_blend{};
+    /// Each mode's own blend weight with hold (blend_per_mode; the hold and the gap's coasting are
+    /// blend's).
+    std::array<BlendWeight, kMaxModes> mode_blend{};
   };
   Mat<3> transition(int j, double dt) const;
   /// Mode j's Q over dt, the CV or CA density multiplied by `scale` (mode j's raise of q, modeRaise()).
