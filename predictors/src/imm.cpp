@@ -130,6 +130,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       coast_cp_(params.get("coast_cp", kDefaultCoastCp, 0.0, 1.0)),
       q_raise_cv_exponent_(params.get("q_raise_cv_exponent", kDefaultQRaiseCvExponent, 0.0, 1.0)),
       blend_per_mode_(params.get("blend_per_mode", 1.0, 0.0, 1.0) >= 0.5),
+      mix_ca_(params.get("mix_ca", 0.0, 0.0, 1.0) >= 0.5),
       r_auto_(isAutoMeasurementNoise(params)) {
   if (!r_auto_) r_ = params.get("r", 1.0, 1e-12, 1e12);
   // The raise of q (process_noise_adapt.h) as kf-cv's and kf-ca's: on the combined innovation, it
@@ -415,12 +416,18 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     const bool started_gap = ch.last_measured && !measured;
     ch.last_measured = measured;
     if (measured) ch.blend.z_hold = z(c);
-    // Mixing: c_j = sum_i p_ij mu_i, mu_i|j = p_ij mu_i / c_j, moments of the mixture.
+    // Mixing: c_j = sum_i p_ij mu_i, mu_i|j = p_ij mu_i / c_j, moments of the mixture. Unless
+    // mix_ca is set, the CA mode starts from its own posterior (imm.h, "The CA mode unmixed"); its
+    // c_j is the chain's all the same.
     std::array<double, kMaxModes> cbar{};
     std::array<Gaussian<3>, kMaxModes> mixed;
     for (int j = 0; j < m; ++j) {
       const auto jj = static_cast<size_t>(j);
       for (int i = 0; i < m; ++i) cbar[jj] += Pi(i, j) * ch.mu[static_cast<size_t>(i)];
+      if (j == ca && !mix_ca_) {
+        mixed[jj] = ch.g[jj];
+        continue;
+      }
       std::array<double, kMaxModes> w{};
       for (int i = 0; i < m; ++i) {
         const auto ii = static_cast<size_t>(i);

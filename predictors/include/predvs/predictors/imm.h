@@ -29,6 +29,7 @@
 //                 dropped. (The zero-fill alternative, a = 0 with variance p0_acc: on the generated
 //                 tracks 212 instead of 214 of 216 within 10 % of the better single model, on
 //                 E2 / E7 1.11 / 1.08 instead of 1.05 / 0.99 times it, tuning set-up below.)
+//                 The CA mode is not mixed (mix_ca 0, the default; below): x0_ca = x_ca, P0_ca = P_ca.
 //   mode-matched  x_j- = F_j x0_j,  P_j- = F_j P0_j F_j' + Q_j;  if z is measured:
 //                 eps_j = z - x_j-(0),  S_j = P_j-(0,0) + R,  Joseph update of (x_j, P_j)
 //   probabilities mu_j = c_j L_j / sum_i c_i L_i,  L_j = N(eps_j; 0, S_j) (in logs), floored at 1e-6
@@ -86,6 +87,18 @@
 // on fast weaves at 50-60 Hz imm was 1.2-1.5 times kf-ca. Scoring the unblended forecasts with the
 // per-mode blend was worse there than either. Figures: docs/PERFORMANCE.md "imm blends each mode
 // with hold".
+// The CA mode unmixed (mix_ca, default 0; 1 = mixed as the other modes, the standard IMM): the CA
+// mode's prior is its own posterior of the last update; the CP and CV modes still mix from every
+// mode, the CA mode's posterior included, and the mode probabilities follow the chain as above.
+// Why: mixed, the CA mode's velocity was pulled every frame towards the CV mode's by the CV
+// mode's share of the mixture it starts from, so the CA mode was not kf-ca, the single model it
+// stands for: with the forecast weights forced onto it (a throw-away build) it forecast a weave
+// of the second generator (60 Hz, 1 px, #1) with 7.90 px against kf-ca's 5.39, unmixed with 5.97
+// (the rest is the raise of q, which the modes share, below). Mixing is how an IMM lets a mode
+// start from the state of the mode the target comes from; the CA model contains the CV one
+// (a = 0), so its own filter follows a switch to constant velocity by itself, at the pace its q
+// allows. Not mixing the CV mode either (a bank of filters combined by the forecast weights) did
+// worse on the second track generator. Figures: docs/PERFORMANCE.md "imm's CA mode unmixed".
 // Coasting without the CP mode (coast_cp, default 0; 1 = as before): on a frame where a channel is
 // not measured and coasting is on (coast_tau_s > 0), the CP mode's forecast weight is multiplied
 // by coast_cp and the weights renormalised; the next measured frame recomputes them from the
@@ -141,7 +154,7 @@
 // single models; forecast_tau_s (s, default 30; 0 = forecast with mu), forecast_calibration (1;
 // 0 = the forecast weights score with the model's s_j, above), forecast_floor
 // (relative weight, default 0.01, in [1e-12, 0.5]); coast_cp (in [0, 1], default 0; above);
-// shrink_sigmas and shrink_v_sigmas (the CA
+// mix_ca (0 or 1, default 0; above); shrink_sigmas and shrink_v_sigmas (the CA
 // mode's forecast weighting, kf-ca's keys and defaults: 2 and 2; 0 = unweighted). hold_blend_tau_s (s,
 // default kDefaultHoldBlendTauS; 0 = off): the
 // forecast blended with hold by the least-squares weight of the one-frame forecasts, as every
@@ -279,6 +292,9 @@ class ImmPredictor : public Predictor {
   /// blend_per_mode: with the blend on, each mode's forecast is blended with hold by its own weight
   /// before the combination, and the forecast weights score the blended one-frame forecasts.
   bool blend_per_mode_;
+  /// mix_ca: the CA mode's prior is mixed from every mode's posterior, as the other modes' are
+  /// (false: it starts from its own posterior; imm.h, "The CA mode unmixed").
+  bool mix_ca_;
   /// True when the blend with hold is applied per mode (blend_per_mode_ and the blend on).
   bool blendsPerMode() const { return blend_per_mode_ && blend_tau_s_ > 0.0; }
   /// True when mode j's forecast is blended with hold by its own weight: blendsPerMode() and a
