@@ -37,8 +37,15 @@ RunRecord runClosedLoop(const Scenario& sc, const ScenarioPredictor& p, std::uin
   for (size_t i = 0; i < n_features; ++i) l.features.push_back(r.columns[2 + 2 * n_features + i].substr(5));
   for (size_t i = first_command; i < r.columns.size(); ++i)
     (i < first_command + n_commands ? l.commands : l.diagnostics).push_back(r.columns[i]);
-  if (keep_trace)
+  if (keep_trace) {
     for (const auto& s : r.trace) rec.rows.push_back(ServoLoop::traceRow(s));
+    if (!r.predictor_diagnostic_names.empty()) {
+      rec.diagnostic_names = r.predictor_diagnostic_names;
+      for (const auto& s : r.trace)
+        rec.diagnostic_rows.emplace_back(s.predictor_diagnostics.data(),
+                                         s.predictor_diagnostics.data() + s.predictor_diagnostics.size());
+    }
+  }
   return rec;
 }
 

@@ -52,7 +52,7 @@ struct RunRecord {
   RunLayout layout;
   std::vector<std::vector<double>> rows;  ///< trace rows (only when asked for)
   /// The predictor's own diagnostics per trace row (Predictor::diagnostics(), e.g. imm's mode
-  /// probabilities; open loop, only with the trace): names, and one row of values per trace row.
+  /// probabilities; only with the trace): names, and one row of values per trace row.
   std::vector<std::string> diagnostic_names;
   std::vector<std::vector<double>> diagnostic_rows;
 };

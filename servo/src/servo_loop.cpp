@@ -142,6 +142,10 @@ struct ServoLoop::Impl {
     // The whole target lost past lost.timeout_s and back: restart the predictor from this frame.
     if (lost.observe(m.t_acq_s, fed)) predictor.reset();
     predictor.update(m.t_acq_s, fed);
+    if (sample.predictor_diagnostics.size() > 0) {
+      const NamedValues diag = predictor.diagnostics();
+      for (size_t i = 0; i < diag.size(); ++i) sample.predictor_diagnostics(static_cast<Eigen::Index>(i)) = diag[i].second;
+    }
     Eigen::VectorXd rate = compensate ? predictor.predictVelocities(m.t_acq_s) : Eigen::VectorXd();
     if (rate.size())
       for (int i = 0; i < n_features; ++i)
@@ -297,6 +301,7 @@ ServoLoop::ServoLoop(const ServoConfig& config, Predictor& predictor) {
   m.p = Eigen::VectorXd::Zero(m.n_command);
   m.active = Command{0, Eigen::VectorXd::Zero(m.n_command), Eigen::VectorXd::Zero(m.n_features)};
   m.sample.diagnostics = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(m.task().diagnostics().size()), kNaN);
+  m.sample.predictor_diagnostics = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(predictor.diagnostics().size()), kNaN);
   m.last_tick = m.timing.tickAtOrAfter(config.duration_s);
   if (config.metrics.outcome) {
     // The options' own range checks, before anything runs.
@@ -365,6 +370,7 @@ ServoResult ServoLoop::run() {
   r.prediction_used = impl_->compensate;
   r.desired = desiredFeatures();
   r.columns = traceColumns();
+  for (const auto& kv : impl_->predictor.diagnostics()) r.predictor_diagnostic_names.push_back(kv.first);
   r.trace.reserve(static_cast<size_t>(impl_->last_tick + 1));
   while (!done()) r.trace.push_back(step());
   std::vector<double> ts, es;

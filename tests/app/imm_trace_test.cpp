@@ -1,4 +1,4 @@
-// imm's mode probabilities and forecast weights in the open-loop trace: `predvs servo` writes each predictor's
+// imm's mode probabilities and forecast weights in the trace: `predvs servo` writes each predictor's
 // diagnostics() as trailing log.csv columns (app/servo_report.cpp), and `compare` prints the
 // imm / best of kf-cv, kf-ca line under a table that has all three (app/report.h).
 #include "app/cli_test_utils.h"
@@ -77,6 +77,33 @@ TEST_F(ImmTrace, ServoLogHasTheModeProbabilitiesAndTheyFollowTheAccelerationJump
   EXPECT_LT(ca_early / early, ca_late / late);
   // The forecast weights follow the jump too.
   EXPECT_LT(fw_ca_early / early, fw_ca_late / late);
+}
+
+TEST_F(ImmTrace, ClosedLoopServoLogHasTheModeProbabilitiesToo) {
+  // GIVEN the closed loop ibvs-moving-target with kf-cv and imm
+  const CliRun r = run({"servo", "--scenario", "ibvs-moving-target", "--predictors", "kf-cv,imm", "--set",
+                        "duration_s=4", "--no-plots", "--out", path("loop")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream in(slurp(path("loop") + "/log.csv"));
+  std::string header;
+  ASSERT_TRUE(static_cast<bool>(std::getline(in, header)));
+  // THEN log.csv ends with imm's diagnostics for each of the 8 feature channels, empty on kf-cv's
+  // rows and filled on imm's once a frame has arrived
+  const std::string tail = ",fw_cv_7,fw_ca_7";
+  ASSERT_GE(header.size(), tail.size());
+  EXPECT_EQ(header.substr(header.size() - tail.size()), tail) << header;
+  EXPECT_NE(header.find(",wz,mu_cp_0,mu_cv_0,mu_ca_0,mu_cp_1,"), std::string::npos) << header;
+  int kf_rows = 0, imm_filled = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("kf-cv,", 0) == 0) {
+      EXPECT_EQ(line.substr(line.size() - 3), ",,,") << line;
+      ++kf_rows;
+    } else if (line.rfind("imm,", 0) == 0 && line.back() != ',') {
+      ++imm_filled;
+    }
+  }
+  EXPECT_GT(kf_rows, 10);
+  EXPECT_GT(imm_filled, 10);
 }
 
 TEST_F(ImmTrace, CompareSaysHowImmStandsAgainstItsSingleModels) {

@@ -155,6 +155,38 @@ TEST(ServoLoop, DeterministicForASeed) {
   EXPECT_NE(run("kf-cv", c).trace.back().truth, a.trace.back().truth);
 }
 
+TEST(ServoLoop, TraceHasThePredictorsDiagnostics) {
+  // GIVEN the default loop (4 points, 8 feature channels) with imm, and with kf-cv
+  const ServoResult imm = run("imm");
+  const ServoResult kf = run("kf-cv");
+  // THEN imm's trace rows carry its diagnostics (6 per channel: mode probabilities, forecast
+  // weights) under its names, NaN before the first delivered frame and each group summing to one
+  // after; kf-cv has none
+  ASSERT_EQ(imm.predictor_diagnostic_names.size(), 48u);
+  EXPECT_EQ(imm.predictor_diagnostic_names.front(), "mu_cp_0");
+  EXPECT_EQ(imm.predictor_diagnostic_names[1], "mu_cv_0");
+  EXPECT_EQ(imm.predictor_diagnostic_names[23], "mu_ca_7");
+  EXPECT_EQ(imm.predictor_diagnostic_names[24], "fw_cp_0");
+  EXPECT_TRUE(kf.predictor_diagnostic_names.empty());
+  EXPECT_EQ(kf.trace.back().predictor_diagnostics.size(), 0);
+  ASSERT_FALSE(imm.trace.empty());
+  EXPECT_TRUE(std::isnan(imm.trace.front().predictor_diagnostics(0)));
+  int rows = 0;
+  for (const ServoSample& s : imm.trace) {
+    ASSERT_EQ(s.predictor_diagnostics.size(), 48);
+    if (std::isnan(s.t_acq_s)) continue;
+    ++rows;
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::VectorXd& d = s.predictor_diagnostics;  // mu_cp_c, mu_cv_c, mu_ca_c, ..., then fw_*
+      EXPECT_NEAR(d(3 * c) + d(3 * c + 1) + d(3 * c + 2), 1.0, 1e-9);
+      EXPECT_NEAR(d(24 + 3 * c) + d(24 + 3 * c + 1) + d(24 + 3 * c + 2), 1.0, 1e-9);
+    }
+  }
+  EXPECT_GT(rows, 100);
+  // AND the values change over the run (they are the filter's, not a constant)
+  EXPECT_NE(imm.trace[imm.trace.size() / 4].predictor_diagnostics(1), imm.trace.back().predictor_diagnostics(1));
+}
+
 TEST(ServoLoop, ValidatesConfig) {
   auto p = makePredictor("kf-cv", 8, preIssue11("kf-cv"));
   ServoConfig c;

@@ -172,9 +172,9 @@
 // against kf-ca with q = 1000, r = 1.
 // Forecast weights: forecastWeight(c, mode). Mode probabilities: modeProbability(c, mode). Both in
 // diagnostics(), "mu_cp_<c>", "mu_cv_<c>", "mu_ca_<c>" and then "fw_cp_<c>", "fw_cv_<c>",
-// "fw_ca_<c>" (a mode the instance lacks has no column): the open-loop log.csv of `predvs servo`
-// writes them as trailing columns (empty on the other predictors' rows); the closed-loop log does
-// not write predictor diagnostics yet.
+// "fw_ca_<c>" (a mode the instance lacks has no column): the log.csv of `predvs servo`, open or
+// closed loop, writes them as trailing columns (empty on the other predictors' rows; in closed loop
+// channel c is the task's feature c, the values those after the last delivered frame).
 #pragma once
 
 #include "predvs/predictors/channel_predictor.h"

@@ -148,6 +148,9 @@ struct ServoSample {
   double error = 0.0;          ///< Task::trackingError(truth)
   Eigen::VectorXd command;     ///< applied command during [t, t + delta) (after the robot's limits)
   Eigen::VectorXd diagnostics; ///< the task's diagnostics of its last command (Task::diagnostics())
+  /// The predictor's diagnostics after its last update (Predictor::diagnostics(), e.g. imm's mode
+  /// probabilities and forecast weights; NaN before the first; empty for a predictor without any).
+  Eigen::VectorXd predictor_diagnostics;
 };
 
 struct ServoResult {
@@ -156,6 +159,7 @@ struct ServoResult {
   Eigen::VectorXd desired;       ///< s*
   std::vector<std::string> columns;  ///< trace columns (ServoLoop::traceColumns())
   std::vector<ServoSample> trace;
+  std::vector<std::string> predictor_diagnostic_names;  ///< of ServoSample::predictor_diagnostics
   Metrics metrics;               ///< of the error, with control effort (steady figures NaN after a failure)
   Outcome outcome;               ///< with metrics.outcome: converged / failed (metrics.h); default otherwise
   NamedValues values;            ///< metricValues(metrics), then the task's run summary
