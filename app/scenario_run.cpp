@@ -18,6 +18,7 @@ namespace {
 RunRecord runClosedLoop(const Scenario& sc, const ScenarioPredictor& p, std::uint64_t seed, bool keep_trace) {
   ServoConfig cfg = sc.closed_loop;
   cfg.seed = seed;
+  cfg.predictor_diagnostics = keep_trace;  // only a kept trace writes them
   auto predictor = makePredictor(p.typeName(), sc.channels, p.params);
   const ServoResult r = runServoLoop(cfg, *predictor);
   RunRecord rec;

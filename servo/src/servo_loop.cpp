@@ -301,7 +301,8 @@ ServoLoop::ServoLoop(const ServoConfig& config, Predictor& predictor) {
   m.p = Eigen::VectorXd::Zero(m.n_command);
   m.active = Command{0, Eigen::VectorXd::Zero(m.n_command), Eigen::VectorXd::Zero(m.n_features)};
   m.sample.diagnostics = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(m.task().diagnostics().size()), kNaN);
-  m.sample.predictor_diagnostics = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(predictor.diagnostics().size()), kNaN);
+  if (config.predictor_diagnostics)
+    m.sample.predictor_diagnostics = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(predictor.diagnostics().size()), kNaN);
   m.last_tick = m.timing.tickAtOrAfter(config.duration_s);
   if (config.metrics.outcome) {
     // The options' own range checks, before anything runs.
@@ -370,7 +371,8 @@ ServoResult ServoLoop::run() {
   r.prediction_used = impl_->compensate;
   r.desired = desiredFeatures();
   r.columns = traceColumns();
-  for (const auto& kv : impl_->predictor.diagnostics()) r.predictor_diagnostic_names.push_back(kv.first);
+  if (impl_->config.predictor_diagnostics)
+    for (const auto& kv : impl_->predictor.diagnostics()) r.predictor_diagnostic_names.push_back(kv.first);
   r.trace.reserve(static_cast<size_t>(impl_->last_tick + 1));
   while (!done()) r.trace.push_back(step());
   std::vector<double> ts, es;

@@ -185,6 +185,13 @@ TEST(ServoLoop, TraceHasThePredictorsDiagnostics) {
   EXPECT_GT(rows, 100);
   // AND the values change over the run (they are the filter's, not a constant)
   EXPECT_NE(imm.trace[imm.trace.size() / 4].predictor_diagnostics(1), imm.trace.back().predictor_diagnostics(1));
+  // AND with the recording off (no kept trace) there are none, and the run is the same
+  ServoConfig off;
+  off.predictor_diagnostics = false;
+  const ServoResult quiet = run("imm", off);
+  EXPECT_TRUE(quiet.predictor_diagnostic_names.empty());
+  EXPECT_EQ(quiet.trace.back().predictor_diagnostics.size(), 0);
+  EXPECT_EQ(quiet.trace.back().error, imm.trace.back().error);
 }
 
 TEST(ServoLoop, ValidatesConfig) {

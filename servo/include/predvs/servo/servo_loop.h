@@ -134,6 +134,10 @@ struct ServoConfig {
   Compensation compensation = Compensation::Auto;     ///< servo.compensation
   LostFeatureConfig lost;     ///< lost: {timeout_s: 1, action: hold} (lost_feature_policy.h)
   MetricsOptions metrics;
+  /// Record the predictor's diagnostics() in the trace (ServoSample::predictor_diagnostics) after
+  /// each delivered frame; off saves building them (imm: 6 named values per channel) where no trace
+  /// is kept.
+  bool predictor_diagnostics = true;
 };
 
 /// One row of the closed-loop trace (features in the task's feature space, see Task).
@@ -149,7 +153,8 @@ struct ServoSample {
   Eigen::VectorXd command;     ///< applied command during [t, t + delta) (after the robot's limits)
   Eigen::VectorXd diagnostics; ///< the task's diagnostics of its last command (Task::diagnostics())
   /// The predictor's diagnostics after its last update (Predictor::diagnostics(), e.g. imm's mode
-  /// probabilities and forecast weights; NaN before the first; empty for a predictor without any).
+  /// probabilities and forecast weights; NaN before the first; empty for a predictor without any,
+  /// and with ServoConfig::predictor_diagnostics off).
   Eigen::VectorXd predictor_diagnostics;
 };
 
