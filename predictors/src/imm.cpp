@@ -670,19 +670,11 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
     const auto jj = static_cast<size_t>(j);
     g[jj] = forecastStart(ch, j);
     timeUpdate(g[jj], transition(j, dt), processNoise(j, dt, modeRaise(ch, j)));
-    if (blendsMode(j)) {  // the mode blended with hold by its own weight (predictPosition's arithmetic)
-      const BlendWeight& b = ch.mode_blend[jj];
-      g[jj].x(0) = b.blend(ch.blend.z_hold, g[jj].x(0));
-      g[jj].x(1) *= b.w;
-      g[jj].x(2) *= b.w;
-    }
+    // the mode blended with hold by its own weight (predictPosition's arithmetic)
+    if (blendsMode(j)) ch.mode_blend[jj].blendState(ch.blend.z_hold, g[jj].x);
   }
   Gaussian<3> out = combine(g, w);
-  if (blend_tau_s_ > 0.0 && !blendsPerMode()) {
-    out.x(0) = ch.blend.position(out.x(0));
-    out.x(1) *= ch.blend.w;
-    out.x(2) *= ch.blend.w;
-  }
+  if (blend_tau_s_ > 0.0 && !blendsPerMode()) ch.blend.blendState(ch.blend.z_hold, out.x);
   return toEstimate(out);
 }
 

@@ -245,6 +245,13 @@ struct BlendWeight {
   }
   /// The forecast f blended with hold's z_hold: z_hold + w (f - z_hold).
   double blend(double z_hold, double f) const { return z_hold + w * (f - z_hold); }
+  /// A forecast state [p, v(, a)] blended likewise: the position by blend(), the derivatives (those
+  /// of the blended position) scaled by w.
+  template <int N>
+  void blendState(double z_hold, Vec<N>& x) const {
+    x(0) = blend(z_hold, x(0));
+    for (int i = 1; i < N; ++i) x(i) *= w;
+  }
 };
 
 /// The blend with hold on one channel (file comment): hold's forecast, the regression's weight
@@ -362,10 +369,7 @@ class ChannelPredictor : public Predictor {
     if (!(dt > 0.0)) return toEstimate(s.g);
     Gaussian<N> g = forecastWeightingOn() ? weightedForecastStart(channel) : s.g;
     timeUpdate(g, transition(channel, dt), processNoise(channel, dt));
-    if (blend_tau_s_ > 0.0) {
-      g.x(0) = s.blend.position(g.x(0));
-      for (int i = 1; i < N; ++i) g.x(i) *= s.blend.w;
-    }
+    if (blend_tau_s_ > 0.0) s.blend.blendState(s.blend.z_hold, g.x);
     return toEstimate(g);
   }
 
