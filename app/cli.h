@@ -19,8 +19,12 @@
 // loop (`kind: closed-loop`, the default scenario ibvs-moving-target) or an open-loop prediction
 // experiment (`kind: open-loop`: E1-E4, E6, E7, E12), reporting the figures `predvs compare`
 // aggregates, under the same names (report.h).
-// `predvs predict` is the open-loop prediction of a recorded CSV track.
+// `predvs predict` is the open-loop prediction of a recorded CSV track; it and fit-noise, make-track
+// and track-study are defined in track_cli.h, which runCli adds, and which the `predvs` executable
+// runs without this file's other commands (app/main.cpp; runCli is `predvs-all`).
 #pragma once
+
+#include "cli_args.h"  // commandLine
 
 #include <ostream>
 #include <string>
@@ -33,8 +37,5 @@ namespace predvs {
 /// success (and for --help), 2 for every bad argument, file or scenario, in which case exactly
 /// one line "predvs: error: ..." was written to `err` and no output directory was created.
 int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err);
-
-/// "predvs ARG ARG ..." with shell quoting where needed (recorded in summary.json).
-std::string commandLine(const std::vector<std::string>& args);
 
 }  // namespace predvs

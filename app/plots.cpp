@@ -1,7 +1,7 @@
 #include "plots.h"
 
 #include "gnuplot.h"
-#include "report.h"
+#include "number_text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -47,19 +47,6 @@ void drawFigure(const StagedOutputDir& dir, const PlotFigure& f) {
   if (f.panels.size() > 1) gp << "unset multiplot\n";
   writeTextFile(dir, f.base + ".gp", gp.str());
   runGnuplot(dir.staging().string(), f.base + ".gp");
-}
-
-std::string eventMarks(const RunEvents& ev) {
-  std::ostringstream gp;
-  for (const auto& o : ev.occlusions)
-    gp << "set object rect from " << o.start_s << ", graph 0 to " << o.end_s
-       << ", graph 1 fc rgb 'gray90' fs solid behind\n";
-  if (!ev.occlusions.empty())
-    gp << "set label 'occlusion (shaded)' at " << ev.occlusions.front().start_s << ", graph 0.97 offset 0.5,0\n";
-  if (std::isfinite(ev.onset_s))
-    gp << "set arrow from " << ev.onset_s << ", graph 0 to " << ev.onset_s << ", graph 1 nohead dt 2 lc rgb 'black'\n"
-       << "set label 'onset' at " << ev.onset_s << ", graph 0.97 offset 0.5,0\n";
-  return gp.str();
 }
 
 std::vector<std::vector<size_t>> groupByPrefix(const std::vector<std::string>& names) {

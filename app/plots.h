@@ -19,7 +19,6 @@
 #pragma once
 
 #include "output_dir.h"
-#include "scenario_run.h"
 
 #include <string>
 #include <vector>
@@ -47,7 +46,7 @@ struct PlotPanel {
 struct PlotFigure {
   std::string base;   ///< BASE.gp draws BASE.png
   std::string title;  ///< above the grid
-  std::string setup;  ///< gnuplot commands for every panel (e.g. eventMarks())
+  std::string setup;  ///< gnuplot commands for every panel (e.g. eventMarks(), report.h)
   std::vector<PlotPanel> panels;
   size_t columns = 0;      ///< grid columns; 0: one column up to 3 panels, else 2
   int panel_width_px = 0;  ///< 0: 1100 in one column, 700 otherwise
@@ -58,9 +57,6 @@ struct PlotFigure {
 /// Defaults per panel: linear y, x autoscaled to the data, grid, key inside top right. Text is
 /// not "enhanced": names with '_' print as they are.
 void drawFigure(const StagedOutputDir& dir, const PlotFigure& figure);
-
-/// gnuplot commands that shade the occlusions and mark the onset of a run on a time axis.
-std::string eventMarks(const RunEvents& events);
 
 /// Panels for related names: names that share the text before their first '_' (the whole name
 /// when it has none) share a panel (lyap_f, lyap_bound and lyap_f_bar; s_u and s_v); the others

@@ -1,7 +1,7 @@
 #include "predict_command.h"
 
-#include "report.h"
-#include "scenario_run.h"
+#include "predictor_choice.h"
+#include "number_text.h"
 
 #include "general_number.h"
 #include "gnuplot.h"

@@ -48,7 +48,7 @@ void requirePredictor(const std::string& option, const std::string& name);
 
 /// The predictors of a command line (`predict` and `track` --predictor, `track-study` --predictors):
 /// `items` is the comma list split, either {"all"} (every registered predictor) or elements
-/// [LABEL=]TYPE[:KEY=VALUE...], compare's syntax (parsePredictorChoice, scenario_run.h): the registry
+/// [LABEL=]TYPE[:KEY=VALUE...], compare's syntax (parsePredictorChoice, predictor_choice.h): the registry
 /// predictor TYPE shown as LABEL with those parameters, so one predictor can run with several
 /// parameter sets side by side. Throws std::invalid_argument "OPTION: ..." for an empty list, 'all'
 /// in a list, an unknown TYPE, a malformed element or a name shown twice.

@@ -15,46 +15,17 @@
 // among the rows, the terminal table adds "vs hold" = rmse of hold / rmse of the row.
 #pragma once
 
-#include "output_dir.h"
+#include "number_text.h"
 #include "scenario.h"
-
-#include "predvs/predictors/params.h"
+#include "scenario_run.h"
 
 #include <nlohmann/json.hpp>
 
-#include <limits>
 #include <ostream>
 #include <string>
 #include <vector>
 
 namespace predvs {
-
-/// Summary of one figure over runs (NaN runs skipped).
-struct Stats {
-  int n = 0;  ///< finite values
-  double mean = std::numeric_limits<double>::quiet_NaN();
-  double std = std::numeric_limits<double>::quiet_NaN();  ///< sample std (0 for one value)
-  double min = std::numeric_limits<double>::quiet_NaN();
-  double max = std::numeric_limits<double>::quiet_NaN();
-  /// Middle value (mean of the two middle ones for an even count): what a typical run gives even
-  /// when a few runs diverge (E9's unstable runs on the arm make the mean meaningless).
-  double median = std::numeric_limits<double>::quiet_NaN();
-};
-Stats stats(const std::vector<double>& xs);
-
-/// Number formats: CSV / JSON-like text ("" for NaN, `precision` significant digits), gnuplot data
-/// ("NaN"), and tables (3 decimals, 1 from 100 on, scientific beyond 1e5 or under 1e-3; "-" for NaN).
-std::string csvNumber(double x, int precision = 6);
-std::string datNumber(double x);
-std::string tableNumber(double x);
-/// A CSV cell that round-trips a pixel coordinate or a time: "" for NaN, 10 significant digits.
-std::string csvCell(double x);
-/// Fixed-point text with `decimals` decimals, "-" for NaN (tables).
-std::string fixedNumber(double x, int decimals);
-/// JSON number, null for NaN.
-nlohmann::json jsonNumber(double x);
-/// A file-name-safe version of a name (anything but [A-Za-z0-9_-] becomes '_').
-std::string fileSafe(const std::string& s);
 
 /// Rows (predictors, in display order) by metrics.
 struct MetricTable {
@@ -78,10 +49,7 @@ std::string markdownMetricTable(const MetricTable& table);
 /// {name: definition} for `names` (servo/run_metrics.h; the task's run summary values of a closed
 /// loop point at the task's header).
 nlohmann::json metricDefinitionsJson(const std::vector<std::string>& names, const Scenario& scenario);
-/// {key: value} of a predictor's parameters.
-nlohmann::json paramsJson(const Params& params);
-
-/// Writes `text` to `name` in the staging directory (std::runtime_error naming the file if it fails).
-void writeTextFile(const StagedOutputDir& dir, const std::string& name, const std::string& text);
+/// gnuplot commands that shade the occlusions and mark the onset of a run on a time axis (plots.h).
+std::string eventMarks(const RunEvents& events);
 
 }  // namespace predvs

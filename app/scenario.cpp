@@ -630,12 +630,4 @@ Scenario loadScenario(const std::string& path, const std::vector<ScenarioOverrid
   }
 }
 
-std::string predictorLabelProblem(const std::string& label) {
-  if (label.empty()) return "empty predictor label";
-  for (char ch : label)
-    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_')
-      return "predictor label '" + label + "': expected letters, digits, '-' and '_' only";
-  return "";
-}
-
 }  // namespace predvs

@@ -77,6 +77,7 @@
 //   servo: {forecast: feature | feedforward | both, compensation: auto | on | off}
 #pragma once
 
+#include "predictor_choice.h"
 #include "scenario_override.h"
 
 #include "predvs/predictors/params.h"
@@ -177,10 +178,5 @@ std::string sweepKeysText(const std::vector<ScenarioSweep>& axes);
 std::vector<Scenario> loadSweepVariants(const Scenario& scenario, const std::vector<ScenarioOverride>& overrides);
 
 std::string scenarioKindName(ScenarioKind kind);
-
-/// Why `label` cannot name a predictor entry ("" when it can): it must be non-empty and made of
-/// letters, digits, '-' and '_' (it appears in file names, `--set predictors.LABEL...` paths and
-/// the `--predictors` syntax, whose separators are ',', ':' and '=').
-std::string predictorLabelProblem(const std::string& label);
 
 }  // namespace predvs

@@ -15,6 +15,7 @@
 // Empty (NaN) where a value is not available.
 #pragma once
 
+#include "predictor_choice.h"
 #include "scenario.h"
 
 #include "predvs/predictors/params.h"
@@ -61,26 +62,6 @@ struct RunRecord {
 /// its own trajectory, noise, predictor and loop, so calls may run on parallel threads. Throws
 /// std::invalid_argument for a configuration the servo layer rejects.
 RunRecord runScenarioOnce(const Scenario& scenario, const ScenarioPredictor& p, std::uint64_t seed, bool keep_trace);
-
-/// One element of `--predictors` (compare, servo): `[LABEL=]TYPE[:KEY=VALUE[:KEY=VALUE...]]`.
-///   kf-cv                         the registry predictor kf-cv under its own name
-///   kf-cv-paper=kf-cv:r=5:q=20    kf-cv labelled kf-cv-paper, with r = 5 and q = 20
-///   st-akf-pm:pm_band=4           st-akf-pm (label st-akf-pm) with pm_band = 4
-/// ',' separates elements, ':' the parameters of one, '=' a label from its type and a key from its
-/// value: none of the three can occur in a label, a type or a key, so the syntax is unambiguous.
-/// VALUEs are numbers. LABEL: letters, digits, '-' and '_' (it names files and `--set` paths).
-struct PredictorChoice {
-  std::string label;  ///< the name shown in leaderboards, plots and traces
-  std::string type;   ///< registry name
-  Params params;      ///< the KEY=VALUE given (on top of the scenario's own, see choosePredictors)
-  bool labelled = false;  ///< LABEL= given
-  /// A bare word (no '=', no ':'): a registry name or a label of the scenario's own list (then
-  /// resolved by choosePredictors; parsePredictorChoice accepts any well-formed word here).
-  bool bare = false;
-};
-/// Parses one element; throws std::invalid_argument "OPTION: ..." naming the element and what was
-/// expected (unknown type, empty or malformed label, key or value, a key twice).
-PredictorChoice parsePredictorChoice(const std::string& text, const std::string& option);
 
 /// Replaces the scenario's predictors by `chosen` (elements as parsePredictorChoice() reads them),
 /// in that order; no-op when `chosen` is empty. A bare word that labels an entry of the scenario

@@ -1,7 +1,7 @@
 #include "track_commands.h"
 
 #include "parallel_runs.h"
-#include "report.h"
+#include "number_text.h"
 #include "predict_command.h"
 
 #include "output_dir.h"

@@ -1,7 +1,7 @@
 # Install rules and the predvs CMake package (find_package(predvs) -> predvs::predictors,
 # predvs::tasks, predvs::servo; find_package(predvs COMPONENTS calibration) adds
 # predvs::calibration, which also finds OpenCV and Ceres). Two install components, which the
-# Debian packages of cmake/PredvsPackage.cmake follow: `runtime` (bin/predvs, share/predvs/) and
+# Debian packages of cmake/PredvsPackage.cmake follow: `runtime` (bin/predvs and bin/predvs-all, share/predvs/) and
 # `dev` (headers, static libraries, the CMake package). Data is found at run time
 # (servo/include/predvs/servo/data_dir.h): installed binaries look in <prefix>/bin/../share/predvs;
 # the build tree mimics that layout with a link <build>/share/predvs -> <source>/data, so nothing
@@ -21,7 +21,7 @@ set_target_properties(predvs_visp PROPERTIES EXPORT_NAME visp)
 
 set_target_properties(predvs_calibration PROPERTIES EXPORT_NAME calibration)
 
-install(TARGETS predvs RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
+install(TARGETS predvs predvs-all RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
 install(TARGETS predvs_predictors predvs_tasks predvs_servo predvs_visp EXPORT predvsTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev)
 # Its own export set: loaded only for find_package(predvs COMPONENTS calibration).

@@ -1,5 +1,5 @@
 # Debian packages of predvs (CPack DEB): `make deb`, or `cd build && cpack -G DEB`, writes
-#   build/predvs_<version>_<arch>.deb      component `runtime`: /usr/bin/predvs and
+#   build/predvs_<version>_<arch>.deb      component `runtime`: /usr/bin/predvs, predvs-all and
 #                                          /usr/share/predvs/ (scenarios/, textures/, params/)
 #   build/predvs-dev_<version>_<arch>.deb  component `dev`: /usr/include/predvs/, the static
 #                                          libraries (/usr/lib/) and the CMake package

@@ -3,7 +3,7 @@
 #  - the predvs .deb declares the shared libraries it links (dpkg-shlibdeps: ViSP, OpenCV,
 #    yaml-cpp, libstdc++) and gnuplot-nox; predvs-dev depends on predvs (= same version),
 #    libvisp-dev and libeigen3-dev;
-#  - predvs holds usr/bin/predvs and usr/share/predvs/{scenarios,textures,params}, and no headers;
+#  - predvs holds usr/bin/predvs, usr/bin/predvs-all and usr/share/predvs/{scenarios,textures,params}, and no headers;
 #    predvs-dev holds the headers, the static libraries and the CMake package;
 #  - the predvs .deb unpacked (dpkg-deb -x) into a temporary root runs the default scenario from
 #    another folder with its data found beside the binary (PREDVS_DATA_DIR unset), and converges:
@@ -45,7 +45,7 @@ done
 # Contents.
 dpkg-deb -c "$deb" | awk '{print $6}' > "$work/runtime.txt"
 dpkg-deb -c "$dev" | awk '{print $6}' > "$work/dev.txt"
-for f in ./usr/bin/predvs ./usr/share/predvs/scenarios/ibvs-moving-target.yaml \
+for f in ./usr/bin/predvs ./usr/bin/predvs-all ./usr/share/predvs/scenarios/ibvs-moving-target.yaml \
          ./usr/share/predvs/textures/tag36h11_id0.pgm ./usr/share/predvs/params/pre-issue-11.yaml; do
   grep -qx "$f" "$work/runtime.txt" || fail "$deb does not hold $f"
 done

@@ -21,7 +21,15 @@ for f in include/predvs/predictors/predictor.h include/predvs/tasks/ibvs_task.h 
          share/predvs/textures/tag36h11_id0.pgm; do
   [ -e "$prefix/$f" ] || fail "$prefix/$f not installed"
 done
-if grep -q "$src/data" "$predvs"; then fail "$predvs contains the source path $src/data"; fi
+[ -x "$prefix/bin/predvs-all" ] || fail "$prefix/bin/predvs-all not installed (predvs hands it every command but the track ones)"
+for exe in "$predvs" "$prefix/bin/predvs-all"; do
+  if grep -q "$src/data" "$exe"; then fail "$exe contains the source path $src/data"; fi
+done
+# The commands predvs runs itself (app/track_cli.h), from the installed prefix.
+"$predvs" make-track --kind turns --duration-s 5 --out "$work/t.csv" >/dev/null || fail "installed predvs make-track failed"
+"$predvs" predict --input "$work/t.csv" --predictor hold,kf-cv --delay-frames 2 --no-plots --out "$work/p" >/dev/null \
+  || fail "installed predvs predict failed"
+[ -s "$work/p/predictions.csv" ] || fail "installed predvs predict wrote no $work/p/predictions.csv"
 
 "$predvs" list > list.txt || fail "installed predvs list failed"
 grep -q "in $prefix/share/predvs/scenarios:" list.txt || fail "predvs list does not read $prefix/share/predvs: $(grep Scenarios list.txt)"

@@ -1,0 +1,104 @@
+#include "cli_args.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+#include <stdexcept>
+
+namespace predvs {
+namespace {
+
+/// True when `name` is one of the app's subcommands.
+bool isSubcommand(CLI::App& app, const std::string& name) {
+  for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+    if (sub->get_name() == name) return true;
+  return false;
+}
+
+}  // namespace
+
+std::string oneLine(std::string s) {
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  std::replace(s.begin(), s.end(), '\r', ' ');
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+double parseNumberArg(const std::string& option, const std::string& text) {
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(begin, &end);
+  if (text.empty() || end == begin || *end != '\0')
+    throw std::invalid_argument(option + ": expected a number, got '" + text + "'");
+  if (!std::isfinite(v) || errno == ERANGE)
+    throw std::invalid_argument(option + ": expected a finite number, got '" + text + "'");
+  return v;
+}
+
+long parseIntegerArg(const std::string& option, const std::string& text, long lo, long hi) {
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(begin, &end, 10);
+  if (text.empty() || end == begin || *end != '\0' || errno == ERANGE || v < lo || v > hi)
+    throw std::invalid_argument(option + ": expected an integer in [" + std::to_string(lo) + ", " +
+                                std::to_string(hi) + "], got '" + text + "'");
+  return static_cast<long>(v);
+}
+
+std::vector<std::string> splitList(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+std::string commandLine(const std::vector<std::string>& args) {
+  std::string s = "predvs";
+  for (const auto& a : args) {
+    const bool plain = !a.empty() && a.find_first_of(" \t\"'\\$`!*?;&|<>()") == std::string::npos;
+    if (plain) {
+      s += " " + a;
+    } else {
+      std::string q = "'";
+      for (char c : a) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+      s += " " + q + "'";
+    }
+  }
+  return s;
+}
+
+int parseAndRun(CLI::App& app, const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
+                const std::function<int()>& run) {
+  try {
+    if (!args.empty() && !args.front().empty() && args.front()[0] != '-' &&
+        !isSubcommand(app, args.front())) {
+      std::string known;
+      for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+        known += (known.empty() ? "" : ", ") + sub->get_name();
+      throw std::invalid_argument("unknown subcommand '" + args.front() + "' (expected " + known + ")");
+    }
+    std::vector<std::string> reversed(args.rbegin(), args.rend());
+    app.parse(reversed);
+    return run();
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e, out, err);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e, out, err);
+  } catch (const CLI::ParseError& e) {
+    err << "predvs: error: " << oneLine(e.what()) << " (see predvs --help)\n";
+    return 2;
+  } catch (const std::exception& e) {
+    err << "predvs: error: " << oneLine(e.what()) << "\n";
+    return 2;
+  }
+}
+
+}  // namespace predvs
