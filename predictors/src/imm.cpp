@@ -124,6 +124,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       shrink_a_sigmas_(params.get("shrink_sigmas", kDefaultShrinkSigmasKfCa, 0.0, 1e3)),
       shrink_v_sigmas_(params.get("shrink_v_sigmas", kDefaultShrinkVelocityKfCa ? shrink_a_sigmas_ : 0.0, 0.0, 1e3)),
       blend_tau_s_(holdBlendTauParam(params)),  // as every per-channel filter (channel_predictor.h)
+      blend_frames_(holdBlendFramesParam(params)),
       coast_stop_fraction_(coastStopFractionParam(params)),
       coast_fast_ratio_(coastFastRatioParam(params)),
       coast_shape_(coastShapeParam(params)),
@@ -380,13 +381,15 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       ch.blend.z_hold = z(c);
       ch.blend.recent.remember(t_s, z(c), 0.0, 0.0);
       ch.last_measured = true;
+      if (blend_tau_s_ > 0.0 && blend_frames_ > 1) rememberBlendStart(ch, t_s);
       continue;
     }
     // The CA mode's forecast start from its posterior of the last update (ch.g, replaced at the
     // end), shared by the blend's sample and the forecast weights' evidence below.
     const bool measured = isMeasured(z(c));
     Vec<3> x_ca = Vec<3>::Zero();
-    if (measured && ((blend_tau_s_ > 0.0 && ch.last_measured) || fc_tau_s_ > 0.0)) x_ca = forecastStartMean(ch, ca);
+    if (measured && ((blend_tau_s_ > 0.0 && ch.last_measured) || fc_tau_s_ > 0.0))  // kept by the last update when it could
+      x_ca = ch.start_run > 0 ? ch.starts[static_cast<size_t>(ch.start_head)].x[static_cast<size_t>(ca)] : forecastStartMean(ch, ca);
     // The blend with hold learns from the one-frame forecast of the previous update (channel_predictor.h):
     // each mode's (F x)(0), for CP and CV written out as in predictPosition (the same bits).
     // The step of the combination is the combination of the modes' steps, sum_j w_j (p_j - z_hold):
@@ -412,6 +415,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         if (blendsMode(j)) ch.mode_blend[jj].learn(pj - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep);
       }
       ch.blend.learn(d_step, z(c) - ch.blend.z_hold, blend_keep);
+      if (blend_frames_ > 1) learnLongerBlend(ch, t_s, z(c), blend_keep);
     }
     const bool started_gap = ch.last_measured && !measured;
     ch.last_measured = measured;
@@ -576,6 +580,58 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     ch.g = mixed;
     if (blend_tau_s_ > 0.0 && isMeasured(z(c)))
       ch.blend.recent.remember(t_s, z(c), combinedVelocity(ch), blendForgetting(t_s - ch.blend.recent.lastTime()));
+    if (blend_tau_s_ > 0.0 && blend_frames_ > 1) {
+      if (isMeasured(z(c)))
+        rememberBlendStart(ch, t_s);
+      else
+        ch.start_run = 0;
+    }
+  }
+}
+
+void ImmPredictor::rememberBlendStart(Channel& ch, double t_s) const {
+  ch.start_head = (ch.start_head + 1) % kMaxBlendFrames;
+  Channel::BlendStart& st = ch.starts[static_cast<size_t>(ch.start_head)];
+  const int m = modeCount();
+  for (int j = 0; j < m; ++j)
+    st.x[static_cast<size_t>(j)] = forecastStartMean(ch, j);
+  st.fw = forecastWeights(ch);
+  st.z_hold = ch.blend.z_hold;
+  st.t_s = t_s;
+  ch.start_run = std::min(ch.start_run + 1, kMaxBlendFrames);
+}
+
+double ImmPredictor::forecastPosition(int j, const Vec<3>& x, double dt) const {
+  switch (modes_[static_cast<size_t>(j)].kind) {
+    case ImmMode::Cp: return x(0);
+    case ImmMode::Cv: return x(0) + dt * x(1);
+    case ImmMode::Ca: break;
+  }
+  return alpha_ > 0.0 ? transition(j, dt).row(0).dot(x) : x(0) + dt * x(1) + 0.5 * dt * dt * x(2);
+}
+
+void ImmPredictor::learnLongerBlend(Channel& ch, double t_s, double z, double lambda) const {
+  const int m = modeCount();
+  // The start of update k - h is h - 1 places behind the newest (k - 1's); frames k - h .. k - 1
+  // measured (start_run >= h) and k too (the caller).
+  for (int h = 2; h <= blend_frames_ && h <= ch.start_run; ++h) {
+    const int back = ch.start_head - (h - 1);
+    const Channel::BlendStart& st = ch.starts[static_cast<size_t>(back < 0 ? back + kMaxBlendFrames : back)];
+    const double y = z - st.z_hold;
+    double d = 0.0;
+    for (int j = 0; j < m; ++j) {
+      const auto jj = static_cast<size_t>(j);
+      const double pj = forecastPosition(j, st.x[jj], t_s - st.t_s);
+      d += st.fw[jj] * (pj - st.z_hold);
+      if (blendsMode(j)) ch.mode_longer[jj][static_cast<size_t>(h - 2)].learn(pj - st.z_hold, y, lambda);
+    }
+    ch.longer[static_cast<size_t>(h - 2)].learn(d, y, lambda);
+  }
+  for (int h = 2; h <= blend_frames_; ++h) {
+    const auto hh = static_cast<size_t>(h - 2);
+    ch.blend.w = std::min(ch.blend.w, ch.longer[hh].w);
+    for (int j = 0; j < m; ++j)
+      ch.mode_blend[static_cast<size_t>(j)].w = std::min(ch.mode_blend[static_cast<size_t>(j)].w, ch.mode_longer[static_cast<size_t>(j)][hh].w);
   }
 }
 

@@ -20,14 +20,16 @@ struct FixedKfReference {
   double best_fixed_px = 0.0;  ///< the smallest truth RMSE of the three fitted fixed KFs
   bool fixed_warm_started = false;  ///< whether any fixed KF's fit tried a warm start (none should)
 
-  FixedKfReference(const ManeuverTrack& g, double rate_hz) : truth(g), track{g.t_s, {g.u_px, g.v_px}} {
+  /// `structure`: keys every fixed KF is fitted with (none: their defaults).
+  FixedKfReference(const ManeuverTrack& g, double rate_hz, const Params& structure = {})
+      : truth(g), track{g.t_s, {g.u_px, g.v_px}} {
     o.objective = FitObjective::Prediction;
     o.horizon_s = 2.0 / rate_hz;
     o = inSampleFitOptions(o);
     seeded = o;
     best_fixed_px = 1e300;
     for (const std::string name : {"kf-cv", "kf-ca", "cs-akf"}) {
-      const NoiseFitResult f = fitNoise(name, {}, track, o);
+      const NoiseFitResult f = fitNoise(name, structure, track, o);
       fixed_warm_started = fixed_warm_started || f.warm_start;
       best_fixed_px = std::min(best_fixed_px, truthRmse(name, f.params));
       seeded.seed_fits[name] = f.params;

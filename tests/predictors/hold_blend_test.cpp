@@ -8,9 +8,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace predvs {
 namespace {
@@ -26,8 +28,9 @@ TEST(HoldBlend, ForecastIsHoldPlusTheLeastSquaresWeightTimesTheModelStep) {
   // off: it changes the coasted filter; coast_stop_test.cpp; so do the speed rule and the shape of
   // the coast, coast_fast_test.cpp)
   const double tau_s = 2.0;
+  // (the one-frame regression alone, hold_blend_frames 1: the two-frame one is the next test's)
   KfCvPredictor on(1, {{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0},
-                       {"q_raise_ratio", 0.0}});  // the blend alone: q stays the twin's
+                       {"q_raise_ratio", 0.0}, {"hold_blend_frames", 1.0}});  // the blend alone: q stays the twin's
   KfCvPredictor off(1, {{"hold_blend_tau_s", 0.0}});
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 2.0);
@@ -62,6 +65,70 @@ TEST(HoldBlend, ForecastIsHoldPlusTheLeastSquaresWeightTimesTheModelStep) {
   EXPECT_LT(w, 0.99);
 }
 
+TEST(HoldBlend, TheWeightIsTheSmallerOfTheOneAndTheTwoFrameRegressions) {
+  // GIVEN kf-cv with the blend on two horizons (hold_blend_frames 2, the default) and a twin without
+  // the blend, fed 20 s of short dashes at 10 Hz (moves of 3 frames at 200 px/s between rests of 5)
+  // under 1 px noise, with a dropped frame every 11th; the coasting rules that come with the blend
+  // off, as in the test above
+  const double tau_s = 3.0;
+  KfCvPredictor on(1, {{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0},
+                       {"q_raise_ratio", 0.0}});
+  KfCvPredictor off(1, {{"hold_blend_tau_s", 0.0}});
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  // The regressions of y = z_k - z_hold(k-h) on d = f(k | k-h) - z_hold(k-h), h = 1, 2
+  std::array<double, 3> s_dd{}, s_dy{}, w{1.0, 1.0, 1.0};
+  std::vector<double> z_at, t_at, forecast_2;  // per frame: z (NaN: dropped), t, the twin's forecast for frame k + 2
+  double x = 0.0, w_min_seen = 1.0;
+  int two_frame_samples = 0;
+  Eigen::VectorXd z(1);
+  for (int k = 0; k < 200; ++k) {
+    const double t = k / kRateHz;
+    if (k % 8 < 3) x += 200.0 / kRateHz;  // the dash
+    const bool measured = k == 0 || k % 11 != 0;
+    z(0) = measured ? x + noise(rng) : std::nan("");
+    const double f1 = k > 0 ? off.predictPosition(0, t) : 0.0;
+    const auto ku = static_cast<size_t>(k);
+    const auto was = [&](int j) { return j >= 0 && std::isfinite(z_at[static_cast<size_t>(j)]); };
+    if (measured && was(k - 1)) {
+      const double lambda = std::exp(-(1.0 / kRateHz) / tau_s);
+      const double zh1 = z_at[ku - 1];
+      s_dd[1] = lambda * s_dd[1] + (f1 - zh1) * (f1 - zh1);
+      s_dy[1] = lambda * s_dy[1] + (f1 - zh1) * (z(0) - zh1);
+      w[1] = s_dd[1] > 0.0 ? std::clamp(s_dy[1] / s_dd[1], 0.0, 1.0) : 1.0;
+      if (was(k - 2)) {
+        const double zh2 = z_at[ku - 2], f2 = forecast_2[ku - 2];
+        s_dd[2] = lambda * s_dd[2] + (f2 - zh2) * (f2 - zh2);
+        s_dy[2] = lambda * s_dy[2] + (f2 - zh2) * (z(0) - zh2);
+        w[2] = s_dd[2] > 0.0 ? std::clamp(s_dy[2] / s_dd[2], 0.0, 1.0) : 1.0;
+        ++two_frame_samples;
+      }
+      w[0] = std::min(w[1], w[2]);
+    }
+    z_at.push_back(z(0));
+    t_at.push_back(t);
+    on.update(t, z);
+    off.update(t, z);
+    forecast_2.push_back(off.predictPosition(0, t + 2.0 / kRateHz));
+    double z_hold = 0.0;  // the last measurement
+    for (size_t j = z_at.size(); j-- > 0;)
+      if (std::isfinite(z_at[j])) {
+        z_hold = z_at[j];
+        break;
+      }
+    // THEN the forecast is hold + min(w1, w2) (model forecast - hold), at any horizon
+    for (const double h : {0.1, kH, 0.35}) {
+      const double expected = z_hold + w[0] * (off.predictPosition(0, t + h) - z_hold);
+      ASSERT_NEAR(on.predictPosition(0, t + h), expected, kRoundingPx) << k << " " << h;
+    }
+    w_min_seen = std::min(w_min_seen, w[0]);
+  }
+  // (both regressions ran, and on these dashes the two-frame one is the smaller, as the blend is for)
+  EXPECT_GT(two_frame_samples, 100);
+  EXPECT_LT(w[2], w[1]);
+  EXPECT_LT(w_min_seen, 0.95);
+}
+
 TEST(HoldBlend, AnExactRampKeepsTheModelForecast) {
   // GIVEN kf-cv and kf-ca with their defaults (blend on) and without the blend, on a noise-free
   // ramp at 80 px/s
@@ -74,8 +141,12 @@ TEST(HoldBlend, AnExactRampKeepsTheModelForecast) {
       z(0) = 5.0 + 80.0 * t;
       on->update(t, z);
       off->update(t, z);
-      // THEN the weight stays 1: the model's forecast, to rounding, at every frame
-      EXPECT_NEAR(on->predictPosition(0, t + kH), off->predictPosition(0, t + kH), kRoundingPx) << name << " " << k;
+      // THEN the weight stays 1: the model's forecast, to rounding, at every frame; but for kf-cv
+      // and imm, whose two-frame forecasts overshoot the ramp by a little while they converge (the
+      // velocity starts at 0 with a large variance), which keeps the two-frame weight a hair under
+      // 1: within 0.02 px of the 16 px step, and 5e-4 px over the last second
+      const double tol = std::string(name) == "kf-ca" ? kRoundingPx : k < 50 ? 0.02 : 5e-4;
+      EXPECT_NEAR(on->predictPosition(0, t + kH), off->predictPosition(0, t + kH), tol) << name << " " << k;
     }
   }
 }

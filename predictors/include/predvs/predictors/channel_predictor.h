@@ -77,7 +77,14 @@
 // The velocity (and acceleration) of predict() are scaled by w too, so the blended estimate is one
 // state. Only the forecast is blended: the filter (step(), gaussian()) is unchanged (but for the
 // coasting time of a gap after a stop, above, which comes with the blend). Frames after a
-// gap are not learnt from (their forecast spans the gap, not one frame). Units: px, s; the weight
+// gap are not learnt from (their forecast spans the gap, not one frame). The same regression is
+// also kept on the forecasts of 2, ..., H frames (x_m(t_k | k-h) against z_k, from the hold of
+// frame k-h, on frames whose h previous frames were measured), H = hold_blend_frames (default 2),
+// and the weight handed out is the smallest of the H weights: the model's step has to beat hold's
+// at one frame and at H frames. A target that moves in short dashes of a few frames (a one-frame
+// step that pays, a two-frame one that overshoots the dash's end) then gets the weight of the
+// horizon where extrapolating pays least (docs/MODELS.md §15, "The blend on more than one
+// horizon"). H = 1 is the one-frame weight alone (the default until 2026-12-03). Units: px, s; the weight
 // is dimensionless, so the rule holds at any frame rate and noise level. tau = 0 switches the blend
 // off; its default is kDefaultHoldBlendTauS whatever the other keys say (`shrink_sigmas: 0` turns
 // the weighting off, not the blend: the papers' plain filters give both, `shrink_sigmas: 0,
@@ -115,8 +122,12 @@ inline constexpr double kDefaultCoastTauS = 0.2;
 /// "Defaults that hold", wide grids): tau = 1.5 / 3 / 6 / 20 s leaves 11 / 3 / 0 / 1 losses to hold on
 /// the 2160 tracks of seeds 401-430 (all predictors but imm together), and 0 on the repo's three grids.
 inline constexpr double kDefaultHoldBlendTauS = 6.0;
-/// Default horizon (frames) of the forecasts the blend weight is learnt on (`hold_blend_frames`).
-inline constexpr int kDefaultHoldBlendFrames = 1;
+/// Default `hold_blend_frames` H (file comment): the blend's weight is the smallest of those learnt
+/// on the forecasts of 1..H frames. Measured with `predvs track-study` and scripts/foreign-tracks.py
+/// (docs/PERFORMANCE.md "The blend on two horizons"): losses to hold of the nine per-channel filters
+/// on make-track's wide grids (seeds 401-430 and the three drop grids) and on the second generator's
+/// 576 tracks, H = 1 / 2 / 3: see there.
+inline constexpr int kDefaultHoldBlendFrames = 2;
 inline constexpr int kMaxBlendFrames = 8;
 
 /// Default `coast_stop_fraction` c (dimensionless, file comment): a gap that begins while the target
@@ -227,6 +238,15 @@ struct CoastStop {
 /// comment). Read by every per-channel filter (readShrinkParams) and by imm.
 inline double holdBlendTauParam(const Params& params) {
   return params.get("hold_blend_tau_s", kDefaultHoldBlendTauS, 0.0, 1e6);
+}
+
+/// The `hold_blend_frames` parameter H (whole frames 1..kMaxBlendFrames, default
+/// kDefaultHoldBlendFrames; file comment). Read by every per-channel filter and by imm.
+inline int holdBlendFramesParam(const Params& params) {
+  const double h = params.get("hold_blend_frames", kDefaultHoldBlendFrames, 1, kMaxBlendFrames);
+  if (h != std::floor(h))
+    throw std::invalid_argument("hold_blend_frames: expected a whole number of frames from 1 to " + std::to_string(kMaxBlendFrames));
+  return static_cast<int>(h);
 }
 
 /// The regression of the blend with hold (file comment): the forgetting sums of a model's
@@ -402,7 +422,9 @@ class ChannelPredictor : public Predictor {
     Gaussian<N> g;
     bool initialized = false;
     Innovation innovation;
-    HoldBlend blend;
+    HoldBlend blend;  ///< its BlendWeight learns on one-frame forecasts; its w is the handed-out weight
+    /// The regressions on forecasts of 2..hold_blend_frames frames (longer[h - 2]).
+    std::array<BlendWeight, kMaxBlendFrames - 1> longer{};
     int run = 0;           ///< consecutive measured frames up to the last update
     /// The forecast starts of the last kMaxBlendFrames measured updates (ring, newest at head).
     std::array<Vec<N>, kMaxBlendFrames> x_start{};
@@ -440,13 +462,23 @@ class ChannelPredictor : public Predictor {
       s.run = 0;
       return;
     }
-    if (s.run >= blend_frames_) {  // frames k - H .. k - 1 measured: the forecast made at k - H
-      const size_t j = static_cast<size_t>((s.head - (blend_frames_ - 1) + kMaxBlendFrames) % kMaxBlendFrames);
+    if (s.run >= 1) {  // frame k - 1 measured: the one-frame forecast made there
+      const auto j = static_cast<size_t>(s.head);
       Gaussian<N> g;
       g.x = s.x_start[j];
       const double f = predictedPosition(g, transition(c, t_s - s.t_start[j]));
       s.blend.learn(f - s.z_start[j], z - s.z_start[j], lambda);
     }
+    // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured; the
+    // handed-out weight is the smallest over the horizons (file comment).
+    for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
+      const int back = s.head - (h - 1);
+      const auto j = static_cast<size_t>(back < 0 ? back + kMaxBlendFrames : back);
+      const double f = transition(c, t_s - s.t_start[j]).row(0).dot(s.x_start[j]);  // (F x)(0)
+      s.longer[static_cast<size_t>(h - 2)].learn(f - s.z_start[j], z - s.z_start[j], lambda);
+    }
+    if (s.run >= 1)
+      for (int h = 2; h <= blend_frames_; ++h) s.blend.w = std::min(s.blend.w, s.longer[static_cast<size_t>(h - 2)].w);
     s.blend.z_hold = z;
     s.blend.recent.remember(t_s, z, s.g.x(1), blendForgetting(t_s - s.blend.recent.lastTime()));
     rememberForecastStart(c, t_s);
@@ -500,9 +532,7 @@ class ChannelPredictor : public Predictor {
     shrink_v_sigmas_ = params.get("shrink_v_sigmas", weigh_velocity ? shrink_a_sigmas_ : 0.0, 0.0, 1e3);
     if constexpr (N == 2) shrink_a_sigmas_ = 0.0;
     blend_tau_s_ = holdBlendTauParam(params);
-    blend_frames_ = static_cast<int>(params.get("hold_blend_frames", kDefaultHoldBlendFrames, 1, kMaxBlendFrames));
-    if (blend_frames_ != params.get("hold_blend_frames", kDefaultHoldBlendFrames))
-      throw std::invalid_argument("hold_blend_frames: expected a whole number of frames from 1 to " + std::to_string(kMaxBlendFrames));
+    blend_frames_ = holdBlendFramesParam(params);
   }
   /// True when the forecast is weighted (a shrink key > 0).
   bool forecastWeightingOn() const { return shrink_a_sigmas_ > 0.0 || shrink_v_sigmas_ > 0.0; }

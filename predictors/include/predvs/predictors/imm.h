@@ -159,7 +159,9 @@
 // default kDefaultHoldBlendTauS; 0 = off): the
 // forecast blended with hold by the least-squares weight of the one-frame forecasts, as every
 // per-channel filter's (channel_predictor.h): each moving mode's by its own weight, or with
-// blend_per_mode 0 the combination's (above); with it, coast_stop_fraction (default 0.5; 0 = off):
+// blend_per_mode 0 the combination's (above); hold_blend_frames (1..8, default 2, as theirs): each
+// of those weights is the smallest of its regressions on the forecasts of 1..H frames (Channel::
+// starts keeps the forecast starts of the last updates); with it, coast_stop_fraction (default 0.5; 0 = off):
 // a gap that begins while the mu-combined velocity falls coasts with a shorter time constant
 // (channel_predictor.h, "A stop before the gap"). The initial
 // mode probabilities and forecast weights are equal. q_cp and the tau were chosen
@@ -260,7 +262,27 @@ class ImmPredictor : public Predictor {
     /// Each mode's own blend weight with hold (blend_per_mode; the hold and the gap's coasting are
     /// blend's).
     std::array<BlendWeight, kMaxModes> mode_blend{};
+    /// The blend on more than one horizon (hold_blend_frames H, channel_predictor.h): the forecast
+    /// starts of the last measured updates (ring, newest at start_head; start_run of them in a row)
+    /// and the regressions on the forecasts of h = 2..H frames, combined (longer[h - 2]) and per mode
+    /// (mode_longer[j][h - 2]). The weights handed out are the minima over the horizons.
+    struct BlendStart {
+      std::array<Vec<3>, kMaxModes> x{};      ///< each mode's forecast start (forecastStartMean's for CA)
+      std::array<double, kMaxModes> fw{};     ///< the forecast weights then
+      double z_hold = 0.0, t_s = 0.0;         ///< the hold and the time of that update
+    };
+    std::array<BlendStart, kMaxBlendFrames> starts{};
+    int start_head = 0, start_run = 0;
+    std::array<BlendWeight, kMaxBlendFrames - 1> longer{};
+    std::array<std::array<BlendWeight, kMaxBlendFrames - 1>, kMaxModes> mode_longer{};
   };
+  /// (F_j(dt) x)(0): mode j's position dt ahead of the state x (row 0 of transition(j, dt) written out).
+  double forecastPosition(int j, const Vec<3>& x, double dt) const;
+  /// Keeps the forecast starts of channel ch after its measured update at t_s (Channel::starts).
+  void rememberBlendStart(Channel& ch, double t_s) const;
+  /// The regressions of h = 2..blend_frames_ frames on the measured frame z at t_s (lambda the
+  /// blend's forgetting), and the weights handed out: the minima over the horizons.
+  void learnLongerBlend(Channel& ch, double t_s, double z, double lambda) const;
   Mat<3> transition(int j, double dt) const;
   /// Mode j's Q over dt, the CV or CA density multiplied by `scale` (mode j's raise of q, modeRaise()).
   Mat<3> processNoise(int j, double dt, double scale = 1.0) const;
@@ -285,6 +307,7 @@ class ImmPredictor : public Predictor {
   bool fc_calibrate_;   ///< forecast_calibration: score with v_j = min(1, c_j) s_j instead of s_j
   double shrink_a_sigmas_, shrink_v_sigmas_;  ///< the CA mode's forecast weighting (kf-ca's); 0 = off
   double blend_tau_s_;  ///< s; the forecast's blend with hold (hold_blend_tau_s, channel_predictor.h); 0 = off
+  int blend_frames_;    ///< hold_blend_frames (channel_predictor.h): the blend's weight is the minimum over 1..H frames
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
   double coast_fast_ratio_, coast_shape_;  ///< coast_fast_ratio, coast_shape (channel_predictor.h), with the blend only
   double coast_cp_;  ///< coast_cp: factor on the CP mode's forecast weight on an unmeasured frame while coasting
