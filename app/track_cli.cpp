@@ -405,7 +405,13 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
 
 TrackSubcommands::~TrackSubcommands() = default;
 
-std::vector<std::string> TrackSubcommands::names() { return {"predict", "fit-noise", "make-track", "track-study"}; }
+std::vector<std::string> TrackSubcommands::names() {
+  CLI::App app;  // the names the constructor gives them, not a second list of them
+  const TrackSubcommands tracks(app);
+  std::vector<std::string> out;
+  for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) out.push_back(sub->get_name());
+  return out;
+}
 
 std::optional<int> TrackSubcommands::run(const std::string& command_line, std::ostream& out, std::ostream& err) const {
   State& s = *s_;
