@@ -468,17 +468,16 @@ class ChannelPredictor : public Predictor {
       g.x = s.x_start[j];
       const double f = predictedPosition(g, transition(c, t_s - s.t_start[j]));
       s.blend.learn(f - s.z_start[j], z - s.z_start[j], lambda);
-    }
-    // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured; the
-    // handed-out weight is the smallest over the horizons (file comment).
-    for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
-      const int back = s.head - (h - 1);
-      const auto j = static_cast<size_t>(back < 0 ? back + kMaxBlendFrames : back);
-      const double f = transition(c, t_s - s.t_start[j]).row(0).dot(s.x_start[j]);  // (F x)(0)
-      s.longer[static_cast<size_t>(h - 2)].learn(f - s.z_start[j], z - s.z_start[j], lambda);
-    }
-    if (s.run >= 1)
+      // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
+      // the handed-out weight is the smallest over the horizons (file comment).
+      for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
+        const int back = s.head - (h - 1);
+        const auto jh = static_cast<size_t>(back < 0 ? back + kMaxBlendFrames : back);
+        const double fh = transition(c, t_s - s.t_start[jh]).row(0).dot(s.x_start[jh]);  // (F x)(0)
+        s.longer[static_cast<size_t>(h - 2)].learn(fh - s.z_start[jh], z - s.z_start[jh], lambda);
+      }
       for (int h = 2; h <= blend_frames_; ++h) s.blend.w = std::min(s.blend.w, s.longer[static_cast<size_t>(h - 2)].w);
+    }
     s.blend.z_hold = z;
     s.blend.recent.remember(t_s, z, s.g.x(1), blendForgetting(t_s - s.blend.recent.lastTime()));
     rememberForecastStart(c, t_s);
