@@ -82,6 +82,14 @@ void printFit(const NoiseFitResult& fit, std::ostream& out) {
     }
     out << "\n";
   }
+  if (!fit.forecast_variants.empty()) {
+    out << "  forecast (with the fitted noise, kept the best RMSE): own " << std::setprecision(4) << fit.rmse_own_forecast_px
+        << (fit.forecast_variant.empty() ? " [kept]" : "");
+    for (const auto& v : fit.forecast_variants)
+      out << "  " << v.variant << " " << std::setprecision(4) << v.objective_after
+          << (v.variant == fit.forecast_variant ? " [kept]" : "");
+    out << "\n";
+  }
   out.unsetf(std::ios::fixed);
 }
 
@@ -196,6 +204,11 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
                              {"objective_after", v.objective_after},
                              {"objective_holdout", std::isfinite(v.objective_holdout) ? nlohmann::json(v.objective_holdout)
                                                                                       : nlohmann::json(nullptr)}});
+  j["forecast_variant"] = fit.forecast_variant;
+  j["rmse_own_forecast_px"] = std::isfinite(fit.rmse_own_forecast_px) ? nlohmann::json(fit.rmse_own_forecast_px) : nlohmann::json(nullptr);
+  j["forecast_variants"] = nlohmann::json::array();
+  for (const auto& v : fit.forecast_variants)
+    j["forecast_variants"].push_back({{"variant", v.variant}, {"rmse_px", v.objective_after}});
   j["select_holdout"] = a.select_holdout;
   {
     std::ofstream f(dir.file("fit.json"));

@@ -215,7 +215,8 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
         if (types[j] == "hold") continue;
         const NoiseFitResult fit = fitNoise(types[j], fitted[j], head, fo);
         fitted[j] = fit.params;
-        variants[j] = fit.variant;
+        variants[j] = fit.variant;  // the structure, then the forecast variant (if one was kept)
+        if (!fit.forecast_variant.empty()) variants[j] += (variants[j].empty() ? "" : ",") + fit.forecast_variant;
         if (fit_seeds) fo.seed_fits[types[j]] = fit.params;
       }
     for (size_t j = 0; j < names.size(); ++j) {
@@ -387,7 +388,8 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
         << (whole_track ? "; scored on the whole track (in sample, as predict --fit)\n" : "; scored on the rest\n");
   }
   if (a.fit) {
-    // Which structure the fit kept, per predictor that offers several (Predictor::structuralVariants).
+    // Which structure the fit kept, per predictor that offers several (Predictor::structuralVariants),
+    // with the forecast variant it kept, if any (Predictor::forecastVariants).
     std::map<std::string, std::map<std::string, int>> kept;
     for (const auto& r : rows)
       if (!r.variant.empty()) ++kept[r.predictor][r.variant];

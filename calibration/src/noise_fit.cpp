@@ -641,8 +641,12 @@ std::vector<size_t> fitOrder(const std::vector<std::string>& predictors, const s
   return first;
 }
 
-NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,
-                        const NoiseFitOptions& options) {
+namespace {
+
+/// The structure and its noise (fitNoise without the forecast's choice): fitOneStructure, once
+/// per structural variant unless `base` pins one.
+NoiseFitResult fitStructures(const std::string& predictor, const Params& base, const FitTrack& track,
+                             const NoiseFitOptions& options) {
   // The structural variants the predictor offers, unless `base` already pins one of their keys.
   std::vector<Params> variants = makePredictor(predictor, 1, textsOf(base))->structuralVariants();
   for (const auto& v : variants) {
@@ -718,6 +722,37 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
   }
   if (!have) throw std::invalid_argument(first_error);
   best.variants = tried;
+  return best;
+}
+
+}  // namespace
+
+NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,
+                        const NoiseFitOptions& options) {
+  NoiseFitResult best = fitStructures(predictor, base, track, options);
+  if (options.objective != FitObjective::Prediction) return best;  // the forecast does not change log L
+  // The forecast variants of the kept structure (Predictor::forecastVariants()), unless `base`
+  // pins one of their keys: each run with the fitted noise, on the same rows and targets as the
+  // fit; the lowest h-step RMSE is kept (the fitted values are the same for all).
+  const std::vector<Params> forecasts = makePredictor(predictor, 1, best.params)->forecastVariants();
+  for (const auto& v : forecasts)
+    for (const auto& kv : v.values())
+      if (base.has(kv.first)) return best;
+  if (!forecasts.empty()) best.rmse_own_forecast_px = best.rmse_after_px;
+  for (const auto& v : forecasts) {
+    Params pv = best.params;
+    for (const auto& kv : v.texts()) pv.setText(kv.first, kv.second);
+    for (const auto& kv : v.values()) pv.set(kv.first, kv.second);
+    VariantFit f;
+    f.variant = describeVariant(v);
+    f.objective_before = f.objective_after = predictionRmse(predictor, pv, track, options.horizon_s, options.burn_in_frames);
+    best.forecast_variants.push_back(f);
+    if (f.objective_after < best.rmse_after_px) {
+      best.rmse_after_px = f.objective_after;
+      best.params = pv;
+      best.forecast_variant = f.variant;
+    }
+  }
   return best;
 }
 

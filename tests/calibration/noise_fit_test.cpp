@@ -124,8 +124,12 @@ TEST(NoiseFit, ChoosesTheStructureOnHeldOutRowsWhenAsked) {
   o.objective = FitObjective::Prediction;
   o.horizon_s = 2.0 / 30.0;
   o.select_holdout = 0.33;
+  // (its blend on two horizons pinned, so no forecast variant is compared after the fit: the
+  // structure is what is tested here; NoiseFit.KeepsTheForecastVariantWithTheLowerHStepError)
+  Params own_forecast;
+  own_forecast.set("hold_blend_frames", 2.0);
   // WHEN it is fitted with the structure chosen on the last third
-  const NoiseFitResult f = fitNoise("st-akf", {}, track, o);
+  const NoiseFitResult f = fitNoise("st-akf", own_forecast, track, o);
   // THEN every structure has a held-out score, the kept one has the lowest, and the result is
   // that structure fitted on the whole track (its in-sample RMSE is the one reported)
   ASSERT_EQ(f.variants.size(), 4u);
@@ -140,7 +144,7 @@ TEST(NoiseFit, ChoosesTheStructureOnHeldOutRowsWhenAsked) {
   // the held-out score is the h-step RMSE over the last third with the structure fitted before it
   NoiseFitOptions head = o;
   head.select_holdout = 0.0;
-  Params pinned;
+  Params pinned = own_forecast;
   for (const auto& kv : f.params.texts())
     if (kv.first != "r") pinned.setText(kv.first, kv.second);
   const size_t cut = static_cast<size_t>(std::lround((1.0 - 0.33) * static_cast<double>(track.t_s.size())));
@@ -151,7 +155,7 @@ TEST(NoiseFit, ChoosesTheStructureOnHeldOutRowsWhenAsked) {
                    kept->objective_holdout);
   // and a fraction outside [0, 0.9] is refused
   o.select_holdout = 0.95;
-  EXPECT_THROW(fitNoise("st-akf", {}, track, o), std::invalid_argument);
+  EXPECT_THROW(fitNoise("st-akf", own_forecast, track, o), std::invalid_argument);
 }
 
 TEST(NoiseFit, KeepsFixedKeysAndRejectsHold) {
@@ -176,6 +180,54 @@ TEST(NoiseFit, EveryFittablePredictorFitsWithoutLosingLikelihood) {
   }
 }
 
+
+TEST(NoiseFit, KeepsTheForecastVariantWithTheLowerHStepError) {
+  // GIVEN generated tracks of two kinds at 10 Hz with 3 px noise and two predictors whose blend
+  // with hold learns on two horizons by default, so that each offers the one-horizon blend as a
+  // forecast variant (Predictor::forecastVariants()), and the prediction objective at 2 frames
+  NoiseFitOptions o;
+  o.objective = FitObjective::Prediction;
+  o.horizon_s = 2.0 / 10.0;
+  o.burn_in_frames = 0;
+  int kept = 0, not_kept = 0;
+  for (const ManeuverKind kind : {ManeuverKind::Bursts, ManeuverKind::Zigzag})
+    for (const char* name : {"kf-cv", "cs-akf-adaptive"}) {
+      const FitTrack t = generatedTrack(kind, 10.0, 3.0, 20.0, 1);
+      // WHEN it is fitted
+      const NoiseFitResult f = fitNoise(name, {}, t, o);
+      // THEN the variant was run with the fitted noise, and the fit kept whichever of the own
+      // forecast and the variant has the lower h-step RMSE on the fit rows
+      ASSERT_EQ(f.forecast_variants.size(), 1u) << name;
+      EXPECT_EQ(f.forecast_variants[0].variant, "hold_blend_frames=1");
+      Params own = f.params;
+      own.set("hold_blend_frames", 2.0);
+      const double own_rmse = predictionRmse(name, own, t, o.horizon_s, 0);
+      const double variant_rmse = f.forecast_variants[0].objective_after;
+      EXPECT_DOUBLE_EQ(f.rmse_own_forecast_px, own_rmse) << name;
+      EXPECT_DOUBLE_EQ(f.rmse_after_px, std::min(own_rmse, variant_rmse)) << name;
+      EXPECT_DOUBLE_EQ(predictionRmse(name, f.params, t, o.horizon_s, 0), f.rmse_after_px) << name;
+      const bool variant_better = variant_rmse < own_rmse;
+      EXPECT_EQ(f.forecast_variant, variant_better ? "hold_blend_frames=1" : "") << name;
+      EXPECT_EQ(f.params.has("hold_blend_frames"), variant_better) << name;
+      (variant_better ? kept : not_kept) += 1;
+    }
+  // and both outcomes occur on these tracks (the choice is made, not a constant)
+  EXPECT_GT(kept, 0);
+  EXPECT_GT(not_kept, 0);
+  // WHEN the likelihood is fitted, or the variant's key is given, or the blend is off THEN no
+  // forecast variant is compared
+  const FitTrack t = generatedTrack(ManeuverKind::Bursts, 10.0, 3.0, 20.0, 1);
+  NoiseFitOptions lik = o;
+  lik.objective = FitObjective::Likelihood;
+  lik.burn_in_frames = 10;
+  EXPECT_TRUE(fitNoise("kf-cv", {}, t, lik).forecast_variants.empty());
+  Params pinned;
+  pinned.set("hold_blend_frames", 2.0);
+  EXPECT_TRUE(fitNoise("kf-cv", pinned, t, o).forecast_variants.empty());
+  Params no_blend;
+  no_blend.set("hold_blend_tau_s", 0.0);
+  EXPECT_TRUE(fitNoise("kf-cv", no_blend, t, o).forecast_variants.empty());
+}
 
 TEST(NoiseFit, PredictionObjectiveLowersTheHStepErrorOnTheFitPart) {
   // GIVEN a generated maneuvering track (turns, 30 Hz, 1 px noise, 20 s) and a 2-frame horizon;
@@ -235,9 +287,12 @@ TEST(NoiseFit, SeveralStartsNeverEndWorseThanOne) {
   NoiseFitOptions o;
   o.objective = FitObjective::Prediction;
   o.horizon_s = 2.0 / 30.0;
-  const NoiseFitResult one = fitNoise("stkf", {}, t, o);
+  // the forecast pinned (no forecast variant compared after the fit): the starts are what is tested
+  Params own_forecast;
+  own_forecast.set("hold_blend_frames", 2.0);
+  const NoiseFitResult one = fitNoise("stkf", own_forecast, t, o);
   o.starts = 3;
-  const NoiseFitResult three = fitNoise("stkf", {}, t, o);
+  const NoiseFitResult three = fitNoise("stkf", own_forecast, t, o);
   EXPECT_EQ(three.starts, 3);
   EXPECT_LE(three.rmse_after_px, one.rmse_after_px * (1.0 + 1e-12));
 }

@@ -193,6 +193,16 @@ struct NoiseFitResult {
   bool warm_start_kept = false;    ///< ... and it gave the result
   std::string variant;             ///< the structural variant kept, "key=value,..." (empty: none offered)
   std::vector<VariantFit> variants;  ///< every variant fitted, in the predictor's order (empty: none)
+  /// The forecast variant kept (Predictor::forecastVariants(), prediction objective only), e.g.
+  /// "hold_blend_frames=1"; empty: the structure's own forecast (its h-step RMSE is rmse_after_px
+  /// unless a variant did better).
+  std::string forecast_variant;
+  /// Each forecast variant compared, with its h-step RMSE on the fit rows (objective_after; no fit of
+  /// its own, so objective_before is the same); empty when none was compared.
+  std::vector<VariantFit> forecast_variants;
+  /// The h-step RMSE of the structure's own forecast at the fitted noise (px; what rmse_after_px
+  /// was before the forecast variants were compared); NaN when none was compared.
+  double rmse_own_forecast_px = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Innovation log-likelihood of `predictor` with `params` over the track (rows >= burn_in_frames);
@@ -220,7 +230,13 @@ double predictionRmse(const std::string& predictor, const Params& params, const 
 /// rows nearest the future stand in for it (if the held-out part is too short for a variant, it
 /// is judged in sample). When `base` pins a variant key, only that structure is fitted. Starting values: the value in `base`
 /// if given, else for r the start-up noise estimate of the track (noise_estimate.h), else the
-/// predictor's default; each clamped into its bounds. Other keys of `base` are kept fixed. Throws std::invalid_argument
+/// predictor's default; each clamped into its bounds. Other keys of `base` are kept fixed. Under the
+/// prediction objective the kept structure's forecast variants (Predictor::forecastVariants(), e.g.
+/// the blend with hold on one horizon instead of two) are then run with the fitted noise on the same
+/// rows, and the one with the lowest h-step RMSE is kept (`forecast_variant`; none when `base` pins
+/// one of their keys): they change the forecast only, so the noise need not be fitted again. This
+/// choice is made on the whole track also with select_holdout (one pass per variant at the fitted
+/// noise, nothing fitted on it). Throws std::invalid_argument
 /// (bad predictor, fewer than 4 * burn_in measured rows, no finite objective at the start, no h-step
 /// target for the prediction objective, horizon < 0, starts < 1).
 NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,

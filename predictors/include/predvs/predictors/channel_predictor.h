@@ -249,6 +249,17 @@ inline int holdBlendFramesParam(const Params& params) {
   return static_cast<int>(h);
 }
 
+/// The forecast variants (Predictor::forecastVariants()) of a blend with hold on H > 1 horizons:
+/// the blend on the one-frame horizon alone, {hold_blend_frames: 1}, which a fit under the
+/// prediction objective compares with H on the fit rows (docs/MODELS.md §15, "The blend on more
+/// than one horizon"). None when the blend is off or H is 1 already.
+inline std::vector<Params> blendHorizonVariants(double blend_tau_s, int blend_frames) {
+  if (!(blend_tau_s > 0.0) || blend_frames == 1) return {};
+  Params one;
+  one.set("hold_blend_frames", 1.0);
+  return {one};
+}
+
 /// The regression of the blend with hold (file comment): the forgetting sums of a model's
 /// one-frame steps against the measured ones, and the weight in [0, 1] they give. imm keeps one
 /// per mode besides its channel's HoldBlend (imm.h, "Each moving mode blended with hold").
@@ -412,6 +423,7 @@ class ChannelPredictor : public Predictor {
   }
 
   Innovation innovation(int channel) const override { return state_.at(channel).innovation; }
+  std::vector<Params> forecastVariants() const override { return blendHorizonVariants(blend_tau_s_, blend_frames_); }
 
   /// The filtered Gaussian of a channel at the last update time (tests, monitors).
   const Gaussian<N>& gaussian(int channel) const { return state_.at(channel).g; }

@@ -307,7 +307,10 @@ class ImmPredictor : public Predictor {
   bool fc_calibrate_;   ///< forecast_calibration: score with v_j = min(1, c_j) s_j instead of s_j
   double shrink_a_sigmas_, shrink_v_sigmas_;  ///< the CA mode's forecast weighting (kf-ca's); 0 = off
   double blend_tau_s_;  ///< s; the forecast's blend with hold (hold_blend_tau_s, channel_predictor.h); 0 = off
-  int blend_frames_;    ///< hold_blend_frames (channel_predictor.h): the blend's weight is the minimum over 1..H frames
+  /// hold_blend_frames (channel_predictor.h): the blend's weight is the minimum over 1..H frames. Not
+  /// a forecast variant (Predictor::forecastVariants()): the mode probabilities score each mode's
+  /// blended forecast, so H changes imm's filter too (PredictorProperty.ForecastVariantsChangeTheForecastOnly).
+  int blend_frames_;
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
   double coast_fast_ratio_, coast_shape_;  ///< coast_fast_ratio, coast_shape (channel_predictor.h), with the blend only
   double coast_cp_;  ///< coast_cp: factor on the CP mode's forecast weight on an unmeasured frame while coasting

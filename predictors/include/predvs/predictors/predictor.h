@@ -132,6 +132,13 @@ class Predictor {
   /// fitted values (NoiseFitOptions::seed_fits) also starts from them. Empty (the default, and
   /// the fixed KFs kf-cv, kf-ca, cs-akf themselves): nothing seeds it.
   virtual std::vector<FitSeed> fitSeeds() const { return {}; }
+  /// Forecast variants a fit under the prediction objective should compare after fitting the
+  /// noise: each a Params override of keys that change only the forecast handed out, never the
+  /// filter (its innovations, hence the likelihood, are the same), e.g. {hold_blend_frames: 1}
+  /// for a filter whose blend with hold learns on two horizons (channel_predictor.h). A fit keeps
+  /// the variant whose h-step error on the fit rows is lowest, this instance's own forecast
+  /// included (calibration/noise_fit.h). Empty (the default): the forecast has no such choice.
+  virtual std::vector<Params> forecastVariants() const { return {}; }
 
   /// Time of the last update (NaN before the first).
   double time() const { return t_last_; }
