@@ -359,6 +359,15 @@ PYBIND11_MODULE(_predvs, m) {
             return l;
           }, "every structural variant fitted: (variant, objective before, after, on the held-out rows "
              "(NaN unless select_holdout > 0))")
+      .def_readonly("forecast_variant", &NoiseFitResult::forecast_variant,
+                    "the forecast variant kept, e.g. 'hold_blend_frames=1' (empty: the structure's own forecast)")
+      .def_property_readonly("forecast_variants", [](const NoiseFitResult& r) {
+            py::list l;
+            for (const auto& v : r.forecast_variants) l.append(py::make_tuple(v.variant, v.objective_after));
+            return l;
+          }, "every forecast variant compared after the fit (prediction objective): (variant, h-step RMSE px)")
+      .def_readonly("rmse_own_forecast_px", &NoiseFitResult::rmse_own_forecast_px,
+                    "h-step RMSE of the structure's own forecast at the fitted noise (NaN: no variant compared)")
       .def_readonly("starts", &NoiseFitResult::starts)
       .def_readonly("best_start", &NoiseFitResult::best_start)
       .def("__repr__", [](const NoiseFitResult& r) {

@@ -51,6 +51,13 @@ def test_fit_noise_matches_the_command_line(name, objective, cli, track_csv, tmp
     assert fit.variant == cpp["variant"]
     assert [v[0] for v in fit.variants] == [v["variant"] for v in cpp["variants"]]
     assert all(close(a[2], b["objective_after"]) for a, b in zip(fit.variants, cpp["variants"]))
+    assert fit.forecast_variant == cpp["forecast_variant"]
+    assert [(v, close(r, c["rmse_px"])) for (v, r), c in zip(fit.forecast_variants, cpp["forecast_variants"])] == \
+        [(c["variant"], True) for c in cpp["forecast_variants"]]
+    own = None if math.isnan(fit.rmse_own_forecast_px) else fit.rmse_own_forecast_px
+    assert close(own, cpp["rmse_own_forecast_px"])
+    if objective == "prediction":  # kf-cv's blend runs on two horizons: the one-horizon blend was compared
+        assert [v[0] for v in fit.forecast_variants] == ["hold_blend_frames=1"]
     assert fit.params.keys() == cpp["params"].keys()
     assert all(close(fit.params[k], cpp["params"][k]) for k in fit.params)
     # and the parameter file it wrote reads back as the module's params (12 significant digits)
