@@ -735,9 +735,12 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
   // pins one of their keys: each run with the fitted noise, on the same rows and targets as the
   // fit; the lowest h-step RMSE is kept (the fitted values are the same for all).
   const std::vector<Params> forecasts = makePredictor(predictor, 1, best.params)->forecastVariants();
-  for (const auto& v : forecasts)
+  for (const auto& v : forecasts) {
     for (const auto& kv : v.values())
       if (base.has(kv.first)) return best;
+    for (const auto& kv : v.texts())
+      if (base.has(kv.first)) return best;
+  }
   if (!forecasts.empty()) best.rmse_own_forecast_px = best.rmse_after_px;
   for (const auto& v : forecasts) {
     Params pv = best.params;
