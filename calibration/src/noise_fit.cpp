@@ -591,6 +591,24 @@ NoiseFitResult fitOneStructure(const std::string& predictor, const Params& base,
   return res;
 }
 
+/// `base` with a variant's overrides (texts and numbers) set on it.
+Params withVariant(Params base, const Params& v) {
+  for (const auto& kv : v.texts()) base.setText(kv.first, kv.second);
+  for (const auto& kv : v.values()) base.set(kv.first, kv.second);
+  return base;
+}
+
+/// True when `base` gives one of the keys the variants override (it pins the choice among them).
+bool pinsVariantKey(const Params& base, const std::vector<Params>& variants) {
+  for (const auto& v : variants) {
+    for (const auto& kv : v.texts())
+      if (base.has(kv.first)) return true;
+    for (const auto& kv : v.values())
+      if (base.has(kv.first)) return true;
+  }
+  return false;
+}
+
 /// "key=value,key=value" of a variant's overrides (texts and numbers).
 std::string describeVariant(const Params& v) {
   std::ostringstream o;
@@ -612,12 +630,8 @@ std::string describeVariant(const Params& v) {
 std::set<std::string> fitSeedSources(const std::string& predictor, const Params& structure) {
   const Params texts = textsOf(structure);
   std::vector<Params> structures = {structure};
-  for (const Params& v : makePredictor(predictor, 1, texts)->structuralVariants()) {
-    Params p = structure;
-    for (const auto& kv : v.texts()) p.setText(kv.first, kv.second);
-    for (const auto& kv : v.values()) p.set(kv.first, kv.second);
-    structures.push_back(p);
-  }
+  for (const Params& v : makePredictor(predictor, 1, texts)->structuralVariants())
+    structures.push_back(withVariant(structure, v));
   std::set<std::string> out;
   for (const Params& p : structures) {
     std::unique_ptr<Predictor> inst;
@@ -648,17 +662,8 @@ namespace {
 NoiseFitResult fitStructures(const std::string& predictor, const Params& base, const FitTrack& track,
                              const NoiseFitOptions& options) {
   // The structural variants the predictor offers, unless `base` already pins one of their keys.
-  std::vector<Params> variants = makePredictor(predictor, 1, textsOf(base))->structuralVariants();
-  for (const auto& v : variants) {
-    bool pinned = false;
-    for (const auto& kv : v.texts()) pinned = pinned || base.has(kv.first);
-    for (const auto& kv : v.values()) pinned = pinned || base.has(kv.first);
-    if (pinned) {
-      variants.clear();
-      break;
-    }
-  }
-  if (variants.empty()) return fitOneStructure(predictor, base, track, options);
+  const std::vector<Params> variants = makePredictor(predictor, 1, textsOf(base))->structuralVariants();
+  if (variants.empty() || pinsVariantKey(base, variants)) return fitOneStructure(predictor, base, track, options);
 
   const bool by_prediction = options.objective == FitObjective::Prediction;
   if (!validSelectHoldout(options.select_holdout))
@@ -682,9 +687,7 @@ NoiseFitResult fitStructures(const std::string& predictor, const Params& base, c
   std::vector<VariantFit> tried;
   std::string first_error;
   for (const auto& v : variants) {
-    Params pv = base;
-    for (const auto& kv : v.texts()) pv.setText(kv.first, kv.second);
-    for (const auto& kv : v.values()) pv.set(kv.first, kv.second);
+    const Params pv = withVariant(base, v);
     NoiseFitResult r;
     try {
       r = fitOneStructure(predictor, pv, track, options);
@@ -735,17 +738,10 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
   // pins one of their keys: each run with the fitted noise, on the same rows and targets as the
   // fit; the lowest h-step RMSE is kept (the fitted values are the same for all).
   const std::vector<Params> forecasts = makePredictor(predictor, 1, best.params)->forecastVariants();
+  if (forecasts.empty() || pinsVariantKey(base, forecasts)) return best;
+  best.rmse_own_forecast_px = best.rmse_after_px;
   for (const auto& v : forecasts) {
-    for (const auto& kv : v.values())
-      if (base.has(kv.first)) return best;
-    for (const auto& kv : v.texts())
-      if (base.has(kv.first)) return best;
-  }
-  if (!forecasts.empty()) best.rmse_own_forecast_px = best.rmse_after_px;
-  for (const auto& v : forecasts) {
-    Params pv = best.params;
-    for (const auto& kv : v.texts()) pv.setText(kv.first, kv.second);
-    for (const auto& kv : v.values()) pv.set(kv.first, kv.second);
+    const Params pv = withVariant(best.params, v);
     VariantFit f;
     f.variant = describeVariant(v);
     f.objective_before = f.objective_after = predictionRmse(predictor, pv, track, options.horizon_s, options.burn_in_frames);
