@@ -615,8 +615,7 @@ void ImmPredictor::learnLongerBlend(Channel& ch, double t_s, double z, double la
   // The start of update k - h is h - 1 places behind the newest (k - 1's); frames k - h .. k - 1
   // measured (start_run >= h) and k too (the caller).
   for (int h = 2; h <= blend_frames_ && h <= ch.start_run; ++h) {
-    const int back = ch.start_head - (h - 1);
-    const Channel::BlendStart& st = ch.starts[static_cast<size_t>(back < 0 ? back + kMaxBlendFrames : back)];
+    const Channel::BlendStart& st = ch.starts[blendRingSlot(ch.start_head, h - 1)];
     const double y = z - st.z_hold;
     double d = 0.0;
     for (int j = 0; j < m; ++j) {
@@ -627,12 +626,9 @@ void ImmPredictor::learnLongerBlend(Channel& ch, double t_s, double z, double la
     }
     ch.longer[static_cast<size_t>(h - 2)].learn(d, y, lambda);
   }
-  for (int h = 2; h <= blend_frames_; ++h) {
-    const auto hh = static_cast<size_t>(h - 2);
-    ch.blend.w = std::min(ch.blend.w, ch.longer[hh].w);
-    for (int j = 0; j < m; ++j)
-      ch.mode_blend[static_cast<size_t>(j)].w = std::min(ch.mode_blend[static_cast<size_t>(j)].w, ch.mode_longer[static_cast<size_t>(j)][hh].w);
-  }
+  minOverHorizons(ch.blend, ch.longer, blend_frames_);
+  for (int j = 0; j < m; ++j)
+    minOverHorizons(ch.mode_blend[static_cast<size_t>(j)], ch.mode_longer[static_cast<size_t>(j)], blend_frames_);
 }
 
 double ImmPredictor::combinedVelocity(const Channel& ch) const {

@@ -285,6 +285,19 @@ struct BlendWeight {
   }
 };
 
+/// The regressions of a blend on the forecasts of 2..kMaxBlendFrames frames (longer[h - 2], file
+/// comment "The same regression is also kept on the forecasts of 2, ..., H frames").
+using LongerBlendWeights = std::array<BlendWeight, kMaxBlendFrames - 1>;
+/// The weight handed out on H = frames horizons: w.w lowered to the smallest of longer[0 .. H - 2].w.
+inline void minOverHorizons(BlendWeight& w, const LongerBlendWeights& longer, int frames) {
+  for (int h = 2; h <= frames; ++h) w.w = std::min(w.w, longer[static_cast<size_t>(h - 2)].w);
+}
+/// The slot `back` places behind `head` in a ring of kMaxBlendFrames forecast starts (0 <= back < size).
+inline size_t blendRingSlot(int head, int back) {
+  const int i = head - back;
+  return static_cast<size_t>(i < 0 ? i + kMaxBlendFrames : i);
+}
+
 /// The blend with hold on one channel (file comment): hold's forecast, the regression's weight
 /// (BlendWeight) and the coasting of a gap.
 struct HoldBlend : BlendWeight {
@@ -436,7 +449,7 @@ class ChannelPredictor : public Predictor {
     Innovation innovation;
     HoldBlend blend;  ///< its BlendWeight learns on one-frame forecasts; its w is the handed-out weight
     /// The regressions on forecasts of 2..hold_blend_frames frames (longer[h - 2]).
-    std::array<BlendWeight, kMaxBlendFrames - 1> longer{};
+    LongerBlendWeights longer{};
     int run = 0;           ///< consecutive measured frames up to the last update
     /// The forecast starts of the last kMaxBlendFrames measured updates (ring, newest at head).
     std::array<Vec<N>, kMaxBlendFrames> x_start{};
@@ -483,12 +496,11 @@ class ChannelPredictor : public Predictor {
       // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
       // the handed-out weight is the smallest over the horizons (file comment).
       for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
-        const int back = s.head - (h - 1);
-        const auto jh = static_cast<size_t>(back < 0 ? back + kMaxBlendFrames : back);
+        const size_t jh = blendRingSlot(s.head, h - 1);
         const double fh = transition(c, t_s - s.t_start[jh]).row(0).dot(s.x_start[jh]);  // (F x)(0)
         s.longer[static_cast<size_t>(h - 2)].learn(fh - s.z_start[jh], z - s.z_start[jh], lambda);
       }
-      for (int h = 2; h <= blend_frames_; ++h) s.blend.w = std::min(s.blend.w, s.longer[static_cast<size_t>(h - 2)].w);
+      minOverHorizons(s.blend, s.longer, blend_frames_);
     }
     s.blend.z_hold = z;
     s.blend.recent.remember(t_s, z, s.g.x(1), blendForgetting(t_s - s.blend.recent.lastTime()));

@@ -273,8 +273,8 @@ class ImmPredictor : public Predictor {
     };
     std::array<BlendStart, kMaxBlendFrames> starts{};
     int start_head = 0, start_run = 0;
-    std::array<BlendWeight, kMaxBlendFrames - 1> longer{};
-    std::array<std::array<BlendWeight, kMaxBlendFrames - 1>, kMaxModes> mode_longer{};
+    LongerBlendWeights longer{};
+    std::array<LongerBlendWeights, kMaxModes> mode_longer{};
   };
   /// (F_j(dt) x)(0): mode j's position dt ahead of the state x (row 0 of transition(j, dt) written out).
   double forecastPosition(int j, const Vec<3>& x, double dt) const;
