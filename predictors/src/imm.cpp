@@ -125,6 +125,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       shrink_v_sigmas_(params.get("shrink_v_sigmas", kDefaultShrinkVelocityKfCa ? shrink_a_sigmas_ : 0.0, 0.0, 1e3)),
       blend_tau_s_(holdBlendTauParam(params)),  // as every per-channel filter (channel_predictor.h)
       blend_frames_(holdBlendFramesParam(params)),
+      blend_sigmas_(holdBlendSigmasParam(params)),
       coast_stop_fraction_(coastStopFractionParam(params)),
       coast_fast_ratio_(coastFastRatioParam(params)),
       coast_shape_(coastShapeParam(params)),
@@ -412,9 +413,9 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
                           : d == 2 ? ch.g[jj].x(0) + F[jj](0, 1) * ch.g[jj].x(1)
                                    : Vec<3>((F[jj] * x_ca).eval())(0);
         d_step += fw[jj] * (pj - ch.blend.z_hold);
-        if (blendsMode(j)) ch.mode_blend[jj].learn(pj - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep);
+        if (blendsMode(j)) ch.mode_blend[jj].learn(pj - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep, blend_sigmas_);
       }
-      ch.blend.learn(d_step, z(c) - ch.blend.z_hold, blend_keep);
+      ch.blend.learn(d_step, z(c) - ch.blend.z_hold, blend_keep, blend_sigmas_);
       if (blend_frames_ > 1) learnLongerBlend(ch, t_s, z(c), blend_keep);
     }
     const bool started_gap = ch.last_measured && !measured;
@@ -622,9 +623,9 @@ void ImmPredictor::learnLongerBlend(Channel& ch, double t_s, double z, double la
       const auto jj = static_cast<size_t>(j);
       const double pj = forecastPosition(j, st.x[jj], t_s - st.t_s);
       d += st.fw[jj] * (pj - st.z_hold);
-      if (blendsMode(j)) ch.mode_longer[jj][static_cast<size_t>(h - 2)].learn(pj - st.z_hold, y, lambda);
+      if (blendsMode(j)) ch.mode_longer[jj][static_cast<size_t>(h - 2)].learn(pj - st.z_hold, y, lambda, blend_sigmas_);
     }
-    ch.longer[static_cast<size_t>(h - 2)].learn(d, y, lambda);
+    ch.longer[static_cast<size_t>(h - 2)].learn(d, y, lambda, blend_sigmas_);
   }
   minOverHorizons(ch.blend, ch.longer, blend_frames_);
   for (int j = 0; j < m; ++j)

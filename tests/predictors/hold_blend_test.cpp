@@ -29,12 +29,16 @@ TEST(HoldBlend, ForecastIsHoldPlusTheLeastSquaresWeightTimesTheModelStep) {
   // the coast, coast_fast_test.cpp)
   const double tau_s = 2.0;
   // (the one-frame regression alone, hold_blend_frames 1: the two-frame one is the next test's)
+  // (and with the weight shrunk by its own uncertainty, hold_blend_sigmas 1, so that the whole rule
+  // is checked)
   KfCvPredictor on(1, {{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0},
-                       {"q_raise_ratio", 0.0}, {"hold_blend_frames", 1.0}});  // the blend alone: q stays the twin's
+                       {"q_raise_ratio", 0.0}, {"hold_blend_frames", 1.0},  // the blend alone: q stays the twin's
+                       {"hold_blend_sigmas", 1.0}});
   KfCvPredictor off(1, {{"hold_blend_tau_s", 0.0}});
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 2.0);
-  double s_dd = 0.0, s_dy = 0.0, w = 1.0, z_hold = 0.0;
+  double s_dd = 0.0, s_dy = 0.0, s_yy = 0.0, s_n = 0.0, w = 1.0, z_hold = 0.0;
+  double shrink_min = 1.0;
   bool last_measured = false;
   Eigen::VectorXd z(1);
   for (int k = 0; k < 120; ++k) {
@@ -47,7 +51,17 @@ TEST(HoldBlend, ForecastIsHoldPlusTheLeastSquaresWeightTimesTheModelStep) {
       const double lambda = std::exp(-(1.0 / kRateHz) / tau_s), d = f - z_hold, y = z(0) - z_hold;
       s_dd = lambda * s_dd + d * d;
       s_dy = lambda * s_dy + d * y;
+      s_yy = lambda * s_yy + y * y;
+      s_n = lambda * s_n + 1.0;
       w = s_dd > 0.0 ? std::clamp(s_dy / s_dd, 0.0, 1.0) : 1.0;  // no forecast step yet: the model's
+      // times its significance (hold_blend_sigmas 1): ls^2 / (ls^2 + var(ls)), var(ls)
+      // the residual variance over (count - 1) over S_dd
+      if (s_dd > 0.0 && s_n > 2.0) {
+        const double ls = s_dy / s_dd, var = (s_yy - s_dy * s_dy / s_dd) / (s_n - 1.0) / s_dd;
+        const double shrink = ls * ls / (ls * ls + var);
+        w *= shrink;
+        shrink_min = std::min(shrink_min, shrink);
+      }
     }
     if (measured) z_hold = z(0);
     last_measured = measured;
@@ -61,8 +75,10 @@ TEST(HoldBlend, ForecastIsHoldPlusTheLeastSquaresWeightTimesTheModelStep) {
     ASSERT_EQ(on.predictPosition(0, t_f), on.predict(0, t_f).position()) << k;
     ASSERT_NEAR(on.predict(0, t_f).velocity(), w * off.predict(0, t_f).velocity(), kRoundingPx) << k;
   }
-  // (the weight moved: the data are noisy enough for the regression to pull it below 1)
+  // (the weight moved: the data are noisy enough for the regression to pull it below 1, and for
+  // its own uncertainty to count)
   EXPECT_LT(w, 0.99);
+  EXPECT_LT(shrink_min, 0.9);
 }
 
 TEST(HoldBlend, TheWeightIsTheSmallerOfTheOneAndTheTwoFrameRegressions) {
@@ -130,23 +146,30 @@ TEST(HoldBlend, TheWeightIsTheSmallerOfTheOneAndTheTwoFrameRegressions) {
 }
 
 TEST(HoldBlend, AnExactRampKeepsTheModelForecast) {
-  // GIVEN kf-cv and kf-ca with their defaults (blend on) and without the blend, on a noise-free
-  // ramp at 80 px/s
+  // GIVEN kf-cv, kf-ca and imm with their defaults (blend on), with the blend's weight shrunk by its
+  // own uncertainty (hold_blend_sigmas 1), and without the blend, on a noise-free ramp at 80 px/s
   for (const char* name : {"kf-cv", "kf-ca", "imm"}) {
     auto on = makePredictor(name, 1);
+    auto shrunk = makePredictor(name, 1, {{"hold_blend_sigmas", 1.0}});
     auto off = makePredictor(name, 1, {{"hold_blend_tau_s", 0.0}});
     Eigen::VectorXd z(1);
     for (int k = 0; k < 60; ++k) {
       const double t = k / kRateHz;
       z(0) = 5.0 + 80.0 * t;
       on->update(t, z);
+      shrunk->update(t, z);
       off->update(t, z);
-      // THEN the weight stays 1: the model's forecast, to rounding, at every frame; but for kf-cv
-      // and imm, whose two-frame forecasts overshoot the ramp by a little while they converge (the
-      // velocity starts at 0 with a large variance), which keeps the two-frame weight a hair under
-      // 1: within 0.02 px of the 16 px step, and 5e-4 px over the last second
+      // THEN the weight stays 1: the model's forecast, to rounding, at every frame; but for
+      // kf-cv and imm, whose two-frame forecasts overshoot the ramp by a little while they converge
+      // (the velocity starts at 0 with a large variance), which keeps the two-frame weight a hair
+      // under 1: within 0.02 px of the 16 px step, and 5e-4 px over the last second
       const double tol = std::string(name) == "kf-ca" ? kRoundingPx : k < 50 ? 0.02 : 5e-4;
-      EXPECT_NEAR(on->predictPosition(0, t + kH), off->predictPosition(0, t + kH), tol) << name << " " << k;
+      const double model = off->predictPosition(0, t + kH);
+      EXPECT_NEAR(on->predictPosition(0, t + kH), model, tol) << name << " " << k;
+      // and the shrunk one tends to 1 as the start's misfits are forgotten: the start-up costs up
+      // to a fifth of the step in the first frames (the filters converging from rest leave residuals
+      // the weight's variance counts), 0.06 px over the last second
+      EXPECT_NEAR(shrunk->predictPosition(0, t + kH), model, k < 50 ? 3.5 : 0.06) << name << " " << k;
     }
   }
 }
@@ -190,6 +213,74 @@ TEST(HoldBlend, NoiseAroundAStillTargetMovesTheForecastTowardsHold) {
     // costs it about 11 % (0.81 px): the known price of the blend where the model is right.
     EXPECT_LT(rmse_on, 1.2 * rmse_off);
   }
+  }
+}
+
+TEST(HoldBlend, TheWeightsOwnUncertaintyShrinksANoisyWeightAndLeavesAClearOne) {
+  // GIVEN the regression fed model steps d that explain half of the measured steps under noise 1.5
+  // times their size (a weight of about 0.5 with a standard error of about 0.2 from ~60 samples), and
+  // steps that match exactly
+  std::mt19937 rng(5);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const double lambda = std::exp(-0.1 / 6.0);  // 10 Hz, tau 6 s
+  BlendWeight raw, shrunk, exact, exact_shrunk;
+  double s_dd = 0.0, s_dy = 0.0, s_yy = 0.0, s_n = 0.0;
+  for (int k = 0; k < 200; ++k) {
+    const double d = unit(rng), y = 0.5 * d + 1.5 * unit(rng);
+    raw.learn(d, y, lambda, 0.0);
+    shrunk.learn(d, y, lambda, 1.0);
+    exact.learn(d, d, lambda, 0.0);
+    exact_shrunk.learn(d, d, lambda, 1.0);
+    s_dd = lambda * s_dd + d * d;
+    s_dy = lambda * s_dy + d * y;
+    s_yy = lambda * s_yy + y * y;
+    s_n = lambda * s_n + 1.0;
+  }
+  // THEN with hold_blend_sigmas 0 the weight is the clamped least-squares one, as before
+  EXPECT_DOUBLE_EQ(raw.w, std::clamp(s_dy / s_dd, 0.0, 1.0));
+  // and with 1 it is that weight times its significance weight: w^2 / (w^2 + var(w)), var(w) the
+  // regression's residual variance over (count - 1) over S_dd
+  const double w = raw.w, var_w = (s_yy - s_dy * s_dy / s_dd) / (s_n - 1.0) / s_dd;
+  ASSERT_GT(w, 0.0);
+  EXPECT_NEAR(shrunk.w, w * w * w / (w * w + var_w), 1e-12);
+  EXPECT_LT(shrunk.w, 0.95 * w);  // a weight a few standard errors from 0 is shrunk a little
+  // and a model step that matches the measured one exactly leaves no residual: the weight stays 1
+  EXPECT_EQ(exact.w, 1.0);
+  EXPECT_EQ(exact_shrunk.w, 1.0);
+}
+
+TEST(HoldBlend, TheWeightsOwnUncertaintyMovesANoisyForecastTowardsHold) {
+  for (const char* name : {"kf-cv", "kf-ca", "cs-akf-adaptive", "st-akf"}) {
+    SCOPED_TRACE(name);
+    // GIVEN a per-channel filter with its defaults (hold_blend_sigmas 0) and with hold_blend_sigmas 1,
+    // on 30 s of a slow sway (6 px, 0.25 Hz) under 3 px noise at 10 Hz: a model step a little better
+    // than hold's, by an amount 60 noisy samples hardly resolve
+    auto plain = makePredictor(name, 1);
+    auto shrunk = makePredictor(name, 1, {{"hold_blend_sigmas", 1.0}});
+    auto hold = makePredictor("hold", 1);
+    std::mt19937 rng(11);
+    std::normal_distribution<double> noise(0.0, 3.0);
+    double gap_plain = 0.0, gap_shrunk = 0.0;
+    Eigen::VectorXd z(1);
+    for (int k = 0; k < 300; ++k) {
+      const double t = k / kRateHz;
+      z(0) = 100.0 + 6.0 * std::sin(2.0 * M_PI * 0.25 * t) + noise(rng);
+      plain->update(t, z);
+      shrunk->update(t, z);
+      hold->update(t, z);
+      // THEN the filter is the same (hold_blend_sigmas changes the forecast only), and each
+      // forecast is at most as far from hold's as the plain one
+      ASSERT_EQ(plain->innovation(0).eps, shrunk->innovation(0).eps) << k;
+      const double h = hold->predictPosition(0, t + kH);
+      const double g_plain = std::abs(plain->predictPosition(0, t + kH) - h);
+      const double g_shrunk = std::abs(shrunk->predictPosition(0, t + kH) - h);
+      ASSERT_LE(g_shrunk, g_plain + kRoundingPx) << k;
+      gap_plain += g_plain;
+      gap_shrunk += g_shrunk;
+    }
+    // and, in sum, clearly closer to it: the weight was mostly within its own scatter of 0
+    EXPECT_GT(gap_plain, 10.0);
+    EXPECT_LT(gap_shrunk, 0.8 * gap_plain);
   }
 }
 

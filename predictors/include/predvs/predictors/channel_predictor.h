@@ -84,7 +84,22 @@
 // at one frame and at H frames. A target that moves in short dashes of a few frames (a one-frame
 // step that pays, a two-frame one that overshoots the dash's end) then gets the weight of the
 // horizon where extrapolating pays least (docs/MODELS.md §15, "The blend on more than one
-// horizon"). H = 1 is the one-frame weight alone (the default until 2026-12-03). Units: px, s; the weight
+// horizon"). H = 1 is the one-frame weight alone (the default until 2026-12-03).
+// The weight's own uncertainty (`hold_blend_sigmas` n, default kDefaultHoldBlendSigmas = 0, off; opt-in): each of the
+// H regressions' weights is multiplied by the significance of its least-squares value w_ls =
+// S_dy / S_dd, w <- clamp(w_ls, 0, 1) w_ls^2 / (w_ls^2 + n^2 var(w_ls)), with var(w_ls) = (S_yy -
+// S_dy^2 / S_dd) / ((S_n - 1) S_dd), S_yy and S_n the forgetting sums of y^2 and of 1 (the residual
+// variance over the count less one, over S_dd: the usual approximation for a forgetting regression),
+// once S_n > 2. Why: about tau * rate noisy samples make the weight, and where the model's step is
+// no better than hold's the clamp at 0 keeps the positive half of their scatter, so the weight
+// handed out sits above the best one on such tracks (the second generator's minimum-jerk dashes at
+// 10-15 Hz, where the filters lost to hold by a few per cent). A weight within about n standard
+// errors of 0 goes towards hold, a well determined one is kept (an exact ramp leaves no residual once the start's misfits
+// are forgotten: w -> 1). The price: the first seconds of a track, whose residuals the filter's
+// convergence from rest makes, hold back part of the model's step (a ramp from rest,
+// tests/predictors/hold_blend_test.cpp). n = 0, the default, is the least-squares weight.
+// Only the forecast changes (imm's mode probabilities score the blended forecasts, so imm's filter
+// moves too); the fit keeps n (it is not a forecast variant). Units: px, s; the weight
 // is dimensionless, so the rule holds at any frame rate and noise level. tau = 0 switches the blend
 // off; its default is kDefaultHoldBlendTauS whatever the other keys say (`shrink_sigmas: 0` turns
 // the weighting off, not the blend: the papers' plain filters give both, `shrink_sigmas: 0,
@@ -129,6 +144,12 @@ inline constexpr double kDefaultHoldBlendTauS = 6.0;
 /// 576 tracks, H = 1 / 2 / 3: see there.
 inline constexpr int kDefaultHoldBlendFrames = 2;
 inline constexpr int kMaxBlendFrames = 8;
+/// Default `hold_blend_sigmas` n (file comment, "The weight's own uncertainty"): 0, off. Measured with
+/// `predvs track-study` and scripts/foreign-tracks.py (docs/PERFORMANCE.md "The blend weight's own
+/// uncertainty", n = 0.5 to 2): a larger n leaves fewer losses to hold on the second generator's
+/// tracks and costs more on every grid's mean ratio; n = 0.5 and 1 each tip one track of the tuning
+/// grid over the `--fit` criterion's 10 %, so it is not on by default.
+inline constexpr double kDefaultHoldBlendSigmas = 0.0;
 
 /// Default `coast_stop_fraction` c (dimensionless, file comment): a gap that begins while the target
 /// decelerates coasts with min(coast_tau_s, c t_stop). Measured with `predvs track-study` on the wide
@@ -240,6 +261,12 @@ inline double holdBlendTauParam(const Params& params) {
   return params.get("hold_blend_tau_s", kDefaultHoldBlendTauS, 0.0, 1e6);
 }
 
+/// The `hold_blend_sigmas` parameter n (dimensionless >= 0, default kDefaultHoldBlendSigmas; 0 = off;
+/// file comment, "The weight's own uncertainty"). Read by every per-channel filter and by imm.
+inline double holdBlendSigmasParam(const Params& params) {
+  return params.get("hold_blend_sigmas", kDefaultHoldBlendSigmas, 0.0, 1e3);
+}
+
 /// The `hold_blend_frames` parameter H (whole frames 1..kMaxBlendFrames, default
 /// kDefaultHoldBlendFrames; file comment). Read by every per-channel filter and by imm.
 inline int holdBlendFramesParam(const Params& params) {
@@ -252,7 +279,9 @@ inline int holdBlendFramesParam(const Params& params) {
 /// The forecast variants (Predictor::forecastVariants()) of a blend with hold on H > 1 horizons:
 /// the blend on the one-frame horizon alone, {hold_blend_frames: 1}, which a fit under the
 /// prediction objective compares with H on the fit rows (docs/MODELS.md §15, "The blend on more
-/// than one horizon"). None when the blend is off or H is 1 already.
+/// than one horizon"). None when the blend is off or H is 1 already. (`hold_blend_sigmas` is not
+/// offered: a fit keeps its default, so that the fixed KFs it is compared with and imm, whose
+/// filter it changes, use the same.)
 inline std::vector<Params> blendHorizonVariants(double blend_tau_s, int blend_frames) {
   if (!(blend_tau_s > 0.0) || blend_frames == 1) return {};
   Params one;
@@ -266,13 +295,27 @@ inline std::vector<Params> blendHorizonVariants(double blend_tau_s, int blend_fr
 struct BlendWeight {
   double s_dd = 0.0;  ///< forgetting sums of the regression, px^2
   double s_dy = 0.0;
+  double s_yy = 0.0;
+  double s_n = 0.0;   ///< forgetting count of the samples
   double w = 1.0;     ///< weight of the model forecast against hold, [0, 1]
   /// One sample: the model's forecast step d = f - z_hold against the measured step y = z - z_hold
-  /// (both from the hold of the frame the forecast was made at), lambda = exp(-dt / tau).
-  void learn(double d, double y, double lambda) {
+  /// (both from the hold of the frame the forecast was made at), lambda = exp(-dt / tau);
+  /// n_sigmas = hold_blend_sigmas (file comment, "The weight's own uncertainty"; 0 = the
+  /// least-squares weight as it is).
+  void learn(double d, double y, double lambda, double n_sigmas) {
     s_dd = lambda * s_dd + d * d;
     s_dy = lambda * s_dy + d * y;
     w = s_dd > 0.0 ? std::clamp(s_dy / s_dd, 0.0, 1.0) : 1.0;
+    if (!(n_sigmas > 0.0)) return;
+    s_yy = lambda * s_yy + y * y;
+    s_n = lambda * s_n + 1.0;
+    if (s_dd > 0.0 && s_n > 2.0) w *= significanceWeight(s_dy / s_dd, weightVariance(), n_sigmas);
+  }
+  /// The variance of the least-squares weight: the residual variance of the regression over its
+  /// forgetting count less one, over S_dd (the usual approximation for a forgetting regression).
+  double weightVariance() const {
+    const double rss = std::max(0.0, s_yy - s_dy * s_dy / s_dd);
+    return rss / (s_n - 1.0) / s_dd;
   }
   /// The forecast f blended with hold's z_hold: z_hold + w (f - z_hold).
   double blend(double z_hold, double f) const { return z_hold + w * (f - z_hold); }
@@ -492,13 +535,13 @@ class ChannelPredictor : public Predictor {
       Gaussian<N> g;
       g.x = s.x_start[j];
       const double f = predictedPosition(g, transition(c, t_s - s.t_start[j]));
-      s.blend.learn(f - s.z_start[j], z - s.z_start[j], lambda);
+      s.blend.learn(f - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_);
       // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
       // the handed-out weight is the smallest over the horizons (file comment).
       for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
         const size_t jh = blendRingSlot(s.head, h - 1);
         const double fh = transition(c, t_s - s.t_start[jh]).row(0).dot(s.x_start[jh]);  // (F x)(0)
-        s.longer[static_cast<size_t>(h - 2)].learn(fh - s.z_start[jh], z - s.z_start[jh], lambda);
+        s.longer[static_cast<size_t>(h - 2)].learn(fh - s.z_start[jh], z - s.z_start[jh], lambda, blend_sigmas_);
       }
       minOverHorizons(s.blend, s.longer, blend_frames_);
     }
@@ -556,6 +599,7 @@ class ChannelPredictor : public Predictor {
     if constexpr (N == 2) shrink_a_sigmas_ = 0.0;
     blend_tau_s_ = holdBlendTauParam(params);
     blend_frames_ = holdBlendFramesParam(params);
+    blend_sigmas_ = holdBlendSigmasParam(params);
   }
   /// True when the forecast is weighted (a shrink key > 0).
   bool forecastWeightingOn() const { return shrink_a_sigmas_ > 0.0 || shrink_v_sigmas_ > 0.0; }
@@ -639,6 +683,7 @@ class ChannelPredictor : public Predictor {
   double blend_tau_s_ = 0.0;
   RecentValues<double> blend_keep_;  ///< blendForgetting(dt) of the last few dt
   int blend_frames_ = kDefaultHoldBlendFrames;
+  double blend_sigmas_ = kDefaultHoldBlendSigmas;  ///< hold_blend_sigmas
 };
 
 }  // namespace predvs

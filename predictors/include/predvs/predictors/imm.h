@@ -311,6 +311,7 @@ class ImmPredictor : public Predictor {
   /// a forecast variant (Predictor::forecastVariants()): the mode probabilities score each mode's
   /// blended forecast, so H changes imm's filter too (PredictorProperty.ForecastVariantsChangeTheForecastOnly).
   int blend_frames_;
+  double blend_sigmas_;  ///< hold_blend_sigmas (channel_predictor.h)
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
   double coast_fast_ratio_, coast_shape_;  ///< coast_fast_ratio, coast_shape (channel_predictor.h), with the blend only
   double coast_cp_;  ///< coast_cp: factor on the CP mode's forecast weight on an unmeasured frame while coasting
