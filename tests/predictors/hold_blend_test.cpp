@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -21,6 +22,20 @@ constexpr double kRateHz = 10.0;
 constexpr double kH = 2.0 / kRateHz;  // s, the 2-frame horizon
 // Two double evaluations of the same blend differ by rounding only (px).
 constexpr double kRoundingPx = 1e-9;
+
+// Two configurations of one predictor, and hold, each on one channel, fed the same measurements.
+struct TwinsAndHold {
+  std::unique_ptr<Predictor> a, b, hold;
+  TwinsAndHold(const char* name, const Params& pa, const Params& pb)
+      : a(makePredictor(name, 1, pa)), b(makePredictor(name, 1, pb)), hold(makePredictor("hold", 1)) {}
+  void update(double t_s, double z) {
+    Eigen::VectorXd v(1);
+    v(0) = z;
+    a->update(t_s, v);
+    b->update(t_s, v);
+    hold->update(t_s, v);
+  }
+};
 
 TEST(HoldBlend, ForecastIsHoldPlusTheLeastSquaresWeightTimesTheModelStep) {
   // GIVEN kf-cv with the blend (tau 2 s) and a twin without it, fed the same noisy sway with a
@@ -180,20 +195,15 @@ TEST(HoldBlend, NoiseAroundAStillTargetMovesTheForecastTowardsHold) {
   // sees is noise)
   for (const char* name : {"kf-cv", "imm"}) {
   SCOPED_TRACE(name);
-  auto on = makePredictor(name, 1);
-  auto off = makePredictor(name, 1, {{"hold_blend_tau_s", 0.0}});
-  auto hold = makePredictor("hold", 1);
+  TwinsAndHold p(name, {}, {{"hold_blend_tau_s", 0.0}});
+  const auto &on = p.a, &off = p.b, &hold = p.hold;
   std::mt19937 rng(11);
   std::normal_distribution<double> noise(0.0, 3.0);
   double se_on = 0.0, se_off = 0.0, se_hold = 0.0;
   int n = 0;
-  Eigen::VectorXd z(1);
   for (int k = 0; k < 100; ++k) {
     const double t = k / kRateHz;
-    z(0) = 100.0 + noise(rng);
-    on->update(t, z);
-    off->update(t, z);
-    hold->update(t, z);
+    p.update(t, 100.0 + noise(rng));
     if (k < 30) continue;  // after the first 3 s
     const double truth = 100.0;
     se_on += std::pow(on->predictPosition(0, t + kH) - truth, 2);
@@ -255,19 +265,14 @@ TEST(HoldBlend, TheWeightsOwnUncertaintyMovesANoisyForecastTowardsHold) {
     // GIVEN a per-channel filter with its defaults (hold_blend_sigmas 0) and with hold_blend_sigmas 1,
     // on 30 s of a slow sway (6 px, 0.25 Hz) under 3 px noise at 10 Hz: a model step a little better
     // than hold's, by an amount 60 noisy samples hardly resolve
-    auto plain = makePredictor(name, 1);
-    auto shrunk = makePredictor(name, 1, {{"hold_blend_sigmas", 1.0}});
-    auto hold = makePredictor("hold", 1);
+    TwinsAndHold p(name, {}, {{"hold_blend_sigmas", 1.0}});
+    const auto &plain = p.a, &shrunk = p.b, &hold = p.hold;
     std::mt19937 rng(11);
     std::normal_distribution<double> noise(0.0, 3.0);
     double gap_plain = 0.0, gap_shrunk = 0.0;
-    Eigen::VectorXd z(1);
     for (int k = 0; k < 300; ++k) {
       const double t = k / kRateHz;
-      z(0) = 100.0 + 6.0 * std::sin(2.0 * M_PI * 0.25 * t) + noise(rng);
-      plain->update(t, z);
-      shrunk->update(t, z);
-      hold->update(t, z);
+      p.update(t, 100.0 + 6.0 * std::sin(2.0 * M_PI * 0.25 * t) + noise(rng));
       // THEN the filter is the same (hold_blend_sigmas changes the forecast only), and each
       // forecast is at most as far from hold's as the plain one
       ASSERT_EQ(plain->innovation(0).eps, shrunk->innovation(0).eps) << k;
