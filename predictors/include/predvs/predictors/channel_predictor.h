@@ -85,22 +85,22 @@
 // step that pays, a two-frame one that overshoots the dash's end) then gets the weight of the
 // horizon where extrapolating pays least (docs/MODELS.md §15, "The blend on more than one
 // horizon"). H = 1 is the one-frame weight alone (the default until 2026-12-03).
-// The weight's own uncertainty (`hold_blend_sigmas` n, default kDefaultHoldBlendSigmas = 0, off; opt-in): each of the
-// H regressions' weights is multiplied by the significance of its least-squares value w_ls =
-// S_dy / S_dd, w <- clamp(w_ls, 0, 1) w_ls^2 / (w_ls^2 + n^2 var(w_ls)), with var(w_ls) = (S_yy -
-// S_dy^2 / S_dd) / ((S_n - 1) S_dd), S_yy and S_n the forgetting sums of y^2 and of 1 (the residual
-// variance over the count less one, over S_dd: the usual approximation for a forgetting regression),
-// once S_n > 2. Why: about tau * rate noisy samples make the weight, and where the model's step is
-// no better than hold's the clamp at 0 keeps the positive half of their scatter, so the weight
-// handed out sits above the best one on such tracks (the second generator's minimum-jerk dashes at
-// 10-15 Hz, where the filters lost to hold by a few per cent). A weight within about n standard
-// errors of 0 goes towards hold, a well determined one is kept (an exact ramp leaves no residual once the start's misfits
-// are forgotten: w -> 1). The price: the first seconds of a track, whose residuals the filter's
-// convergence from rest makes, hold back part of the model's step (a ramp from rest,
-// tests/predictors/hold_blend_test.cpp). n = 0, the default, is the least-squares weight.
-// Only the forecast changes (imm's mode probabilities score the blended forecasts, so imm's filter
-// moves too); the fit keeps n (it is not a forecast variant). Units: px, s; the weight
-// is dimensionless, so the rule holds at any frame rate and noise level. tau = 0 switches the blend
+// The weight's own uncertainty (`hold_blend_sigmas` n, opt-in: default kDefaultHoldBlendSigmas = 0,
+// off): each of the H regressions' weights is multiplied by the significance of its least-squares
+// value w_ls = S_dy / S_dd, w <- clamp(w_ls, 0, 1) w_ls^2 / (w_ls^2 + n^2 var(w_ls)), with
+// var(w_ls) = (S_yy - S_dy^2 / S_dd) / ((S_n - 1) S_dd), S_yy and S_n the forgetting sums of y^2
+// and of 1 (the residual variance over the count less one, over S_dd: the usual approximation for
+// a forgetting regression), once S_n > 2. Why: about tau * rate noisy samples make the weight, and
+// where the model's step is no better than hold's the clamp at 0 keeps the positive half of their
+// scatter, so the weight handed out sits above the best one on such tracks (the second generator's
+// minimum-jerk dashes at 10-15 Hz, where the filters lost to hold by a few per cent). A weight
+// within about n standard errors of 0 goes towards hold, a well determined one is kept (an exact
+// ramp leaves no residual once the start's misfits are forgotten: w -> 1). The price: the first
+// seconds of a track, whose residuals the filter's convergence from rest makes, hold back part of
+// the model's step (a ramp from rest, tests/predictors/hold_blend_test.cpp). n = 0, the default, is
+// the least-squares weight. Only the forecast changes (imm's mode probabilities score the blended
+// forecasts, so imm's filter moves too); the fit keeps n (it is not a forecast variant).
+// Units: px, s; the weight is dimensionless, so the rule holds at any frame rate and noise level. tau = 0 switches the blend
 // off; its default is kDefaultHoldBlendTauS whatever the other keys say (`shrink_sigmas: 0` turns
 // the weighting off, not the blend: the papers' plain filters give both, `shrink_sigmas: 0,
 // hold_blend_tau_s: 0`, as their scenarios and data/params do).
@@ -295,8 +295,8 @@ inline std::vector<Params> blendHorizonVariants(double blend_tau_s, int blend_fr
 struct BlendWeight {
   double s_dd = 0.0;  ///< forgetting sums of the regression, px^2
   double s_dy = 0.0;
-  double s_yy = 0.0;
-  double s_n = 0.0;   ///< forgetting count of the samples
+  double s_yy = 0.0;  ///< forgetting sum of y^2, px^2 (kept with hold_blend_sigmas > 0 only)
+  double s_n = 0.0;   ///< forgetting count of the samples (likewise)
   double w = 1.0;     ///< weight of the model forecast against hold, [0, 1]
   /// One sample: the model's forecast step d = f - z_hold against the measured step y = z - z_hold
   /// (both from the hold of the frame the forecast was made at), lambda = exp(-dt / tau);
