@@ -127,8 +127,7 @@ void choosePredictors(Scenario& sc, const std::vector<std::string>& chosen, cons
       p.params = base->params;
       p.line = base->line;
     }
-    for (const auto& kv : c.params.values()) p.params.set(kv.first, kv.second);
-    for (const auto& kv : c.params.texts()) p.params.setText(kv.first, kv.second);
+    p.params.setAll(c.params);
     try {
       makePredictor(p.type, sc.channels, p.params);
     } catch (const std::invalid_argument& e) {

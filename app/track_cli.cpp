@@ -48,8 +48,7 @@ void applyParamsFile(const std::string& file, std::vector<PredictorSpec>& specs)
   for (const auto& f : readParamsFile(file))
     for (auto& s : specs)
       if (s.shownName() == f.name) {
-        for (const auto& kv : f.params.values()) s.params.set(kv.first, kv.second);
-        for (const auto& kv : f.params.texts()) s.params.setText(kv.first, kv.second);
+        s.params.setAll(f.params);
         any = true;
       }
   if (!any) throw std::invalid_argument("--params " + file + ": names none of the predictors being run");

@@ -593,8 +593,7 @@ NoiseFitResult fitOneStructure(const std::string& predictor, const Params& base,
 
 /// `base` with a variant's overrides (texts and numbers) set on it.
 Params withVariant(Params base, const Params& v) {
-  for (const auto& kv : v.texts()) base.setText(kv.first, kv.second);
-  for (const auto& kv : v.values()) base.set(kv.first, kv.second);
+  base.setAll(v);
   return base;
 }
 

@@ -124,8 +124,7 @@ class PredictorProperty : public ::testing::TestWithParam<std::string> {
       else
         params.setText(key, value);
     }
-    for (const auto& kv : extra.texts()) params.setText(kv.first, kv.second);
-    for (const auto& kv : extra.values()) params.set(kv.first, kv.second);
+    params.setAll(extra);
     return makePredictor(name, channels, params);
   }
 };

@@ -100,10 +100,10 @@
 // the model's step (a ramp from rest, tests/predictors/hold_blend_test.cpp). n = 0, the default, is
 // the least-squares weight. Only the forecast changes (imm's mode probabilities score the blended
 // forecasts, so imm's filter moves too); the fit keeps n (it is not a forecast variant).
-// Units: px, s; the weight is dimensionless, so the rule holds at any frame rate and noise level. tau = 0 switches the blend
-// off; its default is kDefaultHoldBlendTauS whatever the other keys say (`shrink_sigmas: 0` turns
-// the weighting off, not the blend: the papers' plain filters give both, `shrink_sigmas: 0,
-// hold_blend_tau_s: 0`, as their scenarios and data/params do).
+// Units: px, s; the weight is dimensionless, so the rule holds at any frame rate and noise level.
+// tau = 0 switches the blend off; its default is kDefaultHoldBlendTauS whatever the other keys say
+// (`shrink_sigmas: 0` turns the weighting off, not the blend: the papers' plain filters give both,
+// `shrink_sigmas: 0, hold_blend_tau_s: 0`, as their scenarios and data/params do).
 #pragma once
 
 #include "predvs/predictors/kalman_math.h"

@@ -21,6 +21,12 @@ class Params {
   void set(const std::string& key, double value) { values_[key] = value; }
   void setText(const std::string& key, const std::string& value) { texts_[key] = value; }
   bool has(const std::string& key) const { return values_.count(key) != 0 || texts_.count(key) != 0; }
+  /// Sets every number and word of `over` (each replacing the one of its kind given here for the same
+  /// key): a variant's or a file's overrides on top of these.
+  void setAll(const Params& over) {
+    for (const auto& kv : over.values_) values_[kv.first] = kv.second;
+    for (const auto& kv : over.texts_) texts_[kv.first] = kv.second;
+  }
   /// The value of `key`, or `fallback` when absent. Marks the key as known.
   double get(const std::string& key, double fallback) const;
   /// Same, and throws std::invalid_argument unless lo <= value <= hi (naming the key).
