@@ -21,6 +21,9 @@ constexpr double kDefaultForecastTauS = 30.0;
 /// Default factor on the CP mode's forecast weight on a frame without a measurement, while coasting
 /// (imm.h, "Coasting without the CP mode"; docs/MODELS.md §14).
 constexpr double kDefaultCoastCp = 0.0;
+/// Default power of the forecast weights on a frame without a measurement (imm.h, "The forecast
+/// weights in a gap"; docs/MODELS.md §14).
+constexpr double kDefaultGapWeightPower = 0.5;
 /// Default floor of a forecast weight relative to the largest (docs/MODELS.md §14).
 constexpr double kDefaultForecastFloor = 0.01;
 /// Default power of the raise of q on the CV mode's density (imm.h, "The raise of q on each mode").
@@ -130,6 +133,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       coast_fast_ratio_(coastFastRatioParam(params)),
       coast_shape_(coastShapeParam(params)),
       coast_cp_(params.get("coast_cp", kDefaultCoastCp, 0.0, 1.0)),
+      gap_weight_power_(params.get("gap_weight_power", kDefaultGapWeightPower, 0.0, 1.0)),
       q_raise_cv_exponent_(params.get("q_raise_cv_exponent", kDefaultQRaiseCvExponent, 0.0, 1.0)),
       blend_per_mode_(params.get("blend_per_mode", 1.0, 0.0, 1.0) >= 0.5),
       mix_ca_(params.get("mix_ca", 0.0, 0.0, 1.0) >= 0.5),
@@ -566,7 +570,9 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       ch.mu = cbar;
       if (fc_tau_s_ > 0.0) {
         for (int j = 0; j < m; ++j) ch.logw[static_cast<size_t>(j)] *= keep;
-        normaliseForecastWeights(ch);
+        // The evidence of one-frame forecasts tempered for a gap's longer extrapolation (imm.h,
+        // "The forecast weights in a gap"); the next measured frame goes back to the whole of it.
+        normaliseForecastWeights(ch, gap_weight_power_);
         // While coasting, the CP mode's forecast weight is scaled by coast_cp (imm.h, "Coasting
         // without the CP mode"): the moving modes' coasted forecasts already tend to hold. The
         // next measured frame recomputes the weights from the scores, so this lasts the gap.
@@ -677,13 +683,13 @@ Gaussian<3> ImmPredictor::combine(const std::array<Gaussian<3>, kMaxModes>& g, c
   return out;
 }
 
-void ImmPredictor::normaliseForecastWeights(Channel& ch) const {
+void ImmPredictor::normaliseForecastWeights(Channel& ch, double power) const {
   // exp of the best mode's 0 is 1, of a floored one exp(fc_floor_) (kept): the same bits as exp.
   double sum = 0.0;
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);
     const double l = ch.logw[jj];
-    ch.fw[jj] = l == fc_floor_ ? fc_floor_exp_ : expOrOne(l);
+    ch.fw[jj] = power != 1.0 ? std::exp(power * l) : l == fc_floor_ ? fc_floor_exp_ : expOrOne(l);
     sum += ch.fw[jj];
   }
   for (int j = 0; j < modeCount(); ++j) ch.fw[static_cast<size_t>(j)] /= sum;
