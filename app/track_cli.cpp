@@ -348,7 +348,7 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
   make_track->add_option("--rate-hz", mta.rate_hz, "frame rate in Hz")->capture_default_str()->type_name("HZ");
   make_track->add_option("--noise-px", mta.noise_px, "Gaussian noise std per coordinate, px")->capture_default_str()->type_name("PX");
   make_track->add_option("--duration-s", mta.duration_s, "duration in s")->capture_default_str()->type_name("S");
-  make_track->add_option("--drop", mta.drop_prob, "probability of a dropped frame (bursts of 3..8 at drop/5)")->capture_default_str()->type_name("P");
+  make_track->add_option("--drop", mta.drop_prob, "probability of a dropped frame; with probability drop/5 an occlusion of 0.1-0.3 s begins")->capture_default_str()->type_name("P");
   make_track->add_option("--seed", mta.seed, "random seed")->capture_default_str()->type_name("N");
   make_track->add_option("--out", mta.out, "output CSV file")->required()->type_name("FILE");
 
