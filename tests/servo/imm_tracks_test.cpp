@@ -175,9 +175,11 @@ TEST(ImmOnTracks, TemperedWeightsInGapsBringTwoMissesWithinTenPercentAndLeaveMea
     // GIVEN the track of that cell, 2 frames ahead as track-study scores it
     const CellTrack t(m);
     const double best = t.bestSingleModel(), hold = t.score("hold");
-    // WHEN imm forecasts a gap with the whole forecast weights (gap_weight_power 1) and tempered (default)
+    // WHEN imm forecasts a gap with the whole forecast weights (gap_weight_power 1) and tempered
+    // (the default)
     const double whole = t.score("imm", Params{{"gap_weight_power", 1.0}}), tempered = t.score("imm");
-    std::printf("[ imm ] %s: imm / best %.3f (gap_weight_power 1: %.3f)\n", t.label.c_str(), tempered / best, whole / best);
+    std::printf("[ imm ] %s: imm / best %.3f (gap_weight_power 1: %.3f)\n", t.label.c_str(), tempered / best,
+                whole / best);
     // THEN it was not within 10 % of the better single model and now is, and beats hold
     EXPECT_GT(whole, 1.1 * best) << t.label;
     EXPECT_LE(tempered, 1.1 * best) << t.label;

@@ -120,8 +120,8 @@
 // 47 tracks of make-track's four wide grids where imm missed 10 % of the better single model, its
 // error in the gaps was nearer the worse model's than the better's on 45, while on the measured
 // frames it was within 2 % of the better model's on 31 (docs/PERFORMANCE.md "imm's forecast
-// weights in a gap", with the figures: 47 -> 29 misses there, none new; 30 -> 33 on the second generator,
-// E7 without the lost-feature policy 0.86 -> 0.88 times kf-cv).
+// weights in a gap", with the figures: 47 -> 29 misses there, none new; 30 -> 33 on the second
+// generator; E7 without the lost-feature policy 0.86 -> 0.88 times kf-cv).
 // This is dynamic model averaging with a forgetting factor (Raftery, Karny & Ettler, Technometrics
 // 52(1), 2010) stated in seconds (so the same at any frame rate) on the modes' realised one-frame
 // forecasts. Why not mu: mu_j rests on one-frame likelihoods of the MIXED priors, and the chain's
@@ -166,7 +166,8 @@
 // single models; forecast_tau_s (s, default 30; 0 = forecast with mu), forecast_calibration (1;
 // 0 = the forecast weights score with the model's s_j, above), forecast_floor
 // (relative weight, default 0.01, in [1e-12, 0.5]); coast_cp (in [0, 1], default 0; above);
-// mix_ca (0 or 1, default 0; above); gap_weight_power (in [0, 1], default 0.5; above); shrink_sigmas and shrink_v_sigmas (the CA
+// mix_ca (0 or 1, default 0; above); gap_weight_power (in [0, 1], default 0.5; above);
+// shrink_sigmas and shrink_v_sigmas (the CA
 // mode's forecast weighting, kf-ca's keys and defaults: 2 and 2; 0 = unweighted). hold_blend_tau_s (s,
 // default kDefaultHoldBlendTauS; 0 = off): the
 // forecast blended with hold by the least-squares weight of the one-frame forecasts, as every
