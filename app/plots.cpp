@@ -72,60 +72,96 @@ int dashType(size_t k) { return static_cast<int>(k % 5) + 1; }
 // reached them; slices of 1 or 2 rows are copied.
 std::vector<double> plotEnvelope(const std::vector<double>& x, const std::vector<EnvelopeColumn>& columns,
                                  size_t slices) {
-  const size_t rows = x.size(), width = columns.size();
-  std::vector<double> out;
-  if (rows == 0) return out;
-  slices = std::max<size_t>(1, slices);
-  out.reserve(std::min(rows, 2 * slices) * width);
-  const double x0 = x.front(), span = x.back() - x.front();
-  const double scale = span > 0.0 ? static_cast<double>(slices) / span : 0.0;
-  auto sliceOf = [&](size_t i) {
-    const double b = std::floor((x[i] - x0) * scale);
-    return b >= static_cast<double>(slices - 1) ? slices - 1 : static_cast<size_t>(std::max(0.0, b));
-  };
-  auto copyRow = [&](size_t i) {
-    for (const EnvelopeColumn& c : columns) out.push_back(c.values[i]);
-  };
-  const double kNaN = std::numeric_limits<double>::quiet_NaN();
-  size_t begin = 0;
-  while (begin < rows) {
-    const size_t b = sliceOf(begin);
-    size_t end = begin + 1;
-    while (end < rows && sliceOf(end) == b) ++end;
-    if (end - begin <= 2) {
-      for (size_t i = begin; i < end; ++i) copyRow(i);
-      begin = end;
-      continue;
-    }
-    const size_t first_row = out.size();
-    out.resize(first_row + 2 * width);
-    double* row_a = out.data() + first_row;
-    double* row_b = row_a + width;
-    for (size_t c = 0; c < width; ++c) {
-      const double* v = columns[c].values;
-      if (columns[c].is_x) {
-        row_a[c] = v[begin];
-        row_b[c] = v[end - 1];
-        continue;
-      }
-      // min and max with NaN skipped (a comparison with NaN is false); the loop vectorises
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (size_t i = begin; i < end; ++i) {
-        lo = v[i] < lo ? v[i] : lo;
-        hi = v[i] > hi ? v[i] : hi;
-      }
-      if (!(lo <= hi)) {  // no number in the slice
-        row_a[c] = row_b[c] = kNaN;
-        continue;
-      }
-      size_t i = begin;
-      while (v[i] != lo && v[i] != hi) ++i;  // which extreme the data reaches first
-      row_a[c] = v[i];
-      row_b[c] = v[i] == lo ? hi : lo;
-    }
-    begin = end;
+  if (x.empty()) return {};
+  std::vector<bool> is_x;
+  for (const EnvelopeColumn& c : columns) is_x.push_back(c.is_x);
+  EnvelopeBuilder envelope(is_x, x.front(), x.back(), slices);
+  std::vector<double> row(columns.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    for (size_t c = 0; c < columns.size(); ++c) row[c] = columns[c].values[i];
+    envelope.add(x[i], row.data());
   }
-  return out;
+  return envelope.table();
+}
+
+EnvelopeBuilder::EnvelopeBuilder(std::vector<bool> is_x, double x_first, double x_last, size_t slices)
+    : is_x_(std::move(is_x)), x0_(x_first), slices_(std::max<size_t>(1, slices)) {
+  const double span = x_last - x_first;
+  scale_ = span > 0.0 ? static_cast<double>(slices_) / span : 0.0;
+  const size_t width = is_x_.size();
+  first_two_.resize(2 * width);
+  last_.resize(width);
+  lo_.resize(width);
+  hi_.resize(width);
+  lo_at_.resize(width);
+  hi_at_.resize(width);
+}
+
+size_t EnvelopeBuilder::sliceOf(double x) const {
+  const double b = std::floor((x - x0_) * scale_);
+  return b >= static_cast<double>(slices_ - 1) ? slices_ - 1 : static_cast<size_t>(std::max(0.0, b));
+}
+
+void EnvelopeBuilder::add(double x, const double* row) {
+  const size_t width = is_x_.size();
+  const size_t b = sliceOf(x);
+  if (count_ > 0 && b != slice_) endSlice();
+  if (count_ == 0) {
+    slice_ = b;
+    for (size_t c = 0; c < width; ++c) {
+      lo_[c] = std::numeric_limits<double>::infinity();
+      hi_[c] = -lo_[c];
+    }
+  }
+  if (count_ < 2) std::copy(row, row + width, first_two_.begin() + static_cast<std::ptrdiff_t>(count_ * width));
+  std::copy(row, row + width, last_.begin());
+  for (size_t c = 0; c < width; ++c) {
+    // min and max with NaN skipped (a comparison with NaN is false); the first row of each kept
+    const double v = row[c];
+    if (v < lo_[c]) {
+      lo_[c] = v;
+      lo_at_[c] = count_;
+    }
+    if (v > hi_[c]) {
+      hi_[c] = v;
+      hi_at_[c] = count_;
+    }
+  }
+  ++count_;
+}
+
+void EnvelopeBuilder::endSlice() {
+  const size_t width = is_x_.size();
+  if (count_ <= 2) {
+    out_.insert(out_.end(), first_two_.begin(), first_two_.begin() + static_cast<std::ptrdiff_t>(count_ * width));
+    count_ = 0;
+    return;
+  }
+  const double kNaN = std::numeric_limits<double>::quiet_NaN();
+  const size_t first_row = out_.size();
+  out_.resize(first_row + 2 * width);
+  double* row_a = out_.data() + first_row;
+  double* row_b = row_a + width;
+  for (size_t c = 0; c < width; ++c) {
+    if (is_x_[c]) {
+      row_a[c] = first_two_[c];
+      row_b[c] = last_[c];
+    } else if (!(lo_[c] <= hi_[c])) {  // no number in the slice
+      row_a[c] = row_b[c] = kNaN;
+    } else if (lo_at_[c] <= hi_at_[c]) {  // the min reached first (or in the same row: min == max)
+      row_a[c] = lo_[c];
+      row_b[c] = hi_[c];
+    } else {
+      row_a[c] = hi_[c];
+      row_b[c] = lo_[c];
+    }
+  }
+  count_ = 0;
+}
+
+const std::vector<double>& EnvelopeBuilder::table() {
+  if (count_ > 0) endSlice();
+  return out_;
 }
 
 }  // namespace predvs

@@ -79,4 +79,30 @@ struct EnvelopeColumn {
 std::vector<double> plotEnvelope(const std::vector<double>& x, const std::vector<EnvelopeColumn>& columns,
                                  size_t slices);
 
+/// plotEnvelope() one row at a time, for a table that is never whole in memory (`predvs predict`
+/// streams its predictions in blocks of rows): add() the rows in order, then table() gives what
+/// plotEnvelope() gives on the whole table, bit for bit (tests/app/plot_envelope_test.cpp). Needs
+/// the first and last x up front (they fix the slices); keeps one slice's extremes and first two rows.
+class EnvelopeBuilder {
+ public:
+  /// is_x[c]: column c is a time column (EnvelopeColumn::is_x); x_first, x_last as in plotEnvelope().
+  EnvelopeBuilder(std::vector<bool> is_x, double x_first, double x_last, size_t slices);
+  /// The next row: its x and its is_x.size() values.
+  void add(double x, const double* row);
+  /// The thinned rows so far, row-major (ends the slice in progress: call after the last add()).
+  const std::vector<double>& table();
+
+ private:
+  size_t sliceOf(double x) const;
+  void endSlice();
+  std::vector<bool> is_x_;
+  double x0_ = 0.0, scale_ = 0.0;
+  size_t slices_ = 1;
+  size_t slice_ = 0, count_ = 0;  ///< the slice in progress and its rows so far (0: none yet)
+  std::vector<double> first_two_, last_;  ///< its first two rows; its last row
+  std::vector<double> lo_, hi_;           ///< per column: min and max so far (NaN cells skipped)
+  std::vector<size_t> lo_at_, hi_at_;     ///< the row (in the slice) where each was first reached
+  std::vector<double> out_;
+};
+
 }  // namespace predvs

@@ -7,13 +7,14 @@
 #include "gnuplot.h"
 #include "large_buffer.h"
 #include "output_dir.h"
-#include "parallel_for.h"
 #include "plots.h"
 
 #include "predvs/predictors/predictor.h"
+#include "predvs/servo/sampled_signal.h"
 
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -22,7 +23,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
-#include <future>
 #include <algorithm>
 #include <iomanip>
 #include <limits>
@@ -31,6 +31,7 @@
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 namespace predvs {
 namespace {
@@ -119,46 +120,322 @@ PredictionErrors pooledErrors(const std::vector<PredictionErrors>& parts) {
 
 namespace {
 
-/// Runs one channel of a predictor along the track: appends to `out` (empty) the position at
-/// t_i + horizon of a 1-channel instance after its update with z[i] (NaN: predict-only), for rows
-/// i in [0, rows). The channels of a predictor are independent (predictor.h), so this is channel c
-/// of the instance that runs every channel, bit for bit
-/// (PredictorProperty.EachChannelIsThatOfAOneChannelPredictor, tests/predictors/property_test.cpp).
-void runChannel(Predictor& predictor, const std::vector<double>& t_s, const std::vector<double>& z, double horizon_s,
-                size_t rows, std::vector<double>& out) {
+/// Runs one channel of a predictor over `count` rows: out[i] is the position at t_s[i] + horizon of
+/// a 1-channel instance after its update with z[i] (NaN: predict-only). The channels of a predictor
+/// are independent (predictor.h), so this is channel c of the instance that runs every channel, bit
+/// for bit (PredictorProperty.EachChannelIsThatOfAOneChannelPredictor,
+/// tests/predictors/property_test.cpp). Called block after block of rows on the same instance.
+void runChannel(Predictor& predictor, const double* t_s, const double* z, double horizon_s, size_t count,
+                double* out) {
   Eigen::VectorXd zi(1);
-  for (size_t i = 0; i < rows; ++i) {
+  for (size_t i = 0; i < count; ++i) {
     zi(0) = z[i];
     predictor.update(t_s[i], zi);
-    out.push_back(predictor.predictPosition(0, t_s[i] + horizon_s));
+    out[i] = predictor.predictPosition(0, t_s[i] + horizon_s);
   }
 }
 
-/// The order in which the threads take the predictors: longest first (their wall time on the first
-/// kTrialRows rows of the first point's u, measured on a throw-away 1-channel instance), so that the
-/// last ones to finish are short. Only the speed depends on it, never the results. Registry order
-/// for one thread.
-std::vector<size_t> longestFirst(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
-                                 double horizon_s, int jobs) {
-  std::vector<size_t> order(predictors.size());
-  std::iota(order.begin(), order.end(), size_t{0});
+/// Each predictor's cost per channel, to share the channels among the threads: its wall time on the
+/// first kTrialRows rows of the first point's u, measured on a throw-away 1-channel instance; 1 for
+/// every predictor on one thread or a short track. Only the speed depends on it, never the results.
+std::vector<double> predictorCosts(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
+                                   double horizon_s, size_t threads) {
+  std::vector<double> cost(predictors.size(), 1.0);
   constexpr size_t kTrialRows = 2000;
-  if (jobs < 2 || predictors.size() < 2 || track.size() < 10 * kTrialRows) return order;
-  std::vector<double> cost(predictors.size());
+  if (threads < 2 || predictors.size() < 2 || track.size() < 10 * kTrialRows) return cost;
+  std::vector<double> trial(kTrialRows);
   for (size_t k = 0; k < predictors.size(); ++k) {
-    std::vector<double> trial;
-    trial.reserve(kTrialRows);
     auto predictor = makePredictor(predictors[k].name, 1, predictors[k].params);
     const auto t0 = std::chrono::steady_clock::now();
     try {
-      runChannel(*predictor, track.t_s, track.u_px[0], horizon_s, kTrialRows, trial);
+      runChannel(*predictor, track.t_s.data(), track.u_px[0].data(), horizon_s, kTrialRows, trial.data());
     } catch (...) {
       // The real run reports it.
     }
     cost[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return cost[a] > cost[b]; });
-  return order;
+  return cost;
+}
+
+/// One block of rows of a streamed run (streamPredictions): every predictor's predictions and the
+/// references at t + horizon for rows [i0, i1) of the track.
+struct PredictionBlock {
+  size_t index = 0;      ///< 0, 1, ... in row order
+  size_t full_rows = 0;  ///< rows of every block but the last
+  size_t i0 = 0, i1 = 0;
+  size_t channels = 0;  ///< 2 per point: u, v
+  size_t stride = 0;    ///< doubles from one column to the next
+  const double* predictions = nullptr;  ///< column k * channels + c: predictor k's channel c
+  const double* references = nullptr;   ///< column 4 p + r: point p's u, v measured, u, v true (r = 0..3)
+  const double* prediction(size_t k, size_t c) const { return predictions + (k * channels + c) * stride; }
+  const double* reference(size_t p, size_t r) const { return references + (4 * p + r) * stride; }
+};
+
+/// What a streamed run does with each block (streamPredictions): items(block) pieces of work, each
+/// run once, on any thread, alongside the others and alongside the predictors on the next block.
+/// Every item of a block ends before any item of the next one begins.
+class BlockConsumer {
+ public:
+  virtual ~BlockConsumer() = default;
+  virtual size_t items(const PredictionBlock& block) const = 0;
+  virtual void run(const PredictionBlock& block, size_t item) = 0;
+};
+
+/// The threads' meeting point at the end of each round; the last to arrive runs `completion` before
+/// any of them goes on (std::barrier's rule, which C++17 lacks).
+class RoundBarrier {
+ public:
+  explicit RoundBarrier(size_t threads) : threads_(threads) {}
+  template <class Completion>
+  void arriveAndWait(Completion&& completion) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const size_t round = round_;
+    if (++arrived_ == threads_) {
+      completion();
+      arrived_ = 0;
+      ++round_;
+      changed_.notify_all();
+      return;
+    }
+    changed_.wait(lock, [&] { return round_ != round; });
+  }
+
+ private:
+  size_t threads_;
+  size_t arrived_ = 0, round_ = 0;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+};
+
+/// Runs every predictor along the track in blocks of `block_rows` rows and hands each block to the
+/// consumers; nothing of a whole track's size is allocated (docs/PERFORMANCE.md, "Ninth pass").
+///
+/// The work items are the channels (u or v of a point) of the predictors, each a 1-channel instance
+/// (runChannel). They are shared among `jobs` threads once, the costliest first to the least loaded
+/// thread (with two channels per point and equal costs, every thread gets the same share), and
+/// each thread builds its own instances, on its own heap, and keeps them to the end: no two threads
+/// ever write to one predictor's state. Round r: each thread runs its channels over block r, then
+/// takes, from a queue shared by all, the consumers' items of block r - 1 and the interpolation of
+/// block r's references; then all wait for each other. The block buffers alternate between two
+/// sets. So what is computed is the same, bit for bit, for any jobs and block_rows, and the same as
+/// one pass over the whole track (interpolateShifted's range form; the consumers keep their sums in
+/// row order).
+///
+/// Errors, as a serial run over the predictors would report them: a channel that throws stops, the
+/// channels after it in (predictor, channel) order stop too, the ones before it run to the end, and
+/// the first exception in that order is rethrown (the consumers get no more blocks once one has
+/// thrown); else a consumer's first exception is rethrown after the round it happened in.
+void streamPredictions(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors, double horizon_s,
+                       int jobs, size_t block_rows, const std::vector<BlockConsumer*>& consumers) {
+  if (!(horizon_s >= 0.0) || !std::isfinite(horizon_s))
+    throw std::invalid_argument("the prediction horizon must be a finite number >= 0 s");
+  const size_t np = static_cast<size_t>(track.points()), nc = 2 * np, rows = track.size();
+  for (const auto& spec : predictors) makePredictor(spec.name, 2 * track.points(), spec.params);  // throws as before
+  const size_t channel_items = predictors.size() * nc;
+  const size_t threads = std::max<size_t>(1, std::min(channel_items, static_cast<size_t>(std::max(jobs, 1))));
+  // The channels per thread: longest processing time first, each to the least loaded thread.
+  const std::vector<double> cost = predictorCosts(track, predictors, horizon_s, threads);
+  std::vector<size_t> by_cost(channel_items);
+  std::iota(by_cost.begin(), by_cost.end(), size_t{0});
+  std::stable_sort(by_cost.begin(), by_cost.end(), [&](size_t a, size_t b) { return cost[a / nc] > cost[b / nc]; });
+  std::vector<std::vector<size_t>> mine(threads);
+  std::vector<double> load(threads, 0.0);
+  for (size_t item : by_cost) {
+    const size_t t = static_cast<size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    mine[t].push_back(item);
+    load[t] += cost[item / nc];
+  }
+  // Two sets of block buffers (round r fills set r % 2 while the consumers read set (r - 1) % 2);
+  // columns a few cache lines apart.
+  block_rows = std::max<size_t>(1, std::min(block_rows, rows));
+  const size_t stride = (block_rows + 7) / 8 * 8 + 8;
+  const size_t blocks = (rows + block_rows - 1) / block_rows;
+  std::vector<double> pred_buf(2 * channel_items * stride), ref_buf(2 * 4 * np * stride);
+  auto blockAt = [&](size_t b) {
+    PredictionBlock blk;
+    blk.index = b;
+    blk.full_rows = block_rows;
+    blk.i0 = b * block_rows;
+    blk.i1 = std::min(rows, blk.i0 + block_rows);
+    blk.channels = nc;
+    blk.stride = stride;
+    blk.predictions = pred_buf.data() + (b % 2) * channel_items * stride;
+    blk.references = ref_buf.data() + (b % 2) * 4 * np * stride;
+    return blk;
+  };
+  const size_t refs_per_point = track.hasTruth() ? 4 : 2;
+  auto interpolateReference = [&](const PredictionBlock& blk, size_t item) {
+    const size_t p = item / refs_per_point, r = item % refs_per_point;
+    const std::vector<double>& y = r == 0 ? track.u_px[p] : r == 1 ? track.v_px[p] : r == 2 ? track.u_true_px[p] : track.v_true_px[p];
+    interpolateShifted(track.t_s, y, horizon_s, blk.i0, blk.i1, const_cast<double*>(blk.reference(p, r)));
+  };
+  std::vector<std::exception_ptr> channel_errors(channel_items);
+  std::atomic<size_t> first_failed{channel_items};  // the first channel in order that threw
+  std::exception_ptr consumer_error;
+  std::mutex consumer_error_mutex;
+  std::atomic<bool> consumer_failed{false};
+  bool feed_consumers = true;  // decided for each round by the barrier's completion
+  bool stop = false;
+  std::vector<std::atomic<size_t>> next(blocks + 1);  // the shared queue's cursor, one per round
+  for (auto& n : next) n.store(0);
+  RoundBarrier barrier(threads);
+  auto worker = [&](size_t t) {
+    std::vector<std::unique_ptr<Predictor>> instances;  // built here: on this thread's heap
+    for (size_t item : mine[t]) instances.push_back(makePredictor(predictors[item / nc].name, 1, predictors[item / nc].params));
+    for (size_t r = 0; r <= blocks; ++r) {
+      if (r < blocks) {
+        const PredictionBlock blk = blockAt(r);
+        for (size_t j = 0; j < mine[t].size(); ++j) {
+          const size_t item = mine[t][j];
+          if (item > first_failed.load()) continue;
+          const size_t k = item / nc, c = item % nc;
+          const std::vector<double>& z = c % 2 == 0 ? track.u_px[c / 2] : track.v_px[c / 2];
+          try {
+            runChannel(*instances[j], track.t_s.data() + blk.i0, z.data() + blk.i0, horizon_s, blk.i1 - blk.i0,
+                       const_cast<double*>(blk.prediction(k, c)));
+          } catch (...) {
+            channel_errors[item] = std::current_exception();
+            size_t seen = first_failed.load();
+            while (item < seen && !first_failed.compare_exchange_weak(seen, item)) {
+            }
+          }
+        }
+      }
+      // The shared queue: the consumers' items of block r - 1, then block r's references.
+      std::vector<size_t> ends;
+      PredictionBlock last;
+      if (r >= 1 && feed_consumers) {
+        last = blockAt(r - 1);
+        for (BlockConsumer* consumer : consumers) ends.push_back((ends.empty() ? 0 : ends.back()) + consumer->items(last));
+      }
+      const size_t consumer_items = ends.empty() ? 0 : ends.back();
+      const size_t ref_items = r < blocks ? np * refs_per_point : 0;
+      for (size_t i = next[r].fetch_add(1); i < consumer_items + ref_items; i = next[r].fetch_add(1)) {
+        if (i >= consumer_items) {
+          interpolateReference(blockAt(r), i - consumer_items);
+          continue;
+        }
+        const size_t which = static_cast<size_t>(std::upper_bound(ends.begin(), ends.end(), i) - ends.begin());
+        try {
+          consumers[which]->run(last, i - (which == 0 ? 0 : ends[which - 1]));
+        } catch (...) {
+          std::lock_guard<std::mutex> lock(consumer_error_mutex);
+          if (!consumer_error) consumer_error = std::current_exception();
+          consumer_failed = true;
+        }
+      }
+      barrier.arriveAndWait([&] {
+        feed_consumers = first_failed.load() == channel_items && !consumer_failed;
+        stop = consumer_failed;
+      });
+      if (stop) break;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (size_t t = 1; t < threads; ++t) pool.emplace_back(worker, t);
+  worker(0);
+  for (auto& th : pool) th.join();
+  for (const auto& e : channel_errors)
+    if (e) std::rethrow_exception(e);
+  if (consumer_error) std::rethrow_exception(consumer_error);
+}
+
+/// The errors of every predictor and point (a BlockConsumer): the sums of errorsAgainst(), kept in
+/// row order over the blocks, so the figures are the same bits as one pass; rows before score_from
+/// are not scored (--fit-split).
+class ErrorSums : public BlockConsumer {
+ public:
+  ErrorSums(PredictionReport& report, bool truth, size_t score_from)
+      : report_(report), truth_(truth), score_from_(score_from), sums_(report.runs.size() * pointsOf(report)) {}
+  size_t items(const PredictionBlock&) const override { return report_.runs.size(); }
+  void run(const PredictionBlock& blk, size_t k) override {
+    const size_t np = blk.channels / 2;
+    const size_t begin = std::max(blk.i0, std::min(score_from_, blk.i1)) - blk.i0, end = blk.i1 - blk.i0;
+    for (size_t p = 0; p < np; ++p) {
+      Sums& s = sums_[k * np + p];
+      const double* u = blk.prediction(k, 2 * p);
+      const double* v = blk.prediction(k, 2 * p + 1);
+      add(s.meas, u, v, blk.reference(p, 0), blk.reference(p, 1), begin, end);
+      if (truth_) add(s.truth, u, v, blk.reference(p, 2), blk.reference(p, 3), begin, end);
+    }
+  }
+  /// Fills the report's errors (after the last block).
+  void finish() {
+    for (size_t k = 0; k < report_.runs.size(); ++k) {
+      PredictionRun& run = report_.runs[k];
+      std::vector<PredictionErrors> meas, truth;
+      for (size_t p = 0; p < run.points.size(); ++p) {
+        const Sums& s = sums_[k * run.points.size() + p];
+        PointPrediction& pt = run.points[p];
+        pt.vs_measurement = fromSquareSums(s.meas.su, s.meas.sv, s.meas.n);
+        meas.push_back(pt.vs_measurement);
+        if (truth_) {
+          pt.vs_truth = fromSquareSums(s.truth.su, s.truth.sv, s.truth.n);
+          truth.push_back(pt.vs_truth);
+        }
+      }
+      run.vs_measurement = pooledErrors(meas);
+      if (truth_) run.vs_truth = pooledErrors(truth);
+    }
+  }
+
+ private:
+  struct Sum {
+    double su = 0.0, sv = 0.0;
+    int n = 0;
+  };
+  struct alignas(64) Sums {  // a cache line of its own: items of different predictors run at once
+    Sum meas, truth;
+  };
+  static size_t pointsOf(const PredictionReport& report) { return report.runs.empty() ? 0 : report.runs[0].points.size(); }
+  /// errorsAgainst()'s loop over rows [begin, end) of the block.
+  static void add(Sum& s, const double* u, const double* v, const double* ur, const double* vr, size_t begin,
+                  size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      if (!std::isfinite(u[i]) || !std::isfinite(v[i])) continue;
+      if (!std::isfinite(ur[i]) || !std::isfinite(vr[i])) continue;
+      s.su += (u[i] - ur[i]) * (u[i] - ur[i]);
+      s.sv += (v[i] - vr[i]) * (v[i] - vr[i]);
+      ++s.n;
+    }
+  }
+  PredictionReport& report_;
+  bool truth_;
+  size_t score_from_;
+  std::vector<Sums> sums_;
+};
+
+/// The report's prediction columns, block after block (a BlockConsumer; predictTrack). Reserved on
+/// the first block, in huge pages where the kernel offers them, and filled without zeroing first
+/// (large_buffer.h).
+class ColumnKeeper : public BlockConsumer {
+ public:
+  ColumnKeeper(PredictionReport& report, size_t rows) : report_(report), rows_(rows) {}
+  size_t items(const PredictionBlock& blk) const override { return report_.runs.size() * blk.channels; }
+  void run(const PredictionBlock& blk, size_t item) override {
+    const size_t k = item / blk.channels, c = item % blk.channels;
+    PointPrediction& pt = report_.runs[k].points[c / 2];
+    std::vector<double>& column = c % 2 == 0 ? pt.u_pred_px : pt.v_pred_px;
+    if (blk.index == 0) reserveLarge(column, rows_);
+    const double* values = blk.prediction(k, c);
+    column.insert(column.end(), values, values + (blk.i1 - blk.i0));
+  }
+
+ private:
+  PredictionReport& report_;
+  size_t rows_;
+};
+
+/// A report with every predictor's spec and a PointPrediction per point (columns and errors empty).
+PredictionReport emptyReport(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors, double horizon_s) {
+  PredictionReport report;
+  report.horizon_s = horizon_s;
+  report.runs.resize(predictors.size());
+  for (size_t k = 0; k < predictors.size(); ++k) {
+    report.runs[k].spec = predictors[k];
+    report.runs[k].points.resize(static_cast<size_t>(track.points()));
+  }
+  return report;
 }
 
 }  // namespace
@@ -192,89 +469,12 @@ std::vector<PredictorSpec> parsePredictorSpecs(const std::string& option, const 
 }
 
 PredictionReport predictTrack(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
-                              double horizon_s, int jobs) {
-  if (!(horizon_s >= 0.0) || !std::isfinite(horizon_s))
-    throw std::invalid_argument("the prediction horizon must be a finite number >= 0 s");
-  PredictionReport report;
-  report.horizon_s = horizon_s;
-  const int n = track.points();
-  const size_t np = static_cast<size_t>(n);
-  // Every predictor built first, in order (an unknown name or parameter throws as before).
-  report.runs.resize(predictors.size());
-  for (size_t k = 0; k < predictors.size(); ++k) {
-    makePredictor(predictors[k].name, 2 * n, predictors[k].params);
-    PredictionRun& run = report.runs[k];
-    run.spec = predictors[k];
-    run.points.resize(np);  // their vectors are filled, and moved in, by the pool's items
-  }
-  // The references at t + horizon, per point: measured and (if any) true. Items of the same pool
-  // as the predictors, after them: short ones that fill the gaps at the end.
-  std::vector<std::vector<double>> u_meas_at(np), v_meas_at(np), u_true_at(np), v_true_at(np);
-  std::vector<std::pair<const std::vector<double>*, std::vector<double>*>> references;
-  for (size_t p = 0; p < np; ++p) {
-    references.emplace_back(&track.u_px[p], &u_meas_at[p]);
-    references.emplace_back(&track.v_px[p], &v_meas_at[p]);
-    if (!track.hasTruth()) continue;
-    references.emplace_back(&track.u_true_px[p], &u_true_at[p]);
-    references.emplace_back(&track.v_true_px[p], &v_true_at[p]);
-  }
-  const std::vector<size_t> order = longestFirst(track, predictors, horizon_s, jobs);
-  // One work item per predictor and channel (u and v of every point), longest predictor first:
-  // items of a channel's work balance the threads to within one such item (the gain on the
-  // 2-million-row track was about 1 %, docs/PERFORMANCE.md "Seventh pass"). Each item owns its
-  // output column; an exception is kept per item and the first in registry order (then channel
-  // order) is rethrown, as the serial loop would have.
-  const size_t nc = 2 * np;
-  const size_t channel_items = order.size() * nc;
-  std::vector<std::exception_ptr> errors(predictors.size() * nc);
-  parallelFor(channel_items + references.size(), jobs, [&](size_t item) {
-    if (item >= channel_items) {
-      const auto& ref = references[item - channel_items];
-      *ref.second = interpolateShifted(track.t_s, *ref.first, horizon_s);  // once per point, for every predictor
-      return;
-    }
-    const size_t k = order[item / nc];
-    const size_t c = item % nc;
-    try {
-      PointPrediction& pt = report.runs[k].points[c / 2];
-      // Reserved here, on the thread that fills it, in huge pages where the kernel offers them, and
-      // filled without zeroing first (large_buffer.h). Filled as a local vector and moved into the
-      // report at the end: the u and v columns' vector objects can share a cache line, and the
-      // items of a predictor's u and v run at the same time on two threads; a push_back into the
-      // report's vectors wrote that line on every frame from both threads (false sharing: 2 s more
-      // CPU on the 2-million-row track, docs/PERFORMANCE.md "Seventh pass").
-      std::vector<double> out;
-      reserveLarge(out, track.size());
-      // The instance that runs is built here, on the thread that runs it: built in a row on the
-      // calling thread, the predictors' states were neighbours on its heap, and two predictors
-      // running at once on the two threads could share cache lines (false sharing: about half of
-      // the runs on the 2-million-row track took 1 s more CPU, docs/PERFORMANCE.md). The instances
-      // built above only check the names and parameters.
-      const std::unique_ptr<Predictor> predictor = makePredictor(predictors[k].name, 1, predictors[k].params);
-      runChannel(*predictor, track.t_s, c % 2 == 0 ? track.u_px[c / 2] : track.v_px[c / 2], horizon_s, track.size(),
-                 out);
-      (c % 2 == 0 ? pt.u_pred_px : pt.v_pred_px) = std::move(out);
-    } catch (...) {
-      errors[k * nc + c] = std::current_exception();
-    }
-  });
-  for (const auto& e : errors)
-    if (e) std::rethrow_exception(e);
-  parallelFor(report.runs.size(), jobs, [&](size_t k) {
-    PredictionRun& run = report.runs[k];
-    std::vector<PredictionErrors> meas, truth;
-    for (size_t p = 0; p < np; ++p) {
-      PointPrediction& pt = run.points[p];
-      pt.vs_measurement = errorsAgainst(pt.u_pred_px, pt.v_pred_px, u_meas_at[p], v_meas_at[p]);
-      meas.push_back(pt.vs_measurement);
-      if (track.hasTruth()) {
-        pt.vs_truth = errorsAgainst(pt.u_pred_px, pt.v_pred_px, u_true_at[p], v_true_at[p]);
-        truth.push_back(pt.vs_truth);
-      }
-    }
-    run.vs_measurement = pooledErrors(meas);
-    if (track.hasTruth()) run.vs_truth = pooledErrors(truth);
-  });
+                              double horizon_s, int jobs, size_t block_rows) {
+  PredictionReport report = emptyReport(track, predictors, horizon_s);
+  ErrorSums errors(report, track.hasTruth(), 0);
+  ColumnKeeper columns(report, track.size());
+  streamPredictions(track, predictors, horizon_s, jobs, block_rows, {&columns, &errors});
+  errors.finish();
   return report;
 }
 
@@ -297,9 +497,10 @@ size_t csvRowBound(const FeatureTrack& track, const PredictionReport& report) {
   return (4 + 2 * report.runs.size()) * 33 + name + 2;
 }
 
-/// Writes rows [i0, i1) of predictions.csv (every point of each frame) at p (room for
-/// (i1 - i0) * points * csvRowBound bytes); returns the end.
-char* writeCsvRows(char* p, const FeatureTrack& track, const PredictionReport& report, size_t i0, size_t i1) {
+/// Writes frames [i0, i1) of predictions.csv (every point of each frame; the frames within `blk`)
+/// at p (room for (i1 - i0) * points * csvRowBound bytes); returns the end.
+char* writeCsvRows(char* p, const FeatureTrack& track, const PredictionReport& report, const PredictionBlock& blk,
+                   size_t i0, size_t i1) {
   const int n = track.points();
   const bool single = n == 1;
   for (size_t i = i0; i < i1; ++i)
@@ -318,77 +519,139 @@ char* writeCsvRows(char* p, const FeatureTrack& track, const PredictionReport& r
       p = csvCell(p, track.v_px[pp][i]);
       *p++ = ',';
       p = csvCell(p, track.t_s[i] + report.horizon_s);
-      for (const auto& run : report.runs) {
+      for (size_t r = 0; r < report.runs.size(); ++r) {
         *p++ = ',';
-        p = csvCell(p, run.points[pp].u_pred_px[i]);
+        p = csvCell(p, blk.prediction(r, 2 * pp)[i - blk.i0]);
         *p++ = ',';
-        p = csvCell(p, run.points[pp].v_pred_px[i]);
+        p = csvCell(p, blk.prediction(r, 2 * pp + 1)[i - blk.i0]);
       }
       *p++ = '\n';
     }
   return p;
 }
 
-/// predictions.csv (csvCell's format, 10 significant digits). Chunks of kCsvChunkRows rows are
-/// formatted on `jobs` threads and written in row order: the thread that formatted chunk c waits
-/// until chunk c - 1 is written, writes its own, and takes the next one, so formatting and writing
-/// overlap and the file is the same for any jobs.
-void writePredictionsCsv(const std::string& path, const FeatureTrack& track, const PredictionReport& report,
-                         int jobs) {
-  const bool single = track.points() == 1;
-  std::ofstream file(path, std::ios::binary);
-  std::string header = single ? "t,u,v,t_target" : "t,point,u,v,t_target";
-  for (const auto& run : report.runs) header += "," + run.spec.shownName() + ".u_pred," + run.spec.shownName() + ".v_pred";
-  header += '\n';
-  file.write(header.data(), static_cast<std::streamsize>(header.size()));
-  const size_t chunks = (track.size() + kCsvChunkRows - 1) / kCsvChunkRows;
-  std::mutex turn_mutex;
-  std::condition_variable turn_changed;
-  size_t next_to_write = 0;
-  bool failed = false;
-  const size_t chunk_bytes = kCsvChunkRows * static_cast<size_t>(track.points()) * csvRowBound(track, report);
-  // Text buffers handed from chunk to chunk (at most one per thread is in use): a fresh buffer
-  // per chunk would be fresh pages from the kernel each time (a page fault and a zeroed
-  // page per 4 kB of predictions.csv).
-  std::vector<std::unique_ptr<char[]>> spare;
-  parallelFor(chunks, jobs, [&](size_t c) {
+/// predictions.csv (csvCell's format, 10 significant digits), a BlockConsumer: its items are the
+/// block's chunks of kCsvChunkRows frames, formatted on any thread and written in row order (the
+/// thread that formatted chunk c waits until chunk c - 1 is written, writes its own and takes the
+/// next item), so formatting and writing overlap and the file is the same for any jobs.
+class CsvWriter : public BlockConsumer {
+ public:
+  CsvWriter(const std::string& path, const FeatureTrack& track, const PredictionReport& report)
+      : path_(path), track_(track), report_(report), file_(path, std::ios::binary) {
+    std::string header = track.points() == 1 ? "t,u,v,t_target" : "t,point,u,v,t_target";
+    for (const auto& run : report.runs)
+      header += "," + run.spec.shownName() + ".u_pred," + run.spec.shownName() + ".v_pred";
+    header += '\n';
+    file_.write(header.data(), static_cast<std::streamsize>(header.size()));
+    chunk_bytes_ = kCsvChunkRows * static_cast<size_t>(track.points()) * csvRowBound(track, report);
+  }
+  size_t items(const PredictionBlock& blk) const override { return chunks(blk.i1 - blk.i0); }
+  void run(const PredictionBlock& blk, size_t item) override {
+    const size_t turn = blk.index * chunks(blk.full_rows) + item;  // the chunk's place in the file
     std::unique_ptr<char[]> text;  // not initialised: only the part written is touched
     size_t size = 0;
     try {
       {
-        std::lock_guard<std::mutex> lock(turn_mutex);
-        if (!spare.empty()) {
-          text = std::move(spare.back());
-          spare.pop_back();
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!spare_.empty()) {
+          text = std::move(spare_.back());
+          spare_.pop_back();
         }
       }
-      if (!text) text.reset(new char[chunk_bytes]);
-      size = static_cast<size_t>(writeCsvRows(text.get(), track, report, c * kCsvChunkRows,
-                                              std::min(track.size(), (c + 1) * kCsvChunkRows)) -
+      if (!text) text.reset(new char[chunk_bytes_]);
+      const size_t i0 = blk.i0 + item * kCsvChunkRows;
+      size = static_cast<size_t>(writeCsvRows(text.get(), track_, report_, blk, i0, std::min(blk.i1, i0 + kCsvChunkRows)) -
                                  text.get());
     } catch (...) {
-      std::lock_guard<std::mutex> lock(turn_mutex);
-      failed = true;  // the chunks after this one must not wait for it
-      turn_changed.notify_all();
+      std::lock_guard<std::mutex> lock(mutex_);
+      failed_ = true;  // the chunks after this one must not wait for it
+      turn_changed_.notify_all();
       throw;
     }
     {
-      std::unique_lock<std::mutex> lock(turn_mutex);
-      turn_changed.wait(lock, [&] { return next_to_write == c || failed; });
-      if (failed) return;
+      std::unique_lock<std::mutex> lock(mutex_);
+      turn_changed_.wait(lock, [&] { return next_to_write_ == turn || failed_; });
+      if (failed_) return;
     }
     // Written without the lock: only the thread whose turn it is touches the file (the turn passes
     // on below, under the lock, after the write), and the other threads meanwhile take a spare
     // buffer and format their next chunk instead of waiting for the kernel's copy to end.
-    file.write(text.get(), static_cast<std::streamsize>(size));
-    std::lock_guard<std::mutex> lock(turn_mutex);
-    ++next_to_write;
-    spare.push_back(std::move(text));
-    turn_changed.notify_all();
-  });
-  file.flush();
-  if (!file) throw std::runtime_error(path + ": write failed");
-}
+    file_.write(text.get(), static_cast<std::streamsize>(size));
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++next_to_write_;
+    // Text buffers handed from chunk to chunk (at most one per thread is in use): a fresh buffer
+    // per chunk would be fresh pages from the kernel each time (a page fault and a zeroed page per
+    // 4 kB of predictions.csv).
+    spare_.push_back(std::move(text));
+    turn_changed_.notify_all();
+  }
+  /// After the last block: throws std::runtime_error naming the file if a write failed.
+  void finish() {
+    file_.flush();
+    if (!file_) throw std::runtime_error(path_ + ": write failed");
+  }
+
+ private:
+  static size_t chunks(size_t rows) { return (rows + kCsvChunkRows - 1) / kCsvChunkRows; }
+  std::string path_;
+  const FeatureTrack& track_;
+  const PredictionReport& report_;
+  std::ofstream file_;
+  size_t chunk_bytes_ = 0;
+  std::mutex mutex_;
+  std::condition_variable turn_changed_;
+  size_t next_to_write_ = 0;
+  bool failed_ = false;
+  std::vector<std::unique_ptr<char[]>> spare_;
+};
+
+/// The table predictions.png is drawn from (a BlockConsumer, one item per block): the first point's
+/// columns t_s u_px v_px t_target_s u_true_px v_true_px, then u_pred v_pred per predictor; every row
+/// up to kMaxPlotRows rows, else their envelope of kPlotSlices time slices (EnvelopeBuilder, plots.h).
+class PlotTable : public BlockConsumer {
+ public:
+  PlotTable(const FeatureTrack& track, const PredictionReport& report)
+      : track_(track), report_(report), width_(6 + 2 * report.runs.size()), row_(width_) {
+    if (!envelope()) {
+      rows_.reserve(track.size() * width_);
+      return;
+    }
+    std::vector<bool> is_x(width_, false);
+    is_x[0] = is_x[3] = true;  // t_s and t_target_s
+    builder_ = std::make_unique<EnvelopeBuilder>(is_x, track.t_s.front(), track.t_s.back(), kPlotSlices);
+  }
+  bool envelope() const { return track_.size() > kMaxPlotRows; }
+  size_t width() const { return width_; }
+  size_t items(const PredictionBlock&) const override { return 1; }
+  void run(const PredictionBlock& blk, size_t) override {
+    const bool truth = track_.hasTruth();
+    for (size_t i = blk.i0; i < blk.i1; ++i) {
+      row_[0] = track_.t_s[i];
+      row_[1] = track_.u_px[0][i];
+      row_[2] = track_.v_px[0][i];
+      row_[3] = track_.t_s[i] + report_.horizon_s;
+      row_[4] = truth ? track_.u_true_px[0][i] : kNaN;
+      row_[5] = truth ? track_.v_true_px[0][i] : kNaN;
+      for (size_t k = 0; k < report_.runs.size(); ++k) {
+        row_[6 + 2 * k] = blk.prediction(k, 0)[i - blk.i0];
+        row_[7 + 2 * k] = blk.prediction(k, 1)[i - blk.i0];
+      }
+      if (builder_)
+        builder_->add(row_[0], row_.data());
+      else
+        rows_.insert(rows_.end(), row_.begin(), row_.end());
+    }
+  }
+  /// The table, row-major, width() numbers per row (after the last block).
+  const std::vector<double>& table() { return builder_ ? builder_->table() : rows_; }
+
+ private:
+  const FeatureTrack& track_;
+  const PredictionReport& report_;
+  size_t width_;
+  std::vector<double> row_, rows_;
+  std::unique_ptr<EnvelopeBuilder> builder_;
+};
 
 }  // namespace
 
@@ -438,86 +701,46 @@ void writeSummaryJson(const FeatureTrack& track, const PredictionReport& report,
   }
 }
 
-/// predictions_plot.dat, predictions_plot.bin and predictions.gp (see writePredictionOutputs).
-void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
+/// predictions_plot.dat, predictions_plot.bin and predictions.gp (see predictToFiles) from the
+/// plot's table.
+void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, int delay_frames, PlotTable& plot,
                     const StagedOutputDir& dir) {
   const int n = track.points();
   const bool single = n == 1;
   // Plot data (the first point): measured points at their time, predictions at the time they are
-  // made for; beyond kMaxPlotRows rows, the envelope of kPlotSlices time slices (plotEnvelope(),
-  // plots.h: per slice the first and last time, every other column's min and max). The text file
-  // is for the user; predictions.gp reads the same numbers from predictions_plot.bin (the values of
-  // the text, as doubles), which gnuplot takes in once per series without parsing text.
-  const bool envelope = track.size() > kMaxPlotRows;
-  const size_t plot_columns = 6 + 2 * report.runs.size();
-  size_t plot_rows = track.size();
+  // made for; beyond kMaxPlotRows rows, the envelope of kPlotSlices time slices (PlotTable). The
+  // text file is for the user; predictions.gp reads the same numbers from predictions_plot.bin (the
+  // values of the text, as doubles), which gnuplot takes in once per series without parsing text.
+  const bool envelope = plot.envelope();
+  const size_t plot_columns = plot.width();
   {
+    const std::vector<double>& table = plot.table();
+    const size_t plot_rows = table.size() / plot_columns;
     std::string dat = "# t_s u_px v_px t_target_s u_true_px v_true_px";
     for (const auto& run : report.runs) dat += " " + run.spec.shownName() + ".u_pred " + run.spec.shownName() + ".v_pred";
-    std::vector<double> bin;
-    auto num = [&](double x) {  // datNumber's format; the binary value is the text's
-      if (!std::isfinite(x)) {
-        dat += "NaN";
-        bin.push_back(kNaN);
-        return;
-      }
-      char buf[40];
-      char* end = writeGeneral(buf, x, 8);
-      dat.append(buf, end);
-      bin.push_back(textValue(buf, end));
-    };
-    if (envelope) {
-      std::vector<double> t_target(track.size()), none;
-      for (size_t i = 0; i < track.size(); ++i) t_target[i] = track.t_s[i] + report.horizon_s;
-      if (!track.hasTruth()) none.assign(track.size(), kNaN);
-      std::vector<EnvelopeColumn> columns{{track.t_s.data(), true},
-                                          {track.u_px[0].data(), false},
-                                          {track.v_px[0].data(), false},
-                                          {t_target.data(), true},
-                                          {track.hasTruth() ? track.u_true_px[0].data() : none.data(), false},
-                                          {track.hasTruth() ? track.v_true_px[0].data() : none.data(), false}};
-      for (const auto& run : report.runs) {
-        columns.push_back({run.points[0].u_pred_px.data(), false});
-        columns.push_back({run.points[0].v_pred_px.data(), false});
-      }
-      const std::vector<double> table = plotEnvelope(track.t_s, columns, kPlotSlices);
-      plot_rows = table.size() / plot_columns;
+    if (envelope)
       dat += "\n# " + std::to_string(track.size()) + " rows in " + std::to_string(kPlotSlices) +
              " equal time slices: per slice, t_s and t_target_s of its first and last row, every other column's"
              " min and max (the one reached first in the first row)";
-      dat += '\n';
-      dat.reserve(dat.size() + table.size() * 16);
-      bin.reserve(table.size());
-      for (size_t r = 0; r < plot_rows; ++r) {
-        for (size_t c = 0; c < plot_columns; ++c) {
-          if (c) dat += ' ';
-          num(table[r * plot_columns + c]);
+    dat += '\n';
+    dat.reserve(dat.size() + table.size() * 16);
+    std::vector<double> bin;
+    bin.reserve(table.size());
+    for (size_t r = 0; r < plot_rows; ++r) {
+      for (size_t c = 0; c < plot_columns; ++c) {
+        if (c) dat += ' ';
+        const double x = table[r * plot_columns + c];
+        if (!std::isfinite(x)) {  // datNumber's format; the binary value is the text's
+          dat += "NaN";
+          bin.push_back(kNaN);
+          continue;
         }
-        dat += '\n';
+        char buf[40];
+        char* end = writeGeneral(buf, x, 8);
+        dat.append(buf, end);
+        bin.push_back(textValue(buf, end));
       }
-    } else {
       dat += '\n';
-      bin.reserve(track.size() * plot_columns);
-      for (size_t i = 0; i < track.size(); ++i) {
-        num(track.t_s[i]);
-        dat += ' ';
-        num(track.u_px[0][i]);
-        dat += ' ';
-        num(track.v_px[0][i]);
-        dat += ' ';
-        num(track.t_s[i] + report.horizon_s);
-        dat += ' ';
-        num(track.hasTruth() ? track.u_true_px[0][i] : kNaN);
-        dat += ' ';
-        num(track.hasTruth() ? track.v_true_px[0][i] : kNaN);
-        for (const auto& run : report.runs) {
-          dat += ' ';
-          num(run.points[0].u_pred_px[i]);
-          dat += ' ';
-          num(run.points[0].v_pred_px[i]);
-        }
-        dat += '\n';
-      }
     }
     writeWhole(dir.file("predictions_plot.dat"), dat);
     writeWhole(dir.file("predictions_plot.bin"),
@@ -568,26 +791,26 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
 
 }  // namespace
 
-void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
-                            const std::string& command_line, bool plots, StagedOutputDir& dir, int jobs) {
-  if (jobs < 2) {
-    writeSummaryJson(track, report, delay_frames, command_line, dir);
-    if (plots) writePlotFiles(track, report, delay_frames, dir);
-    writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);
-    if (plots) runGnuplot(dir.staging().string(), "predictions.gp");
-    return;
+PredictionReport predictToFiles(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
+                                double horizon_s, const PredictionFiles& files, StagedOutputDir& dir, int jobs) {
+  PredictionReport report = emptyReport(track, predictors, horizon_s);
+  ErrorSums errors(report, track.hasTruth(), files.score_from);
+  CsvWriter csv(dir.file("predictions.csv"), track, report);
+  std::unique_ptr<PlotTable> plot;
+  std::vector<BlockConsumer*> consumers{&csv, &errors};
+  if (files.plots && track.size() > 0) {
+    plot = std::make_unique<PlotTable>(track, report);
+    consumers.push_back(plot.get());
   }
-  // With threads to spare, everything but predictions.csv (summary.json, the plot's data and script,
-  // gnuplot drawing predictions.png: another process, one core) is one task on its own thread while
-  // the pool formats and writes predictions.csv; its error, if any, is reported after the CSV's.
-  std::future<void> side = std::async(std::launch::async, [&] {
-    writeSummaryJson(track, report, delay_frames, command_line, dir);
-    if (!plots) return;
-    writePlotFiles(track, report, delay_frames, dir);
+  streamPredictions(track, predictors, horizon_s, jobs, files.block_rows, consumers);
+  errors.finish();
+  csv.finish();
+  writeSummaryJson(track, report, files.delay_frames, files.command_line, dir);
+  if (plot) {
+    writePlotFiles(track, report, files.delay_frames, *plot, dir);
     runGnuplot(dir.staging().string(), "predictions.gp");
-  });
-  writePredictionsCsv(dir.file("predictions.csv"), track, report, jobs);  // on throwing, ~future waits
-  side.get();
+  }
+  return report;
 }
 
 void printPredictionTable(const PredictionReport& report, const FeatureTrack& track, std::ostream& out) {

@@ -26,6 +26,7 @@
 
 #include "predvs/predictors/params.h"
 
+#include <cstddef>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -85,14 +86,19 @@ struct PredictionReport {
   std::vector<PredictionRun> runs;
 };
 
+/// Rows of the track a run takes at a time (predictTrack, predictToFiles): the predictions of one
+/// block of rows are written, scored and handed on before the next block's are made, so nothing of
+/// the track's size is allocated for them. Only the speed and the memory depend on it.
+constexpr size_t kPredictBlockRows = 65536;
+
 /// Runs every predictor along the track. Throws std::invalid_argument for an unknown predictor or
 /// parameter (message names them) or a non-positive horizon.
 /// jobs: threads (>= 1; the caller's thread is one of them). The predictors are independent, and
 /// so are a predictor's channels (predictor.h): each channel of each predictor runs as a 1-channel
-/// instance on one thread (longest predictor first) and the interpolated references fill the
-/// gaps; the report is the same, bit for bit, for any jobs.
+/// instance, block_rows rows at a time, on the thread it was given at the start; the report is the
+/// same, bit for bit, for any jobs and block_rows.
 PredictionReport predictTrack(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
-                              double horizon_s, int jobs = 1);
+                              double horizon_s, int jobs = 1, size_t block_rows = kPredictBlockRows);
 
 /// RMSE of (u_pred, v_pred) made at rows t against (u_ref, v_ref) interpolated at t + horizon.
 PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vector<double>& u_pred,
@@ -108,7 +114,22 @@ PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vec
 constexpr size_t kMaxPlotRows = 20000;
 constexpr size_t kPlotSlices = 1200;
 
-/// Writes predictions.csv, summary.json and (if plots) predictions.png + its gnuplot script/data.
+/// What predictToFiles writes besides the predictions, and which rows it scores.
+struct PredictionFiles {
+  int delay_frames = -1;     ///< the horizon in frames, for summary.json and the plot's title (-1: given in s)
+  std::string command_line;  ///< for summary.json
+  bool plots = true;         ///< predictions.png, its gnuplot script and data
+  size_t score_from = 0;     ///< rows before it are predicted and written, not scored (--fit-split)
+  size_t block_rows = kPredictBlockRows;
+};
+
+/// predictTrack streamed to the output files: the predictions of each block of rows are written to
+/// predictions.csv, scored and thinned for the plot while the predictors go on with the next block,
+/// and no column of the track's size is kept (the returned report has the errors and the specs, no
+/// prediction columns). The files are the same, byte for byte, for any jobs and block_rows
+/// (tests/app/predict_throughput_test.cpp). Errors are those of predictTrack, then std::runtime_error
+/// naming a file that could not be written.
+///  predictions.csv, summary.json and (if plots) predictions.png + its gnuplot script/data:
 ///  predictions.csv: one point: t,u,v,t_target,NAME.u_pred,NAME.v_pred[,...] (one column pair per
 ///                   predictor; empty cell = no measurement / no prediction yet), times in s,
 ///                   positions in px; N > 1 points: the long layout t,point,u,v,t_target,NAME.u_pred,
@@ -126,10 +147,10 @@ constexpr size_t kPlotSlices = 1200;
 ///                   per predictor) as doubles in the machine's byte order (NaN for "NaN"), which
 ///                   gnuplot reads once per series without parsing text; predictions.gp says how
 ///                   to draw from the text instead (the same PNG).
-///  jobs:            threads formatting predictions.csv (written in row order: the same file for any
-///                   jobs); with jobs >= 2 gnuplot draws predictions.png meanwhile.
-void writePredictionOutputs(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
-                            const std::string& command_line, bool plots, StagedOutputDir& dir, int jobs = 1);
+///  jobs:            threads (predictTrack's), which also format predictions.csv (written in row
+///                   order: the same file for any jobs).
+PredictionReport predictToFiles(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors,
+                                double horizon_s, const PredictionFiles& files, StagedOutputDir& dir, int jobs = 1);
 
 /// The aligned table printed on the terminal: overall errors per predictor, and for N > 1 points
 /// the RMSE against the measurement (and the truth) per point.

@@ -179,28 +179,14 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
     }
     for (const auto& l : logs) fit_log << l;
   }
-  PredictionReport report = predictTrack(track, specs, horizon_s, jobs);
-  if (a.fit && fit_rows < track.size() && !a.fit_split.empty())
-    for (auto& run : report.runs) {
-      // Score only the rows after the fit: the predictions made before it are blanked.
-      std::vector<PredictionErrors> vs_meas, vs_truth;
-      for (size_t p = 0; p < run.points.size(); ++p) {
-        PointPrediction& pp = run.points[p];
-        std::vector<double> u = pp.u_pred_px, v = pp.v_pred_px;
-        for (size_t i = 0; i < fit_rows && i < u.size(); ++i) u[i] = v[i] = std::numeric_limits<double>::quiet_NaN();
-        pp.vs_measurement = predictionErrors(track.t_s, u, v, horizon_s, track.u_px[p], track.v_px[p]);
-        vs_meas.push_back(pp.vs_measurement);
-        if (track.hasTruth()) {
-          pp.vs_truth = predictionErrors(track.t_s, u, v, horizon_s, track.u_true_px[p], track.v_true_px[p]);
-          vs_truth.push_back(pp.vs_truth);
-        }
-      }
-      run.vs_measurement = pooledErrors(vs_meas);
-      if (track.hasTruth()) run.vs_truth = pooledErrors(vs_truth);
-    }
-
+  // With --fit-split only the rows after the fit are scored; predictions.csv has every row.
+  PredictionFiles files;
+  files.delay_frames = delay_frames;
+  files.command_line = command_line;
+  files.plots = !a.no_plots;
+  if (a.fit && !a.fit_split.empty() && fit_rows < track.size()) files.score_from = fit_rows;
   StagedOutputDir dir(a.out_dir);
-  writePredictionOutputs(track, report, delay_frames, command_line, !a.no_plots, dir, jobs);
+  const PredictionReport report = predictToFiles(track, specs, horizon_s, files, dir, jobs);
   dir.commit();
 
   out << fit_log.str();

@@ -1,8 +1,8 @@
 // predvs bench — throughput of `predvs predict` (issue 11 item 8, docs/PERFORMANCE.md "predict
 // throughput"): reading a track CSV (readFeatureTrack, on 1 and 2 threads) and running every registered predictor
 // along it (predictTrack, on 1 and 2 threads; and each predictor alone, BM_PredictTrack/<name>),
-// and writing predictions.csv + summary.json (writePredictionOutputs without the plot, 1 and 2
-// threads), separately, so that the predictors' own share of a run is measured.
+// and the same streamed to predictions.csv + summary.json (predictToFiles without the plot, 1 and 2
+// threads), so that the predictors' own share of a run is measured.
 //
 // The track: PREDVS_BENCH_TRACK=FILE if set (e.g. the 2-million-row `predvs make-track` file of
 // docs/PERFORMANCE.md), else a generated one-point track of 200,000 rows at 30 Hz (t,u,v,u_true,
@@ -105,22 +105,25 @@ const bool kPredictTrackOneRegistered = [] {
   return true;
 }();
 
-/// predictions.csv and summary.json of every predictor (no plot) on state.range(0) threads, into a
-/// temporary directory: formatting and writing only.
-void BM_WritePredictions(benchmark::State& state) {
+/// `predvs predict --no-plots` without the reading: every predictor along the track, streamed to
+/// predictions.csv and summary.json in a temporary directory (predictToFiles), on state.range(0)
+/// threads. Its excess over BM_PredictTrackAll is the formatting and writing.
+void BM_PredictToFiles(benchmark::State& state) {
   const predvs::FeatureTrack& track = benchTrack();
-  const predvs::PredictionReport report =
-      predvs::predictTrack(track, allPredictors(), 2 * predvs::medianPeriod(track.t_s), 2);
   const auto out = std::filesystem::temp_directory_path() / "predvs_bench_predictions";
+  predvs::PredictionFiles files;
+  files.plots = false;
+  files.delay_frames = 2;
   for (auto _ : state) {
     predvs::StagedOutputDir dir(out);
-    predvs::writePredictionOutputs(track, report, 2, "predvs bench", false, dir, static_cast<int>(state.range(0)));
+    predvs::predictToFiles(track, allPredictors(), 2 * predvs::medianPeriod(track.t_s), files, dir,
+                           static_cast<int>(state.range(0)));
     dir.commit();
   }
   std::filesystem::remove_all(out);
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * track.size()));
 }
-BENCHMARK(BM_WritePredictions)->Arg(1)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_WritePredictions)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PredictToFiles)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PredictToFiles)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -24,34 +24,42 @@ double interpolateAt(const std::vector<double>& t_s, const std::vector<double>& 
 }
 
 std::vector<double> interpolateShifted(const std::vector<double>& t_s, const std::vector<double>& y, double shift_s) {
+  std::vector<double> r(t_s.size());
+  interpolateShifted(t_s, y, shift_s, 0, t_s.size(), r.data());
+  return r;
+}
+
+void interpolateShifted(const std::vector<double>& t_s, const std::vector<double>& y, double shift_s, size_t i0,
+                        size_t i1, double* out) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   const size_t n = t_s.size();
-  std::vector<double> r(n);
-  size_t bound = 0;  // first row with t_s >= t (std::lower_bound)
-  for (size_t i = 0; i < n; ++i) {
+  if (i0 >= i1) return;
+  // first row with t_s >= t (std::lower_bound), kept as a cursor from row to row
+  size_t bound = static_cast<size_t>(std::lower_bound(t_s.begin(), t_s.end(), t_s[i0] + shift_s) - t_s.begin());
+  for (size_t i = i0; i < i1; ++i) {
+    double& r = out[i - i0];
     const double t = t_s[i] + shift_s;
     while (bound < n && t_s[bound] < t) ++bound;
     size_t hi = bound;
     while (hi < n && !std::isfinite(y[hi])) ++hi;
     if (hi >= n) {
-      r[i] = kNaN;
+      r = kNaN;
       continue;
     }
     if (t_s[hi] == t) {
-      r[i] = y[hi];
+      r = y[hi];
       continue;
     }
     size_t lo = bound;  // one past the candidate
     while (lo > 0 && !std::isfinite(y[lo - 1])) --lo;
     if (lo == 0) {
-      r[i] = kNaN;
+      r = kNaN;
       continue;
     }
     const double t0 = t_s[lo - 1], t1 = t_s[hi];
     const double w = (t - t0) / (t1 - t0);
-    r[i] = (1.0 - w) * y[lo - 1] + w * y[hi];
+    r = (1.0 - w) * y[lo - 1] + w * y[hi];
   }
-  return r;
 }
 
 }  // namespace predvs

@@ -4,6 +4,7 @@
 // for counts of seven digits and more. The speed itself is measured by bench/predict_io_bench.cpp.
 #include "cli.h"
 #include "large_buffer.h"
+#include "number_text.h"
 #include "output_dir.h"
 #include "predict_command.h"
 #include "track_csv.h"
@@ -129,18 +130,35 @@ std::string readAll(const std::filesystem::path& p) {
   return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
 }
 
-/// predictTrack and writePredictionOutputs with `jobs` threads; returns the output directory.
-std::filesystem::path predictWith(const predvs::FeatureTrack& track, int jobs, const std::string& name,
-                                  predvs::PredictionReport& report) {
+std::vector<predvs::PredictorSpec> everyPredictor() {
   std::vector<predvs::PredictorSpec> specs;
   for (const auto& info : predvs::predictorRegistry()) specs.push_back({info.name, {}});
-  report = predvs::predictTrack(track, specs, 2.0 / 30.0, jobs);
-  const auto out = std::filesystem::temp_directory_path() / ("predvs_throughput_jobs_" + name);
+  return specs;
+}
+
+/// predictToFiles of `specs` into a fresh temporary directory; returns the directory.
+std::filesystem::path filesOf(const predvs::FeatureTrack& track, const std::vector<predvs::PredictorSpec>& specs,
+                              int jobs, const std::string& name, predvs::PredictionFiles files = {},
+                              predvs::PredictionReport* report = nullptr) {
+  const auto out = std::filesystem::temp_directory_path() / ("predvs_throughput_" + name);
   std::filesystem::remove_all(out);
+  files.delay_frames = 2;
+  files.command_line = "predvs predict (test)";
   predvs::StagedOutputDir dir(out);
-  predvs::writePredictionOutputs(track, report, 2, "predvs predict (test)", /*plots=*/false, dir, jobs);
+  const predvs::PredictionReport r = predvs::predictToFiles(track, specs, 2.0 / 30.0, files, dir, jobs);
   dir.commit();
+  if (report) *report = r;
   return out;
+}
+
+/// predictTrack (the report) and predictToFiles without the plot (the files) with `jobs` threads;
+/// returns the output directory.
+std::filesystem::path predictWith(const predvs::FeatureTrack& track, int jobs, const std::string& name,
+                                  predvs::PredictionReport& report) {
+  report = predvs::predictTrack(track, everyPredictor(), 2.0 / 30.0, jobs);
+  predvs::PredictionFiles files;
+  files.plots = false;
+  return filesOf(track, everyPredictor(), jobs, "jobs_" + name, files);
 }
 
 TEST(PredictThroughput, ParallelRunGivesTheSameOutputsAsOneThread) {
@@ -186,15 +204,8 @@ TEST(PredictThroughput, PlotBinaryHoldsTheNumbersOfThePlotText) {
   std::fill(track.u_px[0].begin() + 5000, track.u_px[0].begin() + 5100, std::nan(""));
   std::fill(track.v_px[0].begin() + 5000, track.v_px[0].begin() + 5100, std::nan(""));
   const std::vector<predvs::PredictorSpec> specs{{"hold", {}}, {"kf-cv", {}}, {"fakf", {}}};
-  const predvs::PredictionReport report = predvs::predictTrack(track, specs, 2.0 / 30.0, 2);
-  const auto out = std::filesystem::temp_directory_path() / "predvs_throughput_plot_bin";
-  std::filesystem::remove_all(out);
   // WHEN the outputs are written with the plot
-  {
-    predvs::StagedOutputDir dir(out);
-    predvs::writePredictionOutputs(track, report, 2, "predvs predict (test)", /*plots=*/true, dir, 2);
-    dir.commit();
-  }
+  const auto out = filesOf(track, specs, 2, "plot_bin");
   // THEN predictions_plot.bin holds, row by row, the doubles the text of predictions_plot.dat reads
   // as (NaN for "NaN"), and predictions.gp reads it with that many columns
   const size_t columns = 6 + 2 * specs.size();
@@ -236,15 +247,8 @@ TEST(PredictThroughput, PlotBinaryHoldsTheNumbersOfThePlotText) {
 TEST(PredictThroughput, PlotDataOfATrackUpToTheLimitHasEveryRow) {
   // GIVEN a one-point track of kMaxPlotRows rows and one predictor
   const predvs::FeatureTrack track = syntheticTrack(predvs::kMaxPlotRows, 1);
-  const predvs::PredictionReport report = predvs::predictTrack(track, {{"hold", {}}}, 2.0 / 30.0, 2);
-  const auto out = std::filesystem::temp_directory_path() / "predvs_throughput_plot_whole";
-  std::filesystem::remove_all(out);
   // WHEN the outputs are written with the plot
-  {
-    predvs::StagedOutputDir dir(out);
-    predvs::writePredictionOutputs(track, report, 2, "predvs predict (test)", /*plots=*/true, dir, 2);
-    dir.commit();
-  }
+  const auto out = filesOf(track, {{"hold", {}}}, 2, "plot_whole");
   // THEN predictions_plot.dat has every row, each row's time the track's, and the title no thinning
   std::ifstream dat(out / "predictions_plot.dat");
   std::string line;
@@ -262,6 +266,111 @@ TEST(PredictThroughput, PlotDataOfATrackUpToTheLimitHasEveryRow) {
   EXPECT_EQ(comments, 1u);
   EXPECT_EQ(readAll(out / "predictions.gp").find("slices"), std::string::npos);
   std::filesystem::remove_all(out);
+}
+
+TEST(PredictThroughput, StreamedFilesAreTheSameForAnyBlockSizeAndHoldPredictTracksColumns) {
+  // GIVEN a one-point track past the plot's limit (its envelope) with a stretch of empty cells, and
+  // a three-point track (long layout), every predictor
+  for (const auto& [rows, points] : {std::pair<size_t, int>{predvs::kMaxPlotRows + 5003, 1}, std::pair<size_t, int>{3001, 3}}) {
+    predvs::FeatureTrack track = syntheticTrack(rows, points);
+    std::fill(track.u_px[0].begin() + 2000, track.u_px[0].begin() + 2100, std::nan(""));
+    std::fill(track.v_px[0].begin() + 2000, track.v_px[0].begin() + 2100, std::nan(""));
+    const std::string tag = std::to_string(points);
+    const auto specs = everyPredictor();
+    // WHEN the files are written in one block, in blocks of 777 rows (not a multiple of the CSV's
+    // chunks) on 2 threads and of 1000 rows on 1, and the report is made by predictTrack
+    predvs::PredictionFiles whole, small, other;
+    whole.block_rows = rows;
+    small.block_rows = 777;
+    other.block_rows = 1000;
+    predvs::PredictionReport streamed;
+    const auto dir_whole = filesOf(track, specs, 2, "blocks_whole_" + tag, whole, &streamed);
+    const auto dir_small = filesOf(track, specs, 2, "blocks_777_" + tag, small);
+    const auto dir_other = filesOf(track, specs, 1, "blocks_1000_" + tag, other);
+    const predvs::PredictionReport report = predvs::predictTrack(track, specs, 2.0 / 30.0, 2, 4096);
+    // THEN every file is byte for byte the same
+    for (const char* f : {"predictions.csv", "summary.json", "predictions_plot.dat", "predictions_plot.bin"}) {
+      const std::string text = readAll(dir_whole / f);
+      EXPECT_GT(text.size(), 1000u) << f;
+      EXPECT_TRUE(text == readAll(dir_small / f)) << f << " " << tag;
+      EXPECT_TRUE(text == readAll(dir_other / f)) << f << " " << tag;
+    }
+    // ... predictions.csv holds predictTrack's columns, in csvNumber's 10 digits, row by row
+    std::istringstream csv(readAll(dir_whole / "predictions.csv"));
+    std::string line;
+    std::getline(csv, line);  // the header
+    for (size_t i = 0; i < rows; ++i)
+      for (size_t p = 0; p < static_cast<size_t>(points); ++p) {
+        ASSERT_TRUE(std::getline(csv, line)) << i;
+        std::string expected = predvs::csvNumber(track.t_s[i], 10) + "," +
+                               (points > 1 ? track.point_names[p] + "," : std::string()) +
+                               predvs::csvNumber(track.u_px[p][i], 10) + "," + predvs::csvNumber(track.v_px[p][i], 10) +
+                               "," + predvs::csvNumber(track.t_s[i] + 2.0 / 30.0, 10);
+        for (const auto& run : report.runs)
+          expected += "," + predvs::csvNumber(run.points[p].u_pred_px[i], 10) + "," +
+                      predvs::csvNumber(run.points[p].v_pred_px[i], 10);
+        ASSERT_EQ(line, expected) << "row " << i << " point " << p;
+      }
+    EXPECT_FALSE(std::getline(csv, line));
+    // ... and the streamed errors are predictTrack's, and predictionErrors' on its columns, bit for bit
+    for (size_t k = 0; k < report.runs.size(); ++k) {
+      EXPECT_TRUE(sameBits(streamed.runs[k].vs_truth.rmse_px, report.runs[k].vs_truth.rmse_px)) << k;
+      EXPECT_TRUE(sameBits(streamed.runs[k].vs_measurement.rmse_u_px, report.runs[k].vs_measurement.rmse_u_px)) << k;
+      EXPECT_EQ(streamed.runs[k].vs_measurement.n, report.runs[k].vs_measurement.n);
+      const auto& pt = report.runs[k].points[0];
+      const predvs::PredictionErrors direct =
+          predvs::predictionErrors(track.t_s, pt.u_pred_px, pt.v_pred_px, 2.0 / 30.0, track.u_true_px[0], track.v_true_px[0]);
+      EXPECT_TRUE(sameBits(direct.rmse_px, report.runs[k].points[0].vs_truth.rmse_px)) << k;
+      EXPECT_TRUE(streamed.runs[k].points[0].u_pred_px.empty());  // no column of the track's size kept
+    }
+    for (const auto& d : {dir_whole, dir_small, dir_other}) std::filesystem::remove_all(d);
+  }
+}
+
+TEST(PredictThroughput, ScoringFromARowIsTheErrorOfTheRowsAfterIt) {
+  // GIVEN a track and two predictors, scored from row 1234 on (predict --fit-split), in blocks of 500
+  const predvs::FeatureTrack track = syntheticTrack(5000, 2);
+  const std::vector<predvs::PredictorSpec> specs{{"kf-cv", {}}, {"imm", {}}};
+  predvs::PredictionFiles files;
+  files.plots = false;
+  files.score_from = 1234;
+  files.block_rows = 500;
+  predvs::PredictionReport streamed;
+  const auto dir = filesOf(track, specs, 2, "score_from", files, &streamed);
+  // THEN each point's errors are those of its predictions with the first 1234 rows blanked
+  const predvs::PredictionReport report = predvs::predictTrack(track, specs, 2.0 / 30.0, 1);
+  for (size_t k = 0; k < specs.size(); ++k)
+    for (size_t p = 0; p < 2; ++p) {
+      std::vector<double> u = report.runs[k].points[p].u_pred_px, v = report.runs[k].points[p].v_pred_px;
+      std::fill(u.begin(), u.begin() + 1234, std::nan(""));
+      std::fill(v.begin(), v.begin() + 1234, std::nan(""));
+      const predvs::PredictionErrors meas = predvs::predictionErrors(track.t_s, u, v, 2.0 / 30.0, track.u_px[p], track.v_px[p]);
+      const predvs::PredictionErrors truth =
+          predvs::predictionErrors(track.t_s, u, v, 2.0 / 30.0, track.u_true_px[p], track.v_true_px[p]);
+      const auto& got = streamed.runs[k].points[p];
+      EXPECT_TRUE(sameBits(got.vs_measurement.rmse_px, meas.rmse_px)) << k << " " << p;
+      EXPECT_TRUE(sameBits(got.vs_truth.rmse_v_px, truth.rmse_v_px)) << k << " " << p;
+      EXPECT_EQ(got.vs_truth.n, truth.n);
+      EXPECT_LT(got.vs_truth.n, 5000 - 1234 + 1);
+      EXPECT_GT(got.vs_truth.n, 5000 - 1234 - 10);
+    }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(PredictThroughput, InterpolatedRangesAreTheWholePassesRows) {
+  // GIVEN a signal with gaps at jittered times
+  const predvs::FeatureTrack track = syntheticTrack(3000, 1);
+  std::vector<double> y = track.u_px[0];
+  std::fill(y.begin() + 100, y.begin() + 180, std::nan(""));
+  const std::vector<double> whole = predvs::interpolateShifted(track.t_s, y, 0.07);
+  // WHEN it is interpolated in ranges of 1, 7 and 500 rows
+  for (size_t step : {size_t{1}, size_t{7}, size_t{500}}) {
+    std::vector<double> pieces(y.size());
+    for (size_t i0 = 0; i0 < y.size(); i0 += step)
+      predvs::interpolateShifted(track.t_s, y, 0.07, i0, std::min(y.size(), i0 + step), pieces.data() + i0);
+    // THEN every row has the whole pass's bits
+    for (size_t i = 0; i < y.size(); ++i) ASSERT_TRUE(sameBits(pieces[i], whole[i])) << step << " row " << i;
+  }
 }
 
 /// A wide track's text: 3 points (truth for points 0 and 2 only), an ignored column, empty cells,

@@ -1,6 +1,7 @@
 // predvs — a sampled signal with gaps: linear interpolation over its finite samples.
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 namespace predvs {
@@ -14,5 +15,11 @@ double interpolateAt(const std::vector<double>& t_s, const std::vector<double>& 
 /// arithmetic, with the binary search replaced by a cursor (t_s[i] + shift_s does not decrease with
 /// i, so neither does its lower bound). shift_s >= 0 is the horizon of an h-step comparison.
 std::vector<double> interpolateShifted(const std::vector<double>& t_s, const std::vector<double>& y, double shift_s);
+
+/// Rows [i0, i1) of interpolateShifted(t_s, y, shift_s), written to out[0 .. i1 - i0): the same
+/// values, bit for bit (the cursor starts at the lower bound of t_s[i0] + shift_s, where the
+/// whole-track pass has it on reaching row i0). For a track processed in blocks of rows.
+void interpolateShifted(const std::vector<double>& t_s, const std::vector<double>& y, double shift_s, size_t i0,
+                        size_t i1, double* out);
 
 }  // namespace predvs
