@@ -279,25 +279,37 @@ void streamPredictions(const FeatureTrack& track, const std::vector<PredictorSpe
   std::vector<std::atomic<size_t>> next(blocks + 1);  // the shared queue's cursor, one per round
   for (auto& n : next) n.store(0);
   RoundBarrier barrier(threads);
+  auto channelFailed = [&](size_t item) {
+    channel_errors[item] = std::current_exception();
+    size_t seen = first_failed.load();
+    while (item < seen && !first_failed.compare_exchange_weak(seen, item)) {
+    }
+  };
   auto worker = [&](size_t t) {
+    // Every exception is caught and kept: a thread must reach the barrier of every round.
     std::vector<std::unique_ptr<Predictor>> instances;  // built here: on this thread's heap
-    for (size_t item : mine[t]) instances.push_back(makePredictor(predictors[item / nc].name, 1, predictors[item / nc].params));
+    for (size_t item : mine[t]) {
+      instances.emplace_back();
+      try {
+        instances.back() = makePredictor(predictors[item / nc].name, 1, predictors[item / nc].params);
+      } catch (...) {
+        channelFailed(item);
+      }
+    }
     for (size_t r = 0; r <= blocks; ++r) {
       if (r < blocks) {
         const PredictionBlock blk = blockAt(r);
         for (size_t j = 0; j < mine[t].size(); ++j) {
           const size_t item = mine[t][j];
-          if (item > first_failed.load()) continue;
+          if (!instances[j] || item > first_failed.load()) continue;
           const size_t k = item / nc, c = item % nc;
           const std::vector<double>& z = c % 2 == 0 ? track.u_px[c / 2] : track.v_px[c / 2];
           try {
             runChannel(*instances[j], track.t_s.data() + blk.i0, z.data() + blk.i0, horizon_s, blk.i1 - blk.i0,
                        const_cast<double*>(blk.prediction(k, c)));
           } catch (...) {
-            channel_errors[item] = std::current_exception();
-            size_t seen = first_failed.load();
-            while (item < seen && !first_failed.compare_exchange_weak(seen, item)) {
-            }
+            channelFailed(item);
+            instances[j].reset();
           }
         }
       }
