@@ -82,28 +82,34 @@ PredictionErrors fromSquareSums(double su, double sv, int n) {
   return e;
 }
 
-/// predictionErrors against references already interpolated at t + horizon (interpolateShifted).
-PredictionErrors errorsAgainst(const std::vector<double>& u_pred, const std::vector<double>& v_pred,
-                               const std::vector<double>& u_ref_at, const std::vector<double>& v_ref_at) {
+/// Sums of squared (u, v) errors over the rows where the prediction and the reference are both
+/// finite, added in row order: predictionErrors over a whole track, and ErrorSums block by block
+/// (the same additions, so the same bits).
+struct SquareSums {
   double su = 0.0, sv = 0.0;
   int n = 0;
-  for (size_t i = 0; i < u_pred.size(); ++i) {
-    if (!std::isfinite(u_pred[i]) || !std::isfinite(v_pred[i])) continue;
-    const double ur = u_ref_at[i], vr = v_ref_at[i];
-    if (!std::isfinite(ur) || !std::isfinite(vr)) continue;
-    su += (u_pred[i] - ur) * (u_pred[i] - ur);
-    sv += (v_pred[i] - vr) * (v_pred[i] - vr);
-    ++n;
+  /// Adds rows [begin, end) of predictions (u, v) against references (ur, vr) at t + horizon.
+  void add(const double* u, const double* v, const double* ur, const double* vr, size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      if (!std::isfinite(u[i]) || !std::isfinite(v[i])) continue;
+      if (!std::isfinite(ur[i]) || !std::isfinite(vr[i])) continue;
+      su += (u[i] - ur[i]) * (u[i] - ur[i]);
+      sv += (v[i] - vr[i]) * (v[i] - vr[i]);
+      ++n;
+    }
   }
-  return fromSquareSums(su, sv, n);
-}
+  PredictionErrors errors() const { return fromSquareSums(su, sv, n); }
+};
 
 }  // namespace
 
 PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vector<double>& u_pred,
                                   const std::vector<double>& v_pred, double horizon_s,
                                   const std::vector<double>& u_ref, const std::vector<double>& v_ref) {
-  return errorsAgainst(u_pred, v_pred, interpolateShifted(t_s, u_ref, horizon_s), interpolateShifted(t_s, v_ref, horizon_s));
+  SquareSums sums;
+  sums.add(u_pred.data(), v_pred.data(), interpolateShifted(t_s, u_ref, horizon_s).data(),
+           interpolateShifted(t_s, v_ref, horizon_s).data(), 0, u_pred.size());
+  return sums.errors();
 }
 
 PredictionErrors pooledErrors(const std::vector<PredictionErrors>& parts) {
@@ -352,7 +358,7 @@ void streamPredictions(const FeatureTrack& track, const std::vector<PredictorSpe
   if (consumer_error) std::rethrow_exception(consumer_error);
 }
 
-/// The errors of every predictor and point (a BlockConsumer): the sums of errorsAgainst(), kept in
+/// The errors of every predictor and point (a BlockConsumer): SquareSums kept in
 /// row order over the blocks, so the figures are the same bits as one pass; rows before score_from
 /// are not scored (--fit-split).
 class ErrorSums : public BlockConsumer {
@@ -367,8 +373,8 @@ class ErrorSums : public BlockConsumer {
       Sums& s = sums_[k * np + p];
       const double* u = blk.prediction(k, 2 * p);
       const double* v = blk.prediction(k, 2 * p + 1);
-      add(s.meas, u, v, blk.reference(p, 0), blk.reference(p, 1), begin, end);
-      if (truth_) add(s.truth, u, v, blk.reference(p, 2), blk.reference(p, 3), begin, end);
+      s.meas.add(u, v, blk.reference(p, 0), blk.reference(p, 1), begin, end);
+      if (truth_) s.truth.add(u, v, blk.reference(p, 2), blk.reference(p, 3), begin, end);
     }
   }
   /// Fills the report's errors (after the last block).
@@ -379,10 +385,10 @@ class ErrorSums : public BlockConsumer {
       for (size_t p = 0; p < run.points.size(); ++p) {
         const Sums& s = sums_[k * run.points.size() + p];
         PointPrediction& pt = run.points[p];
-        pt.vs_measurement = fromSquareSums(s.meas.su, s.meas.sv, s.meas.n);
+        pt.vs_measurement = s.meas.errors();
         meas.push_back(pt.vs_measurement);
         if (truth_) {
-          pt.vs_truth = fromSquareSums(s.truth.su, s.truth.sv, s.truth.n);
+          pt.vs_truth = s.truth.errors();
           truth.push_back(pt.vs_truth);
         }
       }
@@ -392,25 +398,10 @@ class ErrorSums : public BlockConsumer {
   }
 
  private:
-  struct Sum {
-    double su = 0.0, sv = 0.0;
-    int n = 0;
-  };
   struct alignas(64) Sums {  // a cache line of its own: items of different predictors run at once
-    Sum meas, truth;
+    SquareSums meas, truth;
   };
   static size_t pointsOf(const PredictionReport& report) { return report.runs.empty() ? 0 : report.runs[0].points.size(); }
-  /// errorsAgainst()'s loop over rows [begin, end) of the block.
-  static void add(Sum& s, const double* u, const double* v, const double* ur, const double* vr, size_t begin,
-                  size_t end) {
-    for (size_t i = begin; i < end; ++i) {
-      if (!std::isfinite(u[i]) || !std::isfinite(v[i])) continue;
-      if (!std::isfinite(ur[i]) || !std::isfinite(vr[i])) continue;
-      s.su += (u[i] - ur[i]) * (u[i] - ur[i]);
-      s.sv += (v[i] - vr[i]) * (v[i] - vr[i]);
-      ++s.n;
-    }
-  }
   PredictionReport& report_;
   bool truth_;
   size_t score_from_;
