@@ -129,6 +129,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       blend_tau_s_(holdBlendTauParam(params)),  // as every per-channel filter (channel_predictor.h)
       blend_frames_(holdBlendFramesParam(params)),
       blend_sigmas_(holdBlendSigmasParam(params)),
+      blend_split_(holdBlendSplitParam(params)),
       coast_stop_fraction_(coastStopFractionParam(params)),
       coast_fast_ratio_(coastFastRatioParam(params)),
       coast_shape_(coastShapeParam(params)),
@@ -417,9 +418,14 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
                           : d == 2 ? ch.g[jj].x(0) + F[jj](0, 1) * ch.g[jj].x(1)
                                    : Vec<3>((F[jj] * x_ca).eval())(0);
         d_step += fw[jj] * (pj - ch.blend.z_hold);
-        if (blendsMode(j)) ch.mode_blend[jj].learn(pj - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep, blend_sigmas_);
+        if (blendsMode(j)) {
+          const double p0 = d == 3 ? x_ca(0) : ch.g[jj].x(0);  // the mode's forecast start position
+          ch.mode_blend[jj].learn(pj - ch.blend.z_hold, p0 - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep,
+                                  blend_sigmas_, blend_split_);
+        }
       }
-      ch.blend.learn(d_step, z(c) - ch.blend.z_hold, blend_keep, blend_sigmas_);
+      // the combination's step is not split (it is blended only with blend_per_mode 0)
+      ch.blend.learn(d_step, 0.0, z(c) - ch.blend.z_hold, blend_keep, blend_sigmas_, false);
       if (blend_frames_ > 1) learnLongerBlend(ch, t_s, z(c), blend_keep);
     }
     const bool started_gap = ch.last_measured && !measured;
@@ -524,7 +530,11 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
               fpf = f * g.P * f.transpose();
             }
           }
-          if (score_blended && blendsMode(j)) e = z(c) - weight_before[jj].blend(z_hold_before, z(c) - e);
+          if (score_blended && blendsMode(j)) {
+            const double f = z(c) - e;
+            e = z(c) - (blend_split_ ? weight_before[jj].blendSplit(z_hold_before, modes_[jj].dim == 3 ? x_ca(0) : g.x(0), f)
+                                     : weight_before[jj].blend(z_hold_before, f));
+          }
           // The forecast's variance as the model states it, lowered to the realised one where the
           // model overstates it (calibration, imm.h): v_j = min(1, c_j) s_j, c_j from the frames
           // before this one; then this frame's ratio e^2 / s_j joins c_j.
@@ -629,9 +639,11 @@ void ImmPredictor::learnLongerBlend(Channel& ch, double t_s, double z, double la
       const auto jj = static_cast<size_t>(j);
       const double pj = forecastPosition(j, st.x[jj], t_s - st.t_s);
       d += st.fw[jj] * (pj - st.z_hold);
-      if (blendsMode(j)) ch.mode_longer[jj][static_cast<size_t>(h - 2)].learn(pj - st.z_hold, y, lambda, blend_sigmas_);
+      if (blendsMode(j))
+        ch.mode_longer[jj][static_cast<size_t>(h - 2)].learn(pj - st.z_hold, st.x[jj](0) - st.z_hold, y, lambda, blend_sigmas_,
+                                                             blend_split_);
     }
-    ch.longer[static_cast<size_t>(h - 2)].learn(d, y, lambda, blend_sigmas_);
+    ch.longer[static_cast<size_t>(h - 2)].learn(d, 0.0, y, lambda, blend_sigmas_, false);
   }
   minOverHorizons(ch.blend, ch.longer, blend_frames_);
   for (int j = 0; j < m; ++j)
@@ -728,9 +740,11 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);
     g[jj] = forecastStart(ch, j);
+    const double p0 = g[jj].x(0);
     timeUpdate(g[jj], transition(j, dt), processNoise(j, dt, modeRaise(ch, j)));
-    // the mode blended with hold by its own weight (predictPosition's arithmetic)
-    if (blendsMode(j)) ch.mode_blend[jj].blendState(ch.blend.z_hold, g[jj].x);
+    // the mode blended with hold by its own weight(s) (predictPosition's arithmetic)
+    if (blendsMode(j) && splitsBlend(ch)) ch.mode_blend[jj].blendStateSplit(ch.blend.z_hold, p0, g[jj].x);
+    else if (blendsMode(j)) ch.mode_blend[jj].blendState(ch.blend.z_hold, g[jj].x);
   }
   Gaussian<3> out = combine(g, w);
   if (blend_tau_s_ > 0.0 && !blendsPerMode()) ch.blend.blendState(ch.blend.z_hold, out.x);
@@ -752,7 +766,9 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
     const double pj = d == 1   ? ch.g[jj].x(0)
                       : d == 2 ? ch.g[jj].x(0) + dt * ch.g[jj].x(1)
                                : Vec<3>((transition(j, dt) * forecastStartMean(ch, j)).eval())(0);
-    p += w[jj] * (blendsMode(j) ? ch.mode_blend[jj].blend(ch.blend.z_hold, pj) : pj);
+    if (!blendsMode(j)) p += w[jj] * pj;
+    else if (splitsBlend(ch)) p += w[jj] * ch.mode_blend[jj].blendSplit(ch.blend.z_hold, ch.g[jj].x(0), pj);
+    else p += w[jj] * ch.mode_blend[jj].blend(ch.blend.z_hold, pj);
   }
   return blend_tau_s_ > 0.0 && !blendsPerMode() ? ch.blend.position(p) : p;
 }

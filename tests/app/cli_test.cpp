@@ -232,10 +232,12 @@ TEST_F(CliTest, MissingGnuplotIsOneLineError) {
 TEST_F(CliTest, PredictWritesPredictionsAndSummary) {
   // GIVEN a noisy constant-velocity track WHEN kf-cv predicts 2 frames ahead (without the
   // coasting decay on the dropped frames, coast_tau_s = 0: the line is exactly constant-velocity
-  // through them; with the default 0.2 s the error below is 0.79 px)
+  // through them; with the default 0.2 s the error below is 0.79 px; and the blend with hold's one
+  // weight, hold_blend_split = 0: on this 4 s track the two weights are still fitting the filter's
+  // start-up, 0.72 px)
   const std::string out = path("out");
   const CliRun r = run({"predict", "--input", lineTrack(), "--predictor", "kf-cv", "--delay-frames", "2", "--out", out,
-                        "--param", "q=50", "--param", "coast_tau_s=0"});
+                        "--param", "q=50", "--param", "coast_tau_s=0", "--param", "hold_blend_split=0"});
   ASSERT_EQ(r.code, 0) << r.err;
   // THEN every file is there and the summary holds one entry with the documented horizon
   for (const char* f : {"predictions.csv", "summary.json", "predictions.png", "predictions.gp"})
@@ -249,6 +251,7 @@ TEST_F(CliTest, PredictWritesPredictionsAndSummary) {
   ASSERT_EQ(j["predictors"].size(), 1u);
   EXPECT_EQ(j["predictors"][0]["name"], "kf-cv");
   EXPECT_EQ(j["predictors"][0]["params"]["q"].get<double>(), 50.0);
+  EXPECT_EQ(j["predictors"][0]["params"]["hold_blend_split"].get<double>(), 0.0);
   // Predictions start at row 0 and are scored wherever t + 0.08 s has a measurement (98 rows
   // minus the dropped frames that fall exactly there).
   EXPECT_GT(j["predictors"][0]["vs_measurement"]["n"].get<int>(), 80);

@@ -116,11 +116,13 @@ TEST(QAuto, OptInByTheWordAutoAndRejectsOtherWords) {
   }
   // GIVEN kf-cv with q: auto on pure noise (a target at rest, 2 px noise, r given) WHEN it runs
   // 20 s at 30 Hz THEN its q has come down from the default (the innovations are smaller than the
-  // default q predicts), so it smooths more than the fixed default
+  // default q predicts), so it smooths more than the fixed default (both forecast with the filter
+  // alone, hold_blend_tau_s 0: the blend with hold would smooth for either, channel_predictor.h)
   Params p = automatic;
   p.set("r", 4.0);
+  p.set("hold_blend_tau_s", 0.0);
   auto kf = makePredictor("kf-cv", 1, p);
-  auto fixed_kf = makePredictor("kf-cv", 1, {{"r", 4.0}});
+  auto fixed_kf = makePredictor("kf-cv", 1, {{"r", 4.0}, {"hold_blend_tau_s", 0.0}});
   std::mt19937 rng(5);
   std::normal_distribution<double> noise(0.0, 2.0);
   double err_auto = 0.0, err_fixed = 0.0;

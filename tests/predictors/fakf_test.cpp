@@ -175,7 +175,8 @@ struct ScenarioFigures {
 /// The defaults before issue 11 (data/scenarios/e1-e4 pin them too): the figures quoted in this
 /// file were measured with them.
 Params paperEraParams(const std::string& name) {
-  if (name == "kf-cv" || name == "fakf-classic") return {{"q", 100.0}, {"r", 1.0}};
+  if (name == "kf-cv" || name == "fakf-classic")
+    return {{"q", 100.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};
   if (name == "fakf" || name == "cs-akf-adaptive")
     return {{"sigma_min_sq", 10.0}, {"sigma_max_sq", 1000.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}};
   return {};

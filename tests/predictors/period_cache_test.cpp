@@ -98,8 +98,8 @@ TEST(PeriodCache, BlendForgettingIsExpOfTheFramePeriodOnAJitteredTrack) {
   const double tau_s = 1.0;
   auto on = makePredictor("kf-cv", 1,
                           {{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0},
-                           {"q_raise_ratio", 0.0}, {"hold_blend_frames", 1.0}});  // the blend alone (one-frame
-                                                                                  // regression): q stays the twin's
+                           {"q_raise_ratio", 0.0}, {"hold_blend_frames", 1.0},  // the blend alone (one-frame
+                           {"hold_blend_split", 0.0}});  // regression, one weight): q stays the twin's
   auto off = makePredictor("kf-cv", 1, {{"hold_blend_tau_s", 0.0}});
   const Track tr = jitteredTrack(20, 0.05, 0.1, 3);
   double s_dd = 0.0, s_dy = 0.0, w = 1.0, z_hold = 0.0, t_prev = 0.0;

@@ -137,17 +137,18 @@ TEST(ImmOnTracks, CoastingWithoutTheCpModeBringsTheMissesOf056b9cdWithinTenPerce
     // GIVEN the track of that cell, 2 frames ahead as track-study scores it
     const CellTrack t(m);
     // (the single models as they were then: without the raise of q that came after, process_noise_adapt.h,
-    // and with the blend's weight learnt on one-frame forecasts, hold_blend_frames 1)
+    // and with the blend's one weight learnt on one-frame forecasts, hold_blend_frames 1 and hold_blend_split 0)
     const double hold = t.score("hold");
-    const double best = t.bestSingleModel(Params{{"q_raise_ratio", 0.0}, {"hold_blend_frames", 1.0}});
+    const double best =
+        t.bestSingleModel(Params{{"q_raise_ratio", 0.0}, {"hold_blend_frames", 1.0}, {"hold_blend_split", 0.0}});
     // WHEN imm keeps its CP mode's forecast weight through the gaps (before) and coasts without it,
     // both blending the combination with hold as then (blend_per_mode 0, hold_blend_frames 1) and
     // with the whole forecast weights in gaps (gap_weight_power 1); and imm with its defaults,
     // against the single models with theirs
     const double before = t.score("imm", Params{{"coast_cp", 1.0}, {"blend_per_mode", 0.0}, {"hold_blend_frames", 1.0},
-                                                {"gap_weight_power", 1.0}});
-    const double imm =
-        t.score("imm", Params{{"blend_per_mode", 0.0}, {"hold_blend_frames", 1.0}, {"gap_weight_power", 1.0}});
+                                                {"gap_weight_power", 1.0}, {"hold_blend_split", 0.0}});
+    const double imm = t.score("imm", Params{{"blend_per_mode", 0.0}, {"hold_blend_frames", 1.0}, {"gap_weight_power", 1.0},
+                                             {"hold_blend_split", 0.0}});
     const double defaults = t.score("imm"), best_now = t.bestSingleModel(Params{});
     const std::string& cell = t.label;
     std::printf("[ imm ] %s: imm / best %.3f (coast_cp 1: %.3f; defaults %.3f of the defaults' best)\n", cell.c_str(),
@@ -174,10 +175,13 @@ TEST(ImmOnTracks, TemperedWeightsInGapsBringTwoMissesWithinTenPercentAndLeaveMea
   for (const MissedCell& m : cells) {
     // GIVEN the track of that cell, 2 frames ahead as track-study scores it
     const CellTrack t(m);
-    const double best = t.bestSingleModel(), hold = t.score("hold");
+    // (imm and the single models with the blend's one weight, hold_blend_split 0, as then)
+    const Params then{{"hold_blend_split", 0.0}};
+    const double best = t.bestSingleModel(then), hold = t.score("hold");
     // WHEN imm forecasts a gap with the whole forecast weights (gap_weight_power 1) and tempered
     // (the default)
-    const double whole = t.score("imm", Params{{"gap_weight_power", 1.0}}), tempered = t.score("imm");
+    const double whole = t.score("imm", Params{{"gap_weight_power", 1.0}, {"hold_blend_split", 0.0}});
+    const double tempered = t.score("imm", then);
     std::printf("[ imm ] %s: imm / best %.3f (gap_weight_power 1: %.3f)\n", t.label.c_str(), tempered / best,
                 whole / best);
     // THEN it was not within 10 % of the better single model and now is, and beats hold

@@ -100,6 +100,26 @@
 // the model's step (a ramp from rest, tests/predictors/hold_blend_test.cpp). n = 0, the default, is
 // the least-squares weight. Only the forecast changes (imm's mode probabilities score the blended
 // forecasts, so imm's filter moves too); the fit keeps n (it is not a forecast variant).
+// Two weights, one for the smoothing and one for the step (`hold_blend_split`, default 1; 0 = the
+// one weight above): the model's forecast step from hold is two steps, the filter's correction of
+// the last measurement, d_s = p0 - z_hold (p0 = x(k|k)(0), the forecast's start position), and the
+// extrapolation from there, d_x = x_m(0) - p0. A target at rest under noise wants all of the first
+// (the filtered position is closer to the truth than the last measurement) and none of the second
+// (its velocity is noise); a target in short dashes wants the second only where it pays. One weight
+// on d = d_s + d_x has to trade the two. With the split, each regression is
+//   y ~ w_s d_s + w_x d_x,   (w_s, w_x) = the least squares of the forgetting sums (S_ss, S_sx,
+// S_xx, S_sy, S_xy, with l as above) when both lie in [0, 1]; else the one outside is clamped and
+// the other is its least squares given that, clamped (one step towards the box's optimum: grid
+// figures within 0.04 % of the exact search of the box's edges, for a third of its added run time).
+// Steps in one direction only (det ~ 0: the first sample, or a converged filter on an exact ramp,
+// whose d_s is 0) keep w for both. A forecast made on a measured frame is
+//   z_hold + w_s (p0 - z_hold) + w_x (x_m(0) - p0),
+// its velocity (and acceleration) scaled by w_x; over H horizons each weight is the smallest of its
+// H. A forecast made in a gap keeps the one weight w (both are learnt): there p0 has coasted away
+// from the last measurement, so d_s would hold coasted extrapolation, which the smoothing weight
+// never saw (measured both ways: the split in gaps too, 18 -> 34 losses to hold on the 5 %-drop
+// grid; on measured frames only, 18 -> 15).
+// hold_blend_sigmas applies to w only. Figures: docs/PERFORMANCE.md "Two blend weights".
 // Units: px, s; the weight is dimensionless, so the rule holds at any frame rate and noise level.
 // tau = 0 switches the blend off; its default is kDefaultHoldBlendTauS whatever the other keys say
 // (`shrink_sigmas: 0` turns the weighting off, not the blend: the papers' plain filters give both,
@@ -144,6 +164,10 @@ inline constexpr double kDefaultHoldBlendTauS = 6.0;
 /// 576 tracks, H = 1 / 2 / 3: see there.
 inline constexpr int kDefaultHoldBlendFrames = 2;
 inline constexpr int kMaxBlendFrames = 8;
+/// Default `hold_blend_split` (file comment, "Two weights"): 1, on. Measured with `predvs track-study`
+/// and scripts/foreign-tracks.py (docs/PERFORMANCE.md "Two blend weights").
+inline constexpr double kDefaultHoldBlendSplit = 1.0;
+
 /// Default `hold_blend_sigmas` n (file comment, "The weight's own uncertainty"): 0, off. Measured with
 /// `predvs track-study` and scripts/foreign-tracks.py (docs/PERFORMANCE.md "The blend weight's own
 /// uncertainty", n = 0.5 to 2): a larger n leaves fewer losses to hold on the second generator's
@@ -267,6 +291,11 @@ inline double holdBlendSigmasParam(const Params& params) {
   return params.get("hold_blend_sigmas", kDefaultHoldBlendSigmas, 0.0, 1e3);
 }
 
+/// The `hold_blend_split` parameter (0 | 1, default kDefaultHoldBlendSplit; file comment, "Two weights").
+inline bool holdBlendSplitParam(const Params& params) {
+  return params.get("hold_blend_split", kDefaultHoldBlendSplit, 0.0, 1.0) != 0.0;
+}
+
 /// The `hold_blend_frames` parameter H (whole frames 1..kMaxBlendFrames, default
 /// kDefaultHoldBlendFrames; file comment). Read by every per-channel filter and by imm.
 inline int holdBlendFramesParam(const Params& params) {
@@ -298,14 +327,20 @@ struct BlendWeight {
   double s_yy = 0.0;  ///< forgetting sum of y^2, px^2 (kept with hold_blend_sigmas > 0 only)
   double s_n = 0.0;   ///< forgetting count of the samples (likewise)
   double w = 1.0;     ///< weight of the model forecast against hold, [0, 1]
+  /// The split regression y ~ w_s d_s + w_x d_x (file comment, "Two weights"; kept with the split only).
+  double s_ss = 0.0, s_sx = 0.0, s_xx = 0.0, s_sy = 0.0, s_xy = 0.0;
+  double w_s = 1.0;  ///< weight of the smoothing step d_s, [0, 1]
+  double w_x = 1.0;  ///< weight of the extrapolated step d_x, [0, 1]
   /// One sample: the model's forecast step d = f - z_hold against the measured step y = z - z_hold
   /// (both from the hold of the frame the forecast was made at), lambda = exp(-dt / tau);
   /// n_sigmas = hold_blend_sigmas (file comment, "The weight's own uncertainty"; 0 = the
-  /// least-squares weight as it is).
-  void learn(double d, double y, double lambda, double n_sigmas) {
+  /// least-squares weight as it is). With split, d_s = p0 - z_hold (the forecast's start position
+  /// p0) also feeds the two-weight regression, d_x = d - d_s.
+  void learn(double d, double d_s, double y, double lambda, double n_sigmas, bool split) {
     s_dd = lambda * s_dd + d * d;
     s_dy = lambda * s_dy + d * y;
     w = s_dd > 0.0 ? std::clamp(s_dy / s_dd, 0.0, 1.0) : 1.0;
+    if (split) learnSplit(d_s, d - d_s, y, lambda);
     if (!(n_sigmas > 0.0)) return;
     s_yy = lambda * s_yy + y * y;
     s_n = lambda * s_n + 1.0;
@@ -319,6 +354,16 @@ struct BlendWeight {
   }
   /// The forecast f blended with hold's z_hold: z_hold + w (f - z_hold).
   double blend(double z_hold, double f) const { return z_hold + w * (f - z_hold); }
+  /// The forecast f from the start position p0 blended with the two weights:
+  /// z_hold + w_s (p0 - z_hold) + w_x (f - p0).
+  double blendSplit(double z_hold, double p0, double f) const { return z_hold + w_s * (p0 - z_hold) + w_x * (f - p0); }
+  /// A forecast state [p, v(, a)] from the start position p0 blended with the two weights: the
+  /// position by blendSplit(), the derivatives scaled by w_x.
+  template <int N>
+  void blendStateSplit(double z_hold, double p0, Vec<N>& x) const {
+    x(0) = blendSplit(z_hold, p0, x(0));
+    for (int i = 1; i < N; ++i) x(i) *= w_x;
+  }
   /// A forecast state [p, v(, a)] blended likewise: the position by blend(), the derivatives (those
   /// of the blended position) scaled by w.
   template <int N>
@@ -326,14 +371,49 @@ struct BlendWeight {
     x(0) = blend(z_hold, x(0));
     for (int i = 1; i < N; ++i) x(i) *= w;
   }
+
+ private:
+  /// The split regression's sample and its weights (file comment, "Two weights"): the free least
+  /// squares when it lies in [0, 1]^2, else the weight outside clamped and the other one's least
+  /// squares given it, clamped; w for both when the two steps are (nearly) collinear.
+  void learnSplit(double d_s, double d_x, double y, double lambda) {
+    s_ss = lambda * s_ss + d_s * d_s;
+    s_sx = lambda * s_sx + d_s * d_x;
+    s_xx = lambda * s_xx + d_x * d_x;
+    s_sy = lambda * s_sy + d_s * y;
+    s_xy = lambda * s_xy + d_x * y;
+    const double det = s_ss * s_xx - s_sx * s_sx;
+    if (!(det > 1e-12 * s_ss * s_xx)) {  // one direction only (or none): the one weight for both
+      w_s = w_x = w;
+      return;
+    }
+    const double a = (s_xx * s_sy - s_sx * s_xy) / det, b = (s_ss * s_xy - s_sx * s_sy) / det;
+    const bool a_in = a >= 0.0 && a <= 1.0, b_in = b >= 0.0 && b <= 1.0;
+    if (a_in && b_in) {
+      w_s = a;
+      w_x = b;
+    } else if (!a_in) {  // a clamped, b its least squares given a
+      w_s = std::clamp(a, 0.0, 1.0);
+      w_x = std::clamp((s_xy - w_s * s_sx) / s_xx, 0.0, 1.0);
+    } else {
+      w_x = std::clamp(b, 0.0, 1.0);
+      w_s = std::clamp((s_sy - w_x * s_sx) / s_ss, 0.0, 1.0);
+    }
+  }
 };
 
 /// The regressions of a blend on the forecasts of 2..kMaxBlendFrames frames (longer[h - 2], file
 /// comment "The same regression is also kept on the forecasts of 2, ..., H frames").
 using LongerBlendWeights = std::array<BlendWeight, kMaxBlendFrames - 1>;
-/// The weight handed out on H = frames horizons: w.w lowered to the smallest of longer[0 .. H - 2].w.
+/// The weights handed out on H = frames horizons: w.w (w.w_s, w.w_x) lowered to the smallest of
+/// longer[0 .. H - 2]'s.
 inline void minOverHorizons(BlendWeight& w, const LongerBlendWeights& longer, int frames) {
-  for (int h = 2; h <= frames; ++h) w.w = std::min(w.w, longer[static_cast<size_t>(h - 2)].w);
+  for (int h = 2; h <= frames; ++h) {
+    const BlendWeight& l = longer[static_cast<size_t>(h - 2)];
+    w.w = std::min(w.w, l.w);
+    w.w_s = std::min(w.w_s, l.w_s);
+    w.w_x = std::min(w.w_x, l.w_x);
+  }
 }
 /// The slot `back` places behind `head` in a ring of kMaxBlendFrames forecast starts (0 <= back < size).
 inline size_t blendRingSlot(int head, int back) {
@@ -456,7 +536,10 @@ class ChannelPredictor : public Predictor {
     if (!(dt > 0.0)) return toEstimate(s.g);
     Gaussian<N> g = forecastWeightingOn() ? weightedForecastStart(channel) : s.g;
     timeUpdate(g, transition(channel, dt), processNoise(channel, dt));
-    if (blend_tau_s_ > 0.0) s.blend.blendState(s.blend.z_hold, g.x);
+    if (blend_tau_s_ > 0.0) {
+      if (splitsBlend(s)) s.blend.blendStateSplit(s.blend.z_hold, s.x_start[static_cast<size_t>(s.head)](0), g.x);
+      else s.blend.blendState(s.blend.z_hold, g.x);
+    }
     return toEstimate(g);
   }
 
@@ -475,7 +558,9 @@ class ChannelPredictor : public Predictor {
       f = forecastWeightingOn() ? predictedPosition(weightedForecastStart(channel), transition(channel, dt))
                                 : predictedPosition(s.g, transition(channel, dt));
     }
-    return blend_tau_s_ > 0.0 ? s.blend.position(f) : f;
+    if (!(blend_tau_s_ > 0.0)) return f;
+    return splitsBlend(s) ? s.blend.blendSplit(s.blend.z_hold, s.x_start[static_cast<size_t>(s.head)](0), f)
+                          : s.blend.position(f);
   }
 
   Innovation innovation(int channel) const override { return state_.at(channel).innovation; }
@@ -507,6 +592,9 @@ class ChannelPredictor : public Predictor {
     bool unmeasured_last = false;
   };
 
+  /// True when a forecast of channel s now is blended with the two weights (file comment, "Two
+  /// weights"): the split is on and the last update was measured, so x_start[head] is its start.
+  bool splitsBlend(const ChannelState& s) const { return blend_split_ && !s.unmeasured_last; }
   /// Keeps the forecast start (x(k|k), significance-weighted) of channel c at t_s for the blend.
   void rememberForecastStart(int c, double t_s) {
     ChannelState& s = state_[static_cast<size_t>(c)];
@@ -535,13 +623,14 @@ class ChannelPredictor : public Predictor {
       Gaussian<N> g;
       g.x = s.x_start[j];
       const double f = predictedPosition(g, transition(c, t_s - s.t_start[j]));
-      s.blend.learn(f - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_);
+      s.blend.learn(f - s.z_start[j], s.x_start[j](0) - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_, blend_split_);
       // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
       // the handed-out weight is the smallest over the horizons (file comment).
       for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
         const size_t jh = blendRingSlot(s.head, h - 1);
         const double fh = transition(c, t_s - s.t_start[jh]).row(0).dot(s.x_start[jh]);  // (F x)(0)
-        s.longer[static_cast<size_t>(h - 2)].learn(fh - s.z_start[jh], z - s.z_start[jh], lambda, blend_sigmas_);
+        s.longer[static_cast<size_t>(h - 2)].learn(fh - s.z_start[jh], s.x_start[jh](0) - s.z_start[jh], z - s.z_start[jh], lambda,
+                                                   blend_sigmas_, blend_split_);
       }
       minOverHorizons(s.blend, s.longer, blend_frames_);
     }
@@ -600,6 +689,7 @@ class ChannelPredictor : public Predictor {
     blend_tau_s_ = holdBlendTauParam(params);
     blend_frames_ = holdBlendFramesParam(params);
     blend_sigmas_ = holdBlendSigmasParam(params);
+    blend_split_ = holdBlendSplitParam(params);
   }
   /// True when the forecast is weighted (a shrink key > 0).
   bool forecastWeightingOn() const { return shrink_a_sigmas_ > 0.0 || shrink_v_sigmas_ > 0.0; }
@@ -684,6 +774,7 @@ class ChannelPredictor : public Predictor {
   RecentValues<double> blend_keep_;  ///< blendForgetting(dt) of the last few dt
   int blend_frames_ = kDefaultHoldBlendFrames;
   double blend_sigmas_ = kDefaultHoldBlendSigmas;  ///< hold_blend_sigmas
+  bool blend_split_ = kDefaultHoldBlendSplit != 0.0;  ///< hold_blend_split
 };
 
 }  // namespace predvs

@@ -87,6 +87,11 @@
 // on fast weaves at 50-60 Hz imm was 1.2-1.5 times kf-ca. Scoring the unblended forecasts with the
 // per-mode blend was worse there than either. Figures: docs/PERFORMANCE.md "imm blends each mode
 // with hold".
+// With the two weights (hold_blend_split, default 1; channel_predictor.h, "Two weights") each
+// moving mode's blend splits its step at the mode's own start position p0_j (its posterior position;
+// the CA mode's kept forecast start): z_hold + w_sj (p0_j - z_hold) + w_xj (p_j - p0_j) on a frame
+// after a measured update, the one weight in a gap; the forecast weights score those forecasts.
+// The combination's own regression (blend_per_mode 0) keeps one weight.
 // The CA mode unmixed (mix_ca, default 0; 1 = mixed as the other modes, the standard IMM): the CA
 // mode's prior is its own posterior of the last update; the CP and CV modes still mix from every
 // mode, the CA mode's posterior included, and the mode probabilities follow the chain as above.
@@ -325,6 +330,7 @@ class ImmPredictor : public Predictor {
   /// blended forecast, so H changes imm's filter too (PredictorProperty.ForecastVariantsChangeTheForecastOnly).
   int blend_frames_;
   double blend_sigmas_;  ///< hold_blend_sigmas (channel_predictor.h)
+  bool blend_split_;     ///< hold_blend_split (channel_predictor.h, "Two weights"), per mode
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
   double coast_fast_ratio_, coast_shape_;  ///< coast_fast_ratio, coast_shape (channel_predictor.h), with the blend only
   double coast_cp_;  ///< coast_cp: factor on the CP mode's forecast weight on an unmeasured frame while coasting
@@ -341,6 +347,9 @@ class ImmPredictor : public Predictor {
   /// True when mode j's forecast is blended with hold by its own weight: blendsPerMode() and a
   /// mode that extrapolates (CV, CA; CP's forecast stays where its posterior is, nothing to shrink).
   bool blendsMode(int j) const { return blendsPerMode() && modes_[static_cast<size_t>(j)].dim > 1; }
+  /// True when the modes' forecasts of channel ch now are blended with the two weights
+  /// (channel_predictor.h, "Two weights"): the split is on and the last update was measured.
+  bool splitsBlend(const Channel& ch) const { return blend_split_ && ch.last_measured; }
   /// The mu-combined velocity of channel ch's posterior (px/s) and its variance (spread included).
   double combinedVelocity(const Channel& ch) const;
   double combinedVelocityVariance(const Channel& ch) const;
