@@ -113,6 +113,11 @@ PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vec
 }
 
 PredictionErrors pooledErrors(const std::vector<PredictionErrors>& parts) {
+  // One part with rows is its own pool, bit for bit (the sums rebuilt from its RMSEs below are not:
+  // rmse^2 n / n can differ from rmse in the last bit)
+  const auto with_rows = std::count_if(parts.begin(), parts.end(), [](const PredictionErrors& p) { return p.n > 0; });
+  if (with_rows == 1)
+    return *std::find_if(parts.begin(), parts.end(), [](const PredictionErrors& p) { return p.n > 0; });
   double su = 0.0, sv = 0.0;
   int n = 0;
   for (const auto& p : parts) {
