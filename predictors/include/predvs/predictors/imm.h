@@ -179,7 +179,8 @@
 // per-channel filter's (channel_predictor.h): each moving mode's by its own weight, or with
 // blend_per_mode 0 the combination's (above); hold_blend_frames (1..8, default 2, as theirs): each
 // of those weights is the smallest of its regressions on the forecasts of 1..H frames (Channel::
-// starts keeps the forecast starts of the last updates); with it, coast_stop_fraction (default 0.5; 0 = off):
+// starts keeps the forecast starts of the last updates); hold_blend_split (0 | 1, default 1, as
+// theirs): each moving mode's weight split in two (above); with it, coast_stop_fraction (default 0.5; 0 = off):
 // a gap that begins while the mu-combined velocity falls coasts with a shorter time constant
 // (channel_predictor.h, "A stop before the gap"). The initial
 // mode probabilities and forecast weights are equal. q_cp and the tau were chosen
