@@ -23,6 +23,17 @@ constexpr double kH = 2.0 / kRateHz;  // s, the 2-frame horizon
 // Two double evaluations of the same blend differ by rounding only (px).
 constexpr double kRoundingPx = 1e-9;
 
+// kf-cv's blend with hold alone, with forgetting time tau_s, and `extra`: the coasting rules that
+// come with the blend (the shorter coast of a gap after a stop, coast_stop_test.cpp; the speed rule
+// and the shape of the coast, coast_fast_test.cpp) and the raise of q are off, as they change the
+// filter, not only the forecast, so its filter stays a twin's without the blend.
+Params blendAlone(double tau_s, const Params& extra) {
+  Params p{{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0},
+           {"q_raise_ratio", 0.0}};
+  p.setAll(extra);
+  return p;
+}
+
 // Two configurations of one predictor, and hold, each on one channel, fed the same measurements.
 struct TwinsAndHold {
   std::unique_ptr<Predictor> a, b, hold;
@@ -46,9 +57,8 @@ TEST(HoldBlend, ForecastIsHoldPlusTheLeastSquaresWeightTimesTheModelStep) {
   // (the one-frame regression alone, hold_blend_frames 1: the two-frame one is the next test's)
   // (and with the weight shrunk by its own uncertainty, hold_blend_sigmas 1, so that the whole rule
   // is checked)
-  KfCvPredictor on(1, {{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0},
-                       {"q_raise_ratio", 0.0}, {"hold_blend_frames", 1.0},  // the blend alone: q stays the twin's
-                       {"hold_blend_sigmas", 1.0}, {"hold_blend_split", 0.0}});  // the one weight: the split's is its own test
+  KfCvPredictor on(1, blendAlone(tau_s, {{"hold_blend_frames", 1.0}, {"hold_blend_sigmas", 1.0},
+                                         {"hold_blend_split", 0.0}}));  // the one weight: the split's is its own test
   KfCvPredictor off(1, {{"hold_blend_tau_s", 0.0}});
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 2.0);
@@ -102,8 +112,7 @@ TEST(HoldBlend, TheWeightIsTheSmallerOfTheOneAndTheTwoFrameRegressions) {
   // under 1 px noise, with a dropped frame every 11th; the coasting rules that come with the blend
   // off, as in the test above
   const double tau_s = 3.0;
-  KfCvPredictor on(1, {{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0},
-                       {"q_raise_ratio", 0.0}, {"hold_blend_split", 0.0}});
+  KfCvPredictor on(1, blendAlone(tau_s, {{"hold_blend_split", 0.0}}));
   KfCvPredictor off(1, {{"hold_blend_tau_s", 0.0}});
   std::mt19937 rng(5);
   std::normal_distribution<double> noise(0.0, 1.0);
@@ -165,8 +174,7 @@ TEST(HoldBlend, TwoWeightsAreTheLeastSquaresOfTheSmoothingStepAndTheExtrapolated
   // (tau 2 s, hold_blend_frames 1) and a twin without the blend, fed a noisy sway with a dropped
   // frame every 7th; the coasting rules that come with the blend off, as in the first test
   const double tau_s = 2.0;
-  KfCvPredictor on(1, {{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0},
-                       {"q_raise_ratio", 0.0}, {"hold_blend_frames", 1.0}});
+  KfCvPredictor on(1, blendAlone(tau_s, {{"hold_blend_frames", 1.0}}));
   KfCvPredictor off(1, {{"hold_blend_tau_s", 0.0}});
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 2.0);
