@@ -200,6 +200,8 @@ def run_one(args, kind, rate, noise, seed, work):
     name = f"{kind}-{rate:g}hz-{noise:g}px-{seed}"
     track = os.path.join(work, name + ".csv")
     make_track(kind, rate, noise, seed, args.duration_s, args.drop, args.jitter, track)
+    if args.keep_tracks:
+        shutil.copy(track, os.path.join(args.out, "tracks", name + ".csv"))
     out = os.path.join(work, name)
     cmd = [args.bin, "predict", "--input", track, "--predictor", args.predictors, "--delay-frames", "2",
            "--no-plots", "--jobs", "1", "--out", out] + args.predict_args.split()
@@ -257,6 +259,7 @@ def main():
     ap.add_argument("--kinds", default=",".join(KINDS), help="comma list of motion kinds (default all: " + ",".join(KINDS) + ")")
     ap.add_argument("--predictors", default="all", help="predict's --predictor list ([LABEL=]NAME[:KEY=VALUE...]); must include hold")
     ap.add_argument("--predict-args", default="", help="further arguments of predict, e.g. '--fit --fit-split 0.5'")
+    ap.add_argument("--keep-tracks", action="store_true", help="also write each track to OUT/tracks/KIND-RATEhz-NOISEpx-SEED.csv")
     ap.add_argument("--check", action="store_true", help="exit 1 when some predictor does not beat hold on some track")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="tracks run at once (default: the cores)")
     args = ap.parse_args()
@@ -276,6 +279,8 @@ def main():
     if not os.access(args.bin, os.X_OK):
         ap.error(f"{args.bin}: not an executable")
     cells = [(k, r, n, s) for k in kinds for r in rates for n in noises for s in range(args.seed, args.seed + args.seeds)]
+    if args.keep_tracks:
+        os.makedirs(os.path.join(args.out, "tracks"), exist_ok=True)
     work = tempfile.mkdtemp(prefix="foreign-tracks-")
     results, done = [], 0
     try:
