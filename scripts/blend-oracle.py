@@ -5,10 +5,10 @@
   scripts/blend-oracle.py BIN TRACK.csv [--predictor NAME] [--delay-frames H] [--work DIR]
 
 TRACK.csv is a track with truth (t,u,v,u_true,v_true; an empty u is a dropped frame), as `predvs
-make-track` or scripts/foreign-tracks.py writes it. The script runs `BIN predict` three times on it:
-hold and NAME without the blend (`hold_blend_tau_s=0`) H frames ahead, NAME with its defaults H
-frames ahead, and NAME without the blend 0 frames ahead (the filtered position p0 the forecast
-starts from). On every frame with a measurement whose target time has a truth it forms, per
+make-track` or scripts/foreign-tracks.py writes it (`--keep-tracks`). The script runs `BIN predict`
+twice on it: hold, NAME without the blend (`hold_blend_tau_s=0`) and NAME with its defaults H frames
+ahead; and NAME without the blend 0 frames ahead (the filtered position p0 the forecast starts
+from; for a per-channel filter the forecast weighting scales the velocity only, so this is its start). On every frame with a measurement whose target time has a truth it forms, per
 coordinate, the steps of the blend (docs/MODELS.md §15, "Two weights"):
   d_s = p0 - z_hold,  d_x = x_m - p0,  y = truth(t + horizon) - z_hold,
 and fits y ~ w_s d_s + w_x d_x, and y ~ w (d_s + d_x), by least squares over the whole track,
