@@ -44,8 +44,11 @@ def main():
     ap.add_argument("--delay-frames", type=int, default=2, help="horizon in frames (default 2)")
     ap.add_argument("--work", help="directory for predict's outputs (default: a temporary one)")
     args = ap.parse_args()
-    with open(args.track, newline="") as f:
-        rows = list(csv.DictReader(f))
+    try:
+        with open(args.track, newline="") as f:
+            rows = list(csv.DictReader(f))
+    except OSError as e:
+        sys.exit(f"{args.track}: {e.strerror}")
     for key in ("t", "u", "v", "u_true", "v_true"):
         if not rows or key not in rows[0]:
             sys.exit(f"{args.track}: no column '{key}' (a track with truth, as make-track writes)")

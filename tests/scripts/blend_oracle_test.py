@@ -6,8 +6,8 @@
 GIVEN a make-track track, WHEN blend-oracle fits the best constant blend weights of kf-cv on it,
 THEN both fitted blends are at most hold's error (w = 0 is hold, and the fit is free to choose it),
 the two weights at most the one weight (w_s = w_x = w is one of their choices), and the causal ratio
-is a positive number; and a track without truth is refused with a one-line error naming the column
-and a non-zero exit.
+is a positive number; and a track without truth, or a missing one, is refused with a one-line error
+(naming the column, or the file) and a non-zero exit.
 """
 import os
 import re
@@ -51,6 +51,9 @@ def main():
     r = run([sys.executable, SCRIPT, predvs, bare])
     if r.returncode == 0 or len(r.stderr.strip().split("\n")) != 1 or "u_true" not in r.stderr:
         failures.append(f"a track without truth was not refused in one line: exit {r.returncode}, {r.stderr!r}")
+    r = run([sys.executable, SCRIPT, predvs, os.path.join(work, "missing.csv")])
+    if r.returncode == 0 or len(r.stderr.strip().split("\n")) != 1 or "missing.csv" not in r.stderr:
+        failures.append(f"a missing track was not refused in one line: exit {r.returncode}, {r.stderr!r}")
     if failures:
         sys.exit("\n".join(failures))
 
