@@ -11,25 +11,18 @@ is a positive number; and a track without truth, or a missing one, is refused wi
 """
 import os
 import re
-import subprocess
 import sys
 
-SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "blend-oracle.py")
+from script_test import arguments, checked, run, script
 
-
-def run(cmd):
-    return subprocess.run(cmd, capture_output=True, text=True)
+SCRIPT = script("blend-oracle.py")
 
 
 def main():
-    predvs, work = sys.argv[1], sys.argv[2]
-    os.makedirs(work, exist_ok=True)
+    predvs, work = arguments()
     track = os.path.join(work, "t.csv")
-    cmd = [predvs, "make-track", "--kind", "zigzag", "--rate-hz", "10", "--noise-px", "3", "--duration-s", "15",
-           "--seed", "2", "--out", track]
-    r = run(cmd)
-    if r.returncode != 0:
-        sys.exit(f"{' '.join(cmd)}: {r.stderr.strip()}")
+    checked([predvs, "make-track", "--kind", "zigzag", "--rate-hz", "10", "--noise-px", "3", "--duration-s", "15",
+             "--seed", "2", "--out", track])
     r = run([sys.executable, SCRIPT, predvs, track, "--work", os.path.join(work, "o")])
     if r.returncode != 0:
         sys.exit(f"blend-oracle failed: {r.stderr.strip()}")

@@ -11,30 +11,21 @@ with a one-line error and a non-zero exit.
 import json
 import math
 import os
-import subprocess
 import sys
 
-SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "gap-split.py")
+from script_test import arguments, checked, run, script
 
-
-def run(cmd):
-    return subprocess.run(cmd, capture_output=True, text=True)
+SCRIPT = script("gap-split.py")
 
 
 def main():
-    predvs, work = sys.argv[1], sys.argv[2]
-    os.makedirs(work, exist_ok=True)
+    predvs, work = arguments()
     track = os.path.join(work, "t.csv")
     out = os.path.join(work, "p")
-    for cmd in (
-        [predvs, "make-track", "--kind", "bursts", "--rate-hz", "60", "--noise-px", "1", "--duration-s", "10",
-         "--drop", "0.08", "--seed", "3", "--out", track],
-        [predvs, "predict", "--input", track, "--predictor", "hold,kf-cv", "--delay-frames", "2", "--no-plots",
-         "--out", out],
-    ):
-        r = run(cmd)
-        if r.returncode != 0:
-            sys.exit(f"{' '.join(cmd)}: {r.stderr.strip()}")
+    checked([predvs, "make-track", "--kind", "bursts", "--rate-hz", "60", "--noise-px", "1", "--duration-s", "10",
+             "--drop", "0.08", "--seed", "3", "--out", track])
+    checked([predvs, "predict", "--input", track, "--predictor", "hold,kf-cv", "--delay-frames", "2", "--no-plots",
+             "--out", out])
     r = run([sys.executable, SCRIPT, track, os.path.join(out, "predictions.csv")])
     if r.returncode != 0:
         sys.exit(f"gap-split failed: {r.stderr.strip()}")

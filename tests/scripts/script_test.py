@@ -1,0 +1,34 @@
+"""What the tests of scripts/ share: the script under test, a command run, and the arguments
+(PREDVS WORKDIR) every such test takes."""
+import os
+import subprocess
+import sys
+
+SCRIPTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts")
+
+
+def script(name):
+    """The path of scripts/NAME."""
+    return os.path.join(SCRIPTS, name)
+
+
+def run(cmd):
+    """Runs cmd, output captured as text."""
+    return subprocess.run(cmd, capture_output=True, text=True)
+
+
+def checked(cmd):
+    """Runs cmd and exits with its command line and error when it fails."""
+    r = run(cmd)
+    if r.returncode != 0:
+        sys.exit(f"{' '.join(cmd)}: {r.stderr.strip()}")
+    return r
+
+
+def arguments():
+    """PREDVS and WORKDIR from the command line; WORKDIR is made."""
+    if len(sys.argv) != 3:
+        sys.exit(f"usage: {os.path.basename(sys.argv[0])} PREDVS WORKDIR")
+    predvs, work = sys.argv[1], sys.argv[2]
+    os.makedirs(work, exist_ok=True)
+    return predvs, work
