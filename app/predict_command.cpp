@@ -98,6 +98,13 @@ struct SquareSums {
       ++n;
     }
   }
+  /// Adds another's sums (a point's into a run's overall): pooled exactly, so one point's pool is
+  /// that point's figures, bit for bit.
+  void add(const SquareSums& other) {
+    su += other.su;
+    sv += other.sv;
+    n += other.n;
+  }
   PredictionErrors errors() const { return fromSquareSums(su, sv, n); }
 };
 
@@ -110,23 +117,6 @@ PredictionErrors predictionErrors(const std::vector<double>& t_s, const std::vec
   sums.add(u_pred.data(), v_pred.data(), interpolateShifted(t_s, u_ref, horizon_s).data(),
            interpolateShifted(t_s, v_ref, horizon_s).data(), 0, u_pred.size());
   return sums.errors();
-}
-
-PredictionErrors pooledErrors(const std::vector<PredictionErrors>& parts) {
-  // One part with rows is its own pool, bit for bit (the sums rebuilt from its RMSEs below are not:
-  // rmse^2 n / n can differ from rmse in the last bit)
-  const auto with_rows = std::count_if(parts.begin(), parts.end(), [](const PredictionErrors& p) { return p.n > 0; });
-  if (with_rows == 1)
-    return *std::find_if(parts.begin(), parts.end(), [](const PredictionErrors& p) { return p.n > 0; });
-  double su = 0.0, sv = 0.0;
-  int n = 0;
-  for (const auto& p : parts) {
-    if (p.n == 0) continue;
-    su += p.rmse_u_px * p.rmse_u_px * p.n;
-    sv += p.rmse_v_px * p.rmse_v_px * p.n;
-    n += p.n;
-  }
-  return fromSquareSums(su, sv, n);
 }
 
 namespace {
@@ -386,19 +376,19 @@ class ErrorSums : public BlockConsumer {
   void finish() {
     for (size_t k = 0; k < report_.runs.size(); ++k) {
       PredictionRun& run = report_.runs[k];
-      std::vector<PredictionErrors> meas, truth;
+      SquareSums meas, truth;  // overall: every (frame, point) pair
       for (size_t p = 0; p < run.points.size(); ++p) {
         const Sums& s = sums_[k * run.points.size() + p];
         PointPrediction& pt = run.points[p];
         pt.vs_measurement = s.meas.errors();
-        meas.push_back(pt.vs_measurement);
+        meas.add(s.meas);
         if (truth_) {
           pt.vs_truth = s.truth.errors();
-          truth.push_back(pt.vs_truth);
+          truth.add(s.truth);
         }
       }
-      run.vs_measurement = pooledErrors(meas);
-      if (truth_) run.vs_truth = pooledErrors(truth);
+      run.vs_measurement = meas.errors();
+      if (truth_) run.vs_truth = truth.errors();
     }
   }
 

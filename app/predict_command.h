@@ -78,10 +78,6 @@ struct PredictionRun {
   PredictionErrors vs_truth;            ///< overall; n == 0 when the track has no truth
 };
 
-/// The overall errors of several points' errors (pooled: sums of squares and counts add; one part with
-/// rows is returned as it is).
-PredictionErrors pooledErrors(const std::vector<PredictionErrors>& parts);
-
 struct PredictionReport {
   double horizon_s = 0.0;
   std::vector<PredictionRun> runs;
