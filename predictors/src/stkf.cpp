@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -112,6 +113,7 @@ StkfFilter<N>::StkfFilter(int channels, const Params& params)
     q_ = params.get("q", kDefaultQStkfCa, 0.0, 1e15);
   }
   if (window_ > 0) T_st_ = makeResidualMaker(window_);
+  eps_.resize(window_);
   this->readCoastParam(params);
   this->readShrinkParams(params,
                          N == 3 ? kDefaultShrinkSigmasStkfCa
@@ -214,7 +216,7 @@ void StkfFilter<N>::pushSample(int c, double z) {
   if (window_count_[i] < window_) {
     y(window_count_[i]++) = z;
   } else {
-    y.head(window_ - 1) = y.tail(window_ - 1).eval();
+    std::copy(y.data() + 1, y.data() + window_, y.data());  // drop the oldest, in place (no allocation)
     y(window_ - 1) = z;
   }
   if (window_count_[i] < window_) {
@@ -223,8 +225,8 @@ void StkfFilter<N>::pushSample(int c, double z) {
   }
   // Residuals of the least-squares polynomial through the window (mean zero: the fit has an
   // intercept).
-  const Eigen::VectorXd eps = T_st_ * y;
-  const double var = eps.squaredNorm() / (window_ - 1);
+  eps_.noalias() = T_st_ * y;  // into the kept buffer: no allocation per sample
+  const double var = eps_.squaredNorm() / (window_ - 1);
   r_[i] = this->nominalNoise(c) + (squared_ ? var * var : var);
 }
 

@@ -190,6 +190,7 @@ class StkfFilter : public ChannelPredictor<N> {
   double reinit_threshold_vel_;  // ca (cv: reinit_threshold_)
   double reinit_threshold_acc_;  // ca
   Eigen::MatrixXd T_st_;
+  Eigen::VectorXd eps_;  ///< the window's residuals T_st y (scratch of pushSample, sized window)
   Eigen::VectorXd known_v_px_s_;
   // Per channel: window of the last k measurements (oldest first), adapted R, pending flag.
   std::vector<Eigen::VectorXd> window_y_;
