@@ -197,6 +197,51 @@ TEST(PredictThroughput, ParallelRunGivesTheSameOutputsAsOneThread) {
   }
 }
 
+/// The message of the exception `run` throws ("" when it throws none, "?" for one not derived
+/// from std::exception).
+template <class Run>
+std::string thrownMessage(Run&& run) {
+  try {
+    run();
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "?";
+  }
+  return "";
+}
+
+TEST(PredictThroughput, APredictorThrowingMidTrackGivesOneThreadsErrorAndNoFiles) {
+  // GIVEN a two-point track (in memory: the CSV reader would refuse it) whose time goes back at
+  // row 1234, i.e. in the third block of 500 rows: every channel of every predictor throws there
+  const size_t rows = 3000;
+  predvs::FeatureTrack track = syntheticTrack(rows, 2);
+  track.t_s[1234] = track.t_s[1233] - 0.01;
+  const auto specs = everyPredictor();
+  // WHEN the predictions run on 1 thread in one block, and on 3 threads in blocks of 500 rows
+  const std::string one = thrownMessage([&] { predvs::predictTrack(track, specs, 2.0 / 30.0, 1, rows); });
+  const std::string three = thrownMessage([&] { predvs::predictTrack(track, specs, 2.0 / 30.0, 3, 500); });
+  // THEN both report the error a serial run meets first: the first predictor's, at that update
+  EXPECT_EQ(three, one);
+  EXPECT_EQ(one.rfind(specs.front().name + ": update time ", 0), 0u) << one;
+  EXPECT_NE(one.find("is not after the previous one"), std::string::npos) << one;
+  // ... and predictToFiles throws it too and leaves no output directory behind
+  const auto out = std::filesystem::temp_directory_path() / "predvs_throughput_throws";
+  std::filesystem::remove_all(out);
+  predvs::PredictionFiles files;
+  files.block_rows = 500;
+  files.delay_frames = 2;
+  const std::string written = thrownMessage([&] {
+    predvs::StagedOutputDir dir(out);
+    predvs::predictToFiles(track, specs, 2.0 / 30.0, files, dir, 3);
+    dir.commit();
+  });
+  EXPECT_EQ(written, one);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  for (const auto& entry : std::filesystem::directory_iterator(out.parent_path()))
+    EXPECT_EQ(entry.path().filename().string().find(".predvs_throughput_throws"), std::string::npos) << entry.path();
+}
+
 TEST(PredictThroughput, PlotBinaryHoldsTheNumbersOfThePlotText) {
   // GIVEN a one-point track with empty cells, thinned for the plot (its envelope), and three predictors
   // (and no measurement for 100 rows: slices with no number, NaN in the plot)
