@@ -757,7 +757,7 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
   const double dt = t_s - time();
   if (!(dt > 0.0)) return predict(channel, t_s).position();
   // Each mode's (F x)(0): for CP and CV written out (their states beyond d are 0, so the sum has
-  // one or two non-zero terms: the same bits), for CA the generic product.
+  // one or two non-zero terms: the same bits), for CA predictedPosition (kalman_math.h).
   const std::array<double, kMaxModes>& w = forecastWeights(ch);
   double p = 0.0;
   for (int j = 0; j < modeCount(); ++j) {
@@ -765,7 +765,7 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
     const int d = modes_[jj].dim;
     const double pj = d == 1   ? ch.g[jj].x(0)
                       : d == 2 ? ch.g[jj].x(0) + dt * ch.g[jj].x(1)
-                               : Vec<3>((transition(j, dt) * forecastStartMean(ch, j)).eval())(0);
+                               : predictedPosition(forecastStartMean(ch, j), transition(j, dt));
     if (!blendsMode(j)) p += w[jj] * pj;
     else if (splitsBlend(ch)) p += w[jj] * ch.mode_blend[jj].blendSplit(ch.blend.z_hold, ch.g[jj].x(0), pj);
     else p += w[jj] * ch.mode_blend[jj].blend(ch.blend.z_hold, pj);

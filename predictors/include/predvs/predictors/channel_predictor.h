@@ -551,9 +551,7 @@ class ChannelPredictor : public Predictor {
     if (!(dt > 0.0)) return s.g.x(0);
     double f;
     if (s.start_now) {  // the forecast start this update kept for the blend: the same x, the same bits
-      Gaussian<N> g;
-      g.x = s.x_start[static_cast<size_t>(s.head)];
-      f = predictedPosition(g, transition(channel, dt));
+      f = predictedPosition(s.x_start[static_cast<size_t>(s.head)], transition(channel, dt));
     } else {
       f = forecastWeightingOn() ? predictedPosition(weightedForecastStart(channel), transition(channel, dt))
                                 : predictedPosition(s.g, transition(channel, dt));
@@ -620,15 +618,13 @@ class ChannelPredictor : public Predictor {
     }
     if (s.run >= 1) {  // frame k - 1 measured: the one-frame forecast made there
       const auto j = static_cast<size_t>(s.head);
-      Gaussian<N> g;
-      g.x = s.x_start[j];
-      const double f = predictedPosition(g, transition(c, t_s - s.t_start[j]));
+      const double f = predictedPosition(s.x_start[j], transition(c, t_s - s.t_start[j]));
       s.blend.learn(f - s.z_start[j], s.x_start[j](0) - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_, blend_split_);
       // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
       // the handed-out weight is the smallest over the horizons (file comment).
       for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
         const size_t jh = blendRingSlot(s.head, h - 1);
-        const double fh = transition(c, t_s - s.t_start[jh]).row(0).dot(s.x_start[jh]);  // (F x)(0)
+        const double fh = predictedPosition(s.x_start[jh], transition(c, t_s - s.t_start[jh]));
         s.longer[static_cast<size_t>(h - 2)].learn(fh - s.z_start[jh], s.x_start[jh](0) - s.z_start[jh], z - s.z_start[jh], lambda,
                                                    blend_sigmas_, blend_split_);
       }

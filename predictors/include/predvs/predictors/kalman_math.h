@@ -55,12 +55,19 @@ inline void timeUpdate(Gaussian<N>& g, const Mat<N>& F, const Mat<N>& Q) {
   symmetrize(g.P);
 }
 
-/// (F x)(0): the position timeUpdate(g, F, Q) would give, the same arithmetic (the same Eigen
-/// product here, the same expression in the 2-state specialisation below), without touching P.
+/// (F x)(0) of a state x: row 0 of F times x summed left to right, which is the order of Eigen's
+/// product in timeUpdate (its columns accumulated in turn, exact zeros included), so the same bits
+/// as the position timeUpdate would give, without building the other rows.
+template <int N>
+inline double predictedPosition(const Vec<N>& x, const Mat<N>& F) {
+  double p = F(0, 0) * x(0);
+  for (int k = 1; k < N; ++k) p += F(0, k) * x(k);
+  return p;
+}
+/// The same for a Gaussian's mean, without touching P.
 template <int N>
 inline double predictedPosition(const Gaussian<N>& g, const Mat<N>& F) {
-  const Vec<N> x = (F * g.x).eval();
-  return x(0);
+  return predictedPosition(g.x, F);
 }
 
 /// Measurement update of a scalar position measurement (H = [1 0 ..]) in Joseph form:
@@ -103,10 +110,6 @@ inline void timeUpdate<2>(Gaussian<2>& g, const Mat<2>& F, const Mat<2>& Q) {
   g.P(1, 1) = fp10 * c + fp11 * d + Q(1, 1);
 }
 
-template <>
-inline double predictedPosition<2>(const Gaussian<2>& g, const Mat<2>& F) {
-  return F(0, 0) * g.x(0) + F(0, 1) * g.x(1);
-}
 
 template <>
 inline Innovation measurementUpdate<2>(Gaussian<2>& g, double z, double R) {
