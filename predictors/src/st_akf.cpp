@@ -94,9 +94,13 @@ void StAkfPredictor<N>::step(int c, double dt, double z) {
   const double cf = !paused && adapt_ && M > 0.0 && this->nominalNoiseFinal(c) ? Nv / M : 0.0;
   for (int i = 0; i < N; ++i) ex.lambda(i) = std::max(1.0, a_(i) * cf);
   ex.s_unfaded = FPFt(0, 0) + Q(0, 0) + R;
-  const Vec<N> sqrt_l = ex.lambda.cwiseSqrt();
   s.g.x = x_pred;
-  s.g.P = sqrt_l.asDiagonal() * FPFt * sqrt_l.asDiagonal();
+  if ((ex.lambda.array() == 1.0).all()) {  // no fading (most frames): sqrt(1) scales by 1, the same bits
+    s.g.P = FPFt;
+  } else {
+    const Vec<N> sqrt_l = ex.lambda.cwiseSqrt();
+    s.g.P = sqrt_l.asDiagonal() * FPFt * sqrt_l.asDiagonal();
+  }
   s.g.P += Q;
   symmetrize(s.g.P);
   s.innovation = measurementUpdate(s.g, z, R);  // Joseph form

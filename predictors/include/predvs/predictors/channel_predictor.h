@@ -597,7 +597,9 @@ class ChannelPredictor : public Predictor {
   void rememberForecastStart(int c, double t_s) {
     ChannelState& s = state_[static_cast<size_t>(c)];
     s.head = (s.head + 1) % kMaxBlendFrames;
-    s.x_start[static_cast<size_t>(s.head)] = forecastWeightingOn() ? weightedForecastStart(c).x : s.g.x;
+    Vec<N>& start = s.x_start[static_cast<size_t>(s.head)];
+    if (forecastWeightingOn()) weightedForecastMean(c, start);
+    else start = s.g.x;
     s.t_start[static_cast<size_t>(s.head)] = t_s;
     s.z_start[static_cast<size_t>(s.head)] = s.blend.z_hold;
     s.run = std::min(s.run + 1, kMaxBlendFrames + 1);
@@ -693,13 +695,16 @@ class ChannelPredictor : public Predictor {
   /// w_v (file comment), P(k|k) unchanged.
   Gaussian<N> weightedForecastStart(int c) const {
     Gaussian<N> g = state_[static_cast<size_t>(c)].g;
-    const double w_v = significanceWeight(g.x(1), g.P(1, 1), shrink_v_sigmas_);
-    g.x(1) *= w_v;
-    if constexpr (N == 3) {
-      g.x(2) *= significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_);
-      g.x(2) *= w_v;
-    }
+    weightedForecastMean(c, g.x);
     return g;
+  }
+  /// Its mean alone, written into x entry by entry (no Gaussian copied).
+  void weightedForecastMean(int c, Vec<N>& x) const {
+    const Gaussian<N>& g = state_[static_cast<size_t>(c)].g;
+    const double w_v = significanceWeight(g.x(1), g.P(1, 1), shrink_v_sigmas_);
+    x(0) = g.x(0);
+    x(1) = g.x(1) * w_v;
+    if constexpr (N == 3) x(2) = g.x(2) * significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_) * w_v;
   }
   /// The adaptation of a density set by the key `q` (process_noise_adapt.h): `q: auto`, covariance
   /// matching; `q` absent, the raise (readProcessNoiseRaise); a number, none (q fixed). Called by
