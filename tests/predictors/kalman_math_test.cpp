@@ -1,9 +1,12 @@
 // The 2-state specialisations of timeUpdate / measurementUpdate (kalman_math.h) against the
-// textbook matrix expressions, on random symmetric PSD covariances, transitions and noises.
+// textbook matrix expressions, on random symmetric PSD covariances, transitions and noises; and
+// predictedPosition against the first row of the product it stands for.
 #include "predvs/predictors/kalman_math.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <random>
 
 namespace predvs {
@@ -59,6 +62,30 @@ TEST(KalmanMath, TwoStateSpecialisationsEqualTheMatrixExpressions) {
     // AND P is exactly symmetric
     EXPECT_EQ(s.P(0, 1), s.P(1, 0));
   }
+}
+
+template <int N>
+void expectPositionIsTheProductsBits(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-3.0, 3.0);
+  auto value = [&] { return u(rng) * std::pow(10.0, std::round(e(rng))); };
+  for (int trial = 0; trial < 20000; ++trial) {
+    Mat<N> F;
+    Vec<N> x;
+    for (int i = 0; i < N * N; ++i) F.data()[i] = value();
+    for (int i = 0; i < N; ++i) x(i) = value();
+    const Vec<N> Fx = (F * x).eval();
+    const double p = predictedPosition(x, F);
+    ASSERT_EQ(std::memcmp(&p, &Fx(0), sizeof p), 0) << "N = " << N << ", trial " << trial << ": " << p << " vs " << Fx(0);
+  }
+}
+
+TEST(KalmanMath, PredictedPositionHasTheBitsOfTheProductsFirstRow) {
+  // GIVEN random transitions and states over six decades (sums that round differently in another
+  // order: Eigen's row(0).dot(x) sums x0 F00 + (x1 F01 + x2 F02) and differs on about a fifth)
+  std::mt19937 rng(23);
+  // THEN predictedPosition(x, F) is (F x)(0) as timeUpdate's product computes it, bit for bit
+  expectPositionIsTheProductsBits<2>(rng);
+  expectPositionIsTheProductsBits<3>(rng);
 }
 
 }  // namespace

@@ -626,7 +626,9 @@ class ChannelPredictor : public Predictor {
       // the handed-out weight is the smallest over the horizons (file comment).
       for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
         const size_t jh = blendRingSlot(s.head, h - 1);
-        const double fh = predictedPosition(s.x_start[jh], transition(c, t_s - s.t_start[jh]));
+        // (F x)(0) as Eigen's dot sums it (x0 F00 + (x1 F01 + x2 F02) for 3 states, not the product's
+        // left-to-right order of predictedPosition): kept so, as its bits are the regression's history.
+        const double fh = transition(c, t_s - s.t_start[jh]).row(0).dot(s.x_start[jh]);
         s.longer[static_cast<size_t>(h - 2)].learn(fh - s.z_start[jh], s.x_start[jh](0) - s.z_start[jh], z - s.z_start[jh], lambda,
                                                    blend_sigmas_, blend_split_);
       }
