@@ -110,7 +110,6 @@ inline void timeUpdate<2>(Gaussian<2>& g, const Mat<2>& F, const Mat<2>& Q) {
   g.P(1, 1) = fp10 * c + fp11 * d + Q(1, 1);
 }
 
-
 template <>
 inline Innovation measurementUpdate<2>(Gaussian<2>& g, double z, double R) {
   Innovation in;
