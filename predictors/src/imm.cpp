@@ -132,6 +132,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       blend_split_(holdBlendSplitParam(params)),
       coast_stop_fraction_(coastStopFractionParam(params)),
       coast_fast_ratio_(coastFastRatioParam(params)),
+      coast_lag_sigmas_(coastLagSigmasParam(params)),
       coast_shape_(coastShapeParam(params)),
       coast_cp_(params.get("coast_cp", kDefaultCoastCp, 0.0, 1.0)),
       gap_weight_power_(params.get("gap_weight_power", kDefaultGapWeightPower, 0.0, 1.0)),
@@ -385,7 +386,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
       ch.initialized = true;
       ch.blend.z_hold = z(c);
-      ch.blend.recent.remember(t_s, z(c), 0.0, 0.0);
+      ch.blend.recent.remember(t_s, z(c), 0.0, 0.0, 0.0);
       ch.last_measured = true;
       if (blend_tau_s_ > 0.0 && blend_frames_ > 1) rememberBlendStart(ch, t_s);
       continue;
@@ -456,7 +457,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
       if (blend_tau_s_ > 0.0) {
         if (started_gap)
-          ch.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, combinedVelocityVariance(ch), R);
+          ch.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, coast_lag_sigmas_, combinedVelocityVariance(ch), R);
         const double e = ch.blend.gapDecay(t_s, dt, coast_tau_s_, coast_shape_);
         for (int j = 0; j < m; ++j) coastBy(mixed[static_cast<size_t>(j)].x, e);
       } else {
@@ -596,7 +597,8 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     }
     ch.g = mixed;
     if (blend_tau_s_ > 0.0 && isMeasured(z(c)))
-      ch.blend.recent.remember(t_s, z(c), combinedVelocity(ch), blendForgetting(t_s - ch.blend.recent.lastTime()));
+      ch.blend.recent.remember(t_s, z(c), combinedVelocity(ch), blendForgetting(t_s - ch.blend.recent.lastTime()),
+                               normalisedInnovation(ch.innovation));
     if (blend_tau_s_ > 0.0 && blend_frames_ > 1) {
       if (isMeasured(z(c)))
         rememberBlendStart(ch, t_s);

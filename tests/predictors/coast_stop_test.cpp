@@ -26,7 +26,7 @@ TEST(CoastStop, AnExactDecelerationGivesItsStopTime) {
   const double a = -1000.0;
   for (int k = 0; k < 8; ++k) {
     const double u = k * kDt;
-    s.remember(u, 10.0 + 200.0 * u + 0.5 * a * u * u, 200.0 + a * u, 1.0);
+    s.remember(u, 10.0 + 200.0 * u + 0.5 * a * u * u, 200.0 + a * u, 1.0, 0.0);
   }
   // THEN both estimates (the velocity's fall, the quadratic) give v_last / |a|
   const double v_last = 200.0 + a * 7 * kDt;
@@ -39,8 +39,8 @@ TEST(CoastStop, ConstantVelocityOrADecelerationInTheNoiseHasNoStop) {
   CoastStop ramp, noisy;
   for (int k = 0; k < 8; ++k) {
     const double u = k * kDt;
-    ramp.remember(u, 10.0 + 200.0 * u, 200.0, 1.0);
-    noisy.remember(u, 10.0 + 200.0 * u - 1000.0 * u * u, 200.0 - 2000.0 * u, 1.0);
+    ramp.remember(u, 10.0 + 200.0 * u, 200.0, 1.0, 0.0);
+    noisy.remember(u, 10.0 + 200.0 * u - 1000.0 * u * u, 200.0 - 2000.0 * u, 1.0, 0.0);
   }
   // THEN no stop: the gap coasts with coast_tau_s
   EXPECT_EQ(ramp.stopTime(1.0, 1.0), std::numeric_limits<double>::infinity());
@@ -65,8 +65,9 @@ TEST(CoastStop, AGapAfterAHardStopCoastsLess) {
   // cover them.)
   for (const char* name : {"kf-cv", "kf-ca", "imm"}) {
     // GIVEN the defaults (blend with hold on, coast_stop_fraction on) and the same without the stop rule
-    const double with_stop = gapErrorAfterStop(name, {});
-    const double without = gapErrorAfterStop(name, {{"coast_stop_fraction", 0.0}});
+    // (the lag rule off in both: it shortens this gap too, coast_lag_test.cpp)
+    const double with_stop = gapErrorAfterStop(name, {{"coast_lag_sigmas", 0.0}});
+    const double without = gapErrorAfterStop(name, {{"coast_stop_fraction", 0.0}, {"coast_lag_sigmas", 0.0}});
     // THEN the forecasts through the gap are closer to the still target
     EXPECT_LT(with_stop, 0.5 * without) << name;
   }

@@ -34,7 +34,16 @@
 // v_rms^2 = sum l v^2 dt / sum l dt); a gap that begins at rho = |v| / v_rms > rho_0 =
 // coast_fast_ratio (once >= kCoastFastMinMemoryS of memory) coasts with
 //   tau_gap = min(tau_gap, tau (rho_0 / rho)^kCoastFastPower).
-// A gap neither rule shortened coasts with a hazard that grows with the time u since the last
+// Measurements falling behind before the gap (issue 11 item 3, docs/MODELS.md §15, with the blend
+// only): each channel keeps the normalised innovations r = eps / sqrt(S) of its measured frames;
+// their sum over the last kCoastLagFrames, z_l = sum r / sqrt(kCoastLagFrames), is a standard normal
+// while the model fits. A gap that begins while z_l opposes the filter's velocity (the measurements
+// behind its forecasts: the target slows down more than the model thinks) by more than n_l =
+// coast_lag_sigmas coasts with
+//   tau_gap = min(tau_gap, tau (n_l / |z_l|)^kCoastLagPower).
+// It sees a stop earlier than the stop rule's fits at 3 px: a burst that stops two or three noisy
+// frames before its gap (docs/PERFORMANCE.md "Measurements falling behind before a gap").
+// A gap no rule shortened coasts with a hazard that grows with the time u since the last
 // measurement: v(u) = v0 S(u), S(u) = exp(-(u / tau)^k), k = coast_shape (the per-frame factor
 // S(u + dt) / S(u) on v, its square on a); k = 1 is the exponential decay above, k > 1 keeps more
 // of the velocity over a dropped frame or two and less at the end of a long occlusion (its total
@@ -210,18 +219,32 @@ inline constexpr double kCoastFastMinMemoryS = 1.0;
 /// them by 0.015-0.03 but doubles the losses on the drop grids, 39 -> 75 on seeds 501-530: it coasts
 /// further through occlusions of 0.1-0.2 s; with the speed rule (p 2) 27 / 3 / 4).
 inline constexpr double kDefaultCoastShape = 1.5;
+/// Default `coast_lag_sigmas` n_l (dimensionless >= 0, file comment "Measurements falling behind
+/// before the gap"; 0 = off): a gap that begins while the last kCoastLagFrames measurements fell
+/// behind the filter's motion by more than n_l standard deviations coasts shorter. Measured with
+/// `predvs track-study` (docs/PERFORMANCE.md "Measurements falling behind before a gap").
+inline constexpr double kDefaultCoastLagSigmas = 2.0;
+/// The measured frames whose normalised innovations are summed (file comment).
+inline constexpr int kCoastLagFrames = 5;
+/// The exponent of tau (n_l / |z_l|)^p (file comment).
+inline constexpr double kCoastLagPower = 2.0;
+
+/// eps / sqrt(S) of an update's innovation; 0 when it has none (CoastStop::remember).
+inline double normalisedInnovation(const Innovation& in) { return in.valid && in.S > 0.0 ? in.eps / std::sqrt(in.S) : 0.0; }
 
 /// The last measured frames of one channel (time s, measurement px, the filter's velocity px/s after
 /// the update) and the stop time they give when a gap begins (file comment, "A stop before the gap").
 struct CoastStop {
   static constexpr int kFrames = 8;
   std::array<double, kFrames> t{}, z{}, v{};
+  std::array<double, kFrames> r{};  ///< each frame's normalised innovation eps / sqrt(S) (0: none)
   int n = 0, head = 0;
   double v_sq_time = 0.0;  ///< forgetting sum of v^2 dt over the measured frames, px^2/s
   double time_s = 0.0;     ///< forgetting sum of dt, s
   /// One measured frame; keep = exp(-dt / hold_blend_tau_s) for dt = t_s - the previous measured
-  /// frame's time (the forgetting of the RMS velocity; unused on the first frame).
-  void remember(double t_s, double z_px, double v_px_s, double keep) {
+  /// frame's time (the forgetting of the RMS velocity; unused on the first frame); r_norm = the
+  /// update's innovation over its standard deviation (0 when it has none).
+  void remember(double t_s, double z_px, double v_px_s, double keep, double r_norm) {
     if (n > 0) {
       const double dt = t_s - t[static_cast<size_t>(head)];
       v_sq_time = keep * v_sq_time + v_px_s * v_px_s * dt;
@@ -231,8 +254,18 @@ struct CoastStop {
     t[static_cast<size_t>(head)] = t_s;
     z[static_cast<size_t>(head)] = z_px;
     v[static_cast<size_t>(head)] = v_px_s;
+    r[static_cast<size_t>(head)] = r_norm;
     n = std::min(n + 1, kFrames);
   }
+  /// z_l: the normalised innovations of the last kCoastLagFrames frames summed, over
+  /// sqrt(kCoastLagFrames) (a standard normal when the filter fits; fewer frames count as 0).
+  double lagScore() const {
+    double sum = 0.0;
+    for (int i = 0; i < kCoastLagFrames && i < n; ++i) sum += r[static_cast<size_t>((head - i + kFrames) % kFrames)];
+    return sum / std::sqrt(static_cast<double>(kCoastLagFrames));
+  }
+  /// The filter's velocity after the last measured frame (px/s; 0 before any).
+  double lastVelocity() const { return n > 0 ? v[static_cast<size_t>(head)] : 0.0; }
   /// The time (s) the target takes to come to rest at its current deceleration, +inf when it is not
   /// significantly decelerating; var_v = P_vv of the last velocity (px^2/s^2), r = R (px^2).
   double stopTime(double var_v, double r) const {
@@ -427,12 +460,18 @@ struct HoldBlend : BlendWeight {
   double z_hold = 0.0;  ///< last measurement (hold's forecast), px
   CoastStop recent;     ///< the last measured frames, for the coasting time of a gap
   double gap_tau_s = 0.0;  ///< coasting time of the current gap (s; file comment)
-  /// Chooses gap_tau_s on a gap's first frame: min(tau_s, fraction t_stop, tau_s (rho_0 / rho)^p)
-  /// (file comment; fast_ratio = rho_0, 0 = off).
-  void startGap(double tau_s, double fraction, double fast_ratio, double var_v, double r) {
+  /// Chooses gap_tau_s on a gap's first frame: min(tau_s, fraction t_stop, tau_s (rho_0 / rho)^p,
+  /// tau_s (n_l / |z_l|)^2 when z_l opposes the velocity) (file comment; fast_ratio = rho_0,
+  /// lag_sigmas = n_l, 0 = off).
+  void startGap(double tau_s, double fraction, double fast_ratio, double lag_sigmas, double var_v, double r) {
     gap_tau_s = fraction > 0.0 ? std::min(tau_s, fraction * recent.stopTime(var_v, r)) : tau_s;
     const double rho = fast_ratio > 0.0 ? recent.speedRatio() : 0.0;
     if (rho > fast_ratio) gap_tau_s = std::min(gap_tau_s, tau_s * std::pow(fast_ratio / rho, kCoastFastPower));
+    if (lag_sigmas > 0.0) {
+      const double z_l = recent.lagScore();
+      if (z_l * recent.lastVelocity() < 0.0 && std::abs(z_l) > lag_sigmas)
+        gap_tau_s = std::min(gap_tau_s, tau_s * std::pow(lag_sigmas / std::abs(z_l), kCoastLagPower));
+    }
     gap_tau_s = std::max(gap_tau_s, 1e-6);  // coast() divides by it
   }
   /// The factor on the velocity of the gap frame that ends at t_s (dt after the previous frame),
@@ -456,6 +495,10 @@ inline double coastStopFractionParam(const Params& params) {
 /// The `coast_fast_ratio` parameter (>= 0, default kDefaultCoastFastRatio; 0 = off; file comment).
 inline double coastFastRatioParam(const Params& params) {
   return params.get("coast_fast_ratio", kDefaultCoastFastRatio, 0.0, 1e3);
+}
+/// The `coast_lag_sigmas` parameter (>= 0, default kDefaultCoastLagSigmas; 0 = off; file comment).
+inline double coastLagSigmasParam(const Params& params) {
+  return params.get("coast_lag_sigmas", kDefaultCoastLagSigmas, 0.0, 1e3);
 }
 /// The `coast_shape` parameter (1..10, default kDefaultCoastShape; 1 = exponential; file comment).
 inline double coastShapeParam(const Params& params) { return params.get("coast_shape", kDefaultCoastShape, 1.0, 10.0); }
@@ -502,7 +545,7 @@ class ChannelPredictor : public Predictor {
           initialize(c, z(c));
           s.initialized = true;
           s.blend.z_hold = z(c);
-          s.blend.recent.remember(t_s, z(c), s.g.x(1), 0.0);
+          s.blend.recent.remember(t_s, z(c), s.g.x(1), 0.0, 0.0);
           if (blend_tau_s_ > 0.0) rememberForecastStart(c, t_s);
         }
         continue;
@@ -510,7 +553,8 @@ class ChannelPredictor : public Predictor {
       if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
         if (blend_tau_s_ > 0.0) {  // the blend's coasting: a gap after a stop coasts shorter (file comment)
           if (s.run > 0)
-            s.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, s.g.P(1, 1), measurementNoise(c));
+            s.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, coast_lag_sigmas_, s.g.P(1, 1),
+                             measurementNoise(c));
           coastBy(s.g.x, s.blend.gapDecay(t_s, dt, coast_tau_s_, coast_shape_));
         } else {
           coast(s.g.x, dt, coast_tau_s_);
@@ -635,7 +679,7 @@ class ChannelPredictor : public Predictor {
       minOverHorizons(s.blend, s.longer, blend_frames_);
     }
     s.blend.z_hold = z;
-    s.blend.recent.remember(t_s, z, s.g.x(1), blendForgetting(t_s - s.blend.recent.lastTime()));
+    s.blend.recent.remember(t_s, z, s.g.x(1), blendForgetting(t_s - s.blend.recent.lastTime()), normalisedInnovation(s.innovation));
     rememberForecastStart(c, t_s);
   }
 
@@ -655,13 +699,15 @@ class ChannelPredictor : public Predictor {
   /// r0_.
   void enableAutoNoise() { r_est_.assign(state_.size(), StartupNoiseEstimator(r0_)); }
   /// Reads `coast_tau_s` (s, >= 0, default kDefaultCoastTauS), and `coast_stop_fraction` (>= 0,
-  /// default kDefaultCoastStopFraction), `coast_fast_ratio` (>= 0, default kDefaultCoastFastRatio)
-  /// and `coast_shape` (1..10, default kDefaultCoastShape), used with the blend only; called by every
+  /// default kDefaultCoastStopFraction), `coast_fast_ratio` (>= 0, default kDefaultCoastFastRatio),
+  /// `coast_lag_sigmas` (>= 0, default kDefaultCoastLagSigmas) and `coast_shape` (1..10, default
+  /// kDefaultCoastShape), used with the blend only; called by every
   /// derived constructor whose state has a velocity.
   void readCoastParam(const Params& params) {
     coast_tau_s_ = coastTauParam(params);
     coast_stop_fraction_ = coastStopFractionParam(params);
     coast_fast_ratio_ = coastFastRatioParam(params);
+    coast_lag_sigmas_ = coastLagSigmasParam(params);
     coast_shape_ = coastShapeParam(params);
   }
   double coastTauS() const { return coast_tau_s_; }
@@ -769,6 +815,7 @@ class ChannelPredictor : public Predictor {
   double coast_tau_s_ = 0.0;  ///< 0 until readCoastParam(): hold never coasts
   double coast_stop_fraction_ = 0.0;  ///< coast_stop_fraction (with the blend only)
   double coast_fast_ratio_ = 0.0;     ///< coast_fast_ratio (with the blend only)
+  double coast_lag_sigmas_ = 0.0;     ///< coast_lag_sigmas (with the blend only)
   double coast_shape_ = 1.0;          ///< coast_shape (with the blend only)
   bool adapt_after_gap_ = true;       ///< adapt_after_gap; true until readAdaptAfterGapParam()
   double shrink_a_sigmas_ = 0.0;  ///< 0 until readShrinkParams(): unweighted forecast

@@ -182,7 +182,9 @@
 // starts keeps the forecast starts of the last updates); hold_blend_split (0 | 1, default 1, as
 // theirs): each moving mode's weight split in two (above); with it, coast_stop_fraction (default 0.5; 0 = off):
 // a gap that begins while the mu-combined velocity falls coasts with a shorter time constant
-// (channel_predictor.h, "A stop before the gap"). The initial
+// (channel_predictor.h, "A stop before the gap"), and coast_lag_sigmas (default 2; 0 = off): one
+// that begins while the moment-matched innovations of the last 5 measured frames oppose that
+// velocity by more than 2 sigma too (channel_predictor.h, "Measurements falling behind"). The initial
 // mode probabilities and forecast weights are equal. q_cp and the tau were chosen
 // on the generated tracks (servo/maneuver_tracks.h) and the paper scenarios E1-E4, E7 together
 // (docs/PERFORMANCE.md "IMM against its single models"); they are not sharp optima (one at a
@@ -333,7 +335,9 @@ class ImmPredictor : public Predictor {
   double blend_sigmas_;  ///< hold_blend_sigmas (channel_predictor.h)
   bool blend_split_;     ///< hold_blend_split (channel_predictor.h, "Two weights"), per mode
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
-  double coast_fast_ratio_, coast_shape_;  ///< coast_fast_ratio, coast_shape (channel_predictor.h), with the blend only
+  double coast_fast_ratio_;  ///< coast_fast_ratio (channel_predictor.h), with the blend only
+  double coast_lag_sigmas_;  ///< coast_lag_sigmas (channel_predictor.h), with the blend only
+  double coast_shape_;       ///< coast_shape (channel_predictor.h), with the blend only
   double coast_cp_;  ///< coast_cp: factor on the CP mode's forecast weight on an unmeasured frame while coasting
   double gap_weight_power_;  ///< gap_weight_power: the power of the forecast weights on a frame without a measurement
   double q_raise_cv_exponent_;  ///< q_raise_cv_exponent: the CV mode's density rises as the raise to this power
