@@ -386,7 +386,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
       ch.initialized = true;
       ch.blend.z_hold = z(c);
-      ch.blend.recent.remember(t_s, z(c), 0.0, 0.0, 0.0);
+      ch.blend.recent.remember(t_s, z(c), 0.0, 0.0, Innovation{});
       ch.last_measured = true;
       if (blend_tau_s_ > 0.0 && blend_frames_ > 1) rememberBlendStart(ch, t_s);
       continue;
@@ -598,7 +598,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     ch.g = mixed;
     if (blend_tau_s_ > 0.0 && isMeasured(z(c)))
       ch.blend.recent.remember(t_s, z(c), combinedVelocity(ch), blendForgetting(t_s - ch.blend.recent.lastTime()),
-                               normalisedInnovation(ch.innovation));
+                               ch.innovation);
     if (blend_tau_s_ > 0.0 && blend_frames_ > 1) {
       if (isMeasured(z(c)))
         rememberBlendStart(ch, t_s);

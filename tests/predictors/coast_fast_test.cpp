@@ -23,9 +23,9 @@ TEST(CoastFast, TheSpeedRatioIsTheLastSpeedOverTheRecentRms) {
   // GIVEN 2 s at 20 px/s then one frame at 300 px/s, remembered with no forgetting (keep = 1)
   CoastStop s;
   int k = 0;
-  for (; k <= 120; ++k) s.remember(k * kDt, 0.0, 20.0, 1.0, 0.0);
+  for (; k <= 120; ++k) s.remember(k * kDt, 0.0, 20.0, 1.0, Innovation{});
   const double before = s.speedRatio();
-  s.remember(k * kDt, 0.0, 300.0, 1.0, 0.0);
+  s.remember(k * kDt, 0.0, 300.0, 1.0, Innovation{});
   // THEN the ratio is 1 on the steady speed and |v| / sqrt(mean v^2) after the jump
   EXPECT_NEAR(before, 1.0, kRatioTol);
   const double rms = std::sqrt((120 * 20.0 * 20.0 + 300.0 * 300.0) / 121.0);
@@ -35,7 +35,7 @@ TEST(CoastFast, TheSpeedRatioIsTheLastSpeedOverTheRecentRms) {
 TEST(CoastFast, NoRatioBeforeASecondOfMemory) {
   // GIVEN half a second of frames
   CoastStop s;
-  for (int k = 0; k <= 30; ++k) s.remember(k * kDt, 0.0, k < 30 ? 10.0 : 300.0, 1.0, 0.0);
+  for (int k = 0; k <= 30; ++k) s.remember(k * kDt, 0.0, k < 30 ? 10.0 : 300.0, 1.0, Innovation{});
   // THEN no ratio yet (0): the gap coasts as before
   EXPECT_EQ(s.speedRatio(), 0.0);
 }

@@ -19,18 +19,22 @@ constexpr double kRateHz = 60.0;
 constexpr double kDt = 1.0 / kRateHz;
 
 TEST(CoastLag, TheLagScoreSumsTheLastFiveNormalisedInnovations) {
-  // GIVEN a channel's frames with normalised innovations 9, then 1, -2, 0.5, 3, -1 (newest last)
+  // GIVEN a channel's frames with normalised innovations 9, then 1, -2, 0.5, 3, -1 (newest last;
+  // each eps = 2 r with S = 4)
   CoastStop s;
   const double r[] = {9.0, 1.0, -2.0, 0.5, 3.0, -1.0};
-  for (int k = 0; k < 6; ++k) s.remember(k * kDt, 0.0, 10.0, 1.0, r[k]);
+  for (int k = 0; k < 6; ++k) s.remember(k * kDt, 0.0, 10.0, 1.0, Innovation{2.0 * r[k], 4.0, true});
   // THEN the score is the last five summed over sqrt(5): the oldest one is out
   EXPECT_NEAR(s.lagScore(), (1.0 - 2.0 + 0.5 + 3.0 - 1.0) / std::sqrt(5.0), 1e-15);
   // ... and with two frames only, the missing three count as 0
   CoastStop two;
-  two.remember(0.0, 0.0, 10.0, 1.0, 2.0);
-  two.remember(kDt, 0.0, 10.0, 1.0, 3.0);
+  two.remember(0.0, 0.0, 10.0, 1.0, Innovation{2.0, 1.0, true});
+  two.remember(kDt, 0.0, 10.0, 1.0, Innovation{3.0, 1.0, true});
   EXPECT_NEAR(two.lagScore(), 5.0 / std::sqrt(5.0), 1e-15);
   EXPECT_EQ(CoastStop{}.lagScore(), 0.0);
+  // ... and a frame without an innovation (not valid) counts as 0
+  two.remember(2 * kDt, 0.0, 10.0, 1.0, Innovation{});
+  EXPECT_NEAR(two.lagScore(), 5.0 / std::sqrt(5.0), 1e-15);
 }
 
 /// The other two rules that shorten a gap's coast off, so that only the lag rule differs.

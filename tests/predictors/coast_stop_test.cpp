@@ -26,7 +26,7 @@ TEST(CoastStop, AnExactDecelerationGivesItsStopTime) {
   const double a = -1000.0;
   for (int k = 0; k < 8; ++k) {
     const double u = k * kDt;
-    s.remember(u, 10.0 + 200.0 * u + 0.5 * a * u * u, 200.0 + a * u, 1.0, 0.0);
+    s.remember(u, 10.0 + 200.0 * u + 0.5 * a * u * u, 200.0 + a * u, 1.0, Innovation{});
   }
   // THEN both estimates (the velocity's fall, the quadratic) give v_last / |a|
   const double v_last = 200.0 + a * 7 * kDt;
@@ -39,8 +39,8 @@ TEST(CoastStop, ConstantVelocityOrADecelerationInTheNoiseHasNoStop) {
   CoastStop ramp, noisy;
   for (int k = 0; k < 8; ++k) {
     const double u = k * kDt;
-    ramp.remember(u, 10.0 + 200.0 * u, 200.0, 1.0, 0.0);
-    noisy.remember(u, 10.0 + 200.0 * u - 1000.0 * u * u, 200.0 - 2000.0 * u, 1.0, 0.0);
+    ramp.remember(u, 10.0 + 200.0 * u, 200.0, 1.0, Innovation{});
+    noisy.remember(u, 10.0 + 200.0 * u - 1000.0 * u * u, 200.0 - 2000.0 * u, 1.0, Innovation{});
   }
   // THEN no stop: the gap coasts with coast_tau_s
   EXPECT_EQ(ramp.stopTime(1.0, 1.0), std::numeric_limits<double>::infinity());

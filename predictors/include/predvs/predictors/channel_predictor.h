@@ -229,22 +229,20 @@ inline constexpr int kCoastLagFrames = 5;
 /// The exponent of tau (n_l / |z_l|)^p (file comment).
 inline constexpr double kCoastLagPower = 2.0;
 
-/// eps / sqrt(S) of an update's innovation; 0 when it has none (CoastStop::remember).
-inline double normalisedInnovation(const Innovation& in) { return in.valid && in.S > 0.0 ? in.eps / std::sqrt(in.S) : 0.0; }
-
 /// The last measured frames of one channel (time s, measurement px, the filter's velocity px/s after
 /// the update) and the stop time they give when a gap begins (file comment, "A stop before the gap").
 struct CoastStop {
   static constexpr int kFrames = 8;
   std::array<double, kFrames> t{}, z{}, v{};
-  std::array<double, kFrames> r{};  ///< each frame's normalised innovation eps / sqrt(S) (0: none)
+  /// Each frame's innovation eps and its variance S (S = 0: none; normalised only when a gap asks).
+  std::array<double, kFrames> eps{}, S{};
   int n = 0, head = 0;
   double v_sq_time = 0.0;  ///< forgetting sum of v^2 dt over the measured frames, px^2/s
   double time_s = 0.0;     ///< forgetting sum of dt, s
   /// One measured frame; keep = exp(-dt / hold_blend_tau_s) for dt = t_s - the previous measured
-  /// frame's time (the forgetting of the RMS velocity; unused on the first frame); r_norm = the
-  /// update's innovation over its standard deviation (0 when it has none).
-  void remember(double t_s, double z_px, double v_px_s, double keep, double r_norm) {
+  /// frame's time (the forgetting of the RMS velocity; unused on the first frame); in = the
+  /// update's innovation (none: not valid).
+  void remember(double t_s, double z_px, double v_px_s, double keep, const Innovation& in) {
     if (n > 0) {
       const double dt = t_s - t[static_cast<size_t>(head)];
       v_sq_time = keep * v_sq_time + v_px_s * v_px_s * dt;
@@ -254,14 +252,19 @@ struct CoastStop {
     t[static_cast<size_t>(head)] = t_s;
     z[static_cast<size_t>(head)] = z_px;
     v[static_cast<size_t>(head)] = v_px_s;
-    r[static_cast<size_t>(head)] = r_norm;
+    eps[static_cast<size_t>(head)] = in.valid ? in.eps : 0.0;
+    S[static_cast<size_t>(head)] = in.valid ? in.S : 0.0;
     n = std::min(n + 1, kFrames);
   }
-  /// z_l: the normalised innovations of the last kCoastLagFrames frames summed, over
-  /// sqrt(kCoastLagFrames) (a standard normal when the filter fits; fewer frames count as 0).
+  /// z_l: the normalised innovations eps / sqrt(S) of the last kCoastLagFrames frames summed, over
+  /// sqrt(kCoastLagFrames) (a standard normal when the filter fits; fewer frames, or frames without
+  /// an innovation, count as 0).
   double lagScore() const {
     double sum = 0.0;
-    for (int i = 0; i < kCoastLagFrames && i < n; ++i) sum += r[static_cast<size_t>((head - i + kFrames) % kFrames)];
+    for (int i = 0; i < kCoastLagFrames && i < n; ++i) {
+      const auto j = static_cast<size_t>((head - i + kFrames) % kFrames);
+      sum += S[j] > 0.0 ? eps[j] / std::sqrt(S[j]) : 0.0;
+    }
     return sum / std::sqrt(static_cast<double>(kCoastLagFrames));
   }
   /// The filter's velocity after the last measured frame (px/s; 0 before any).
@@ -545,7 +548,7 @@ class ChannelPredictor : public Predictor {
           initialize(c, z(c));
           s.initialized = true;
           s.blend.z_hold = z(c);
-          s.blend.recent.remember(t_s, z(c), s.g.x(1), 0.0, 0.0);
+          s.blend.recent.remember(t_s, z(c), s.g.x(1), 0.0, Innovation{});
           if (blend_tau_s_ > 0.0) rememberForecastStart(c, t_s);
         }
         continue;
@@ -679,7 +682,7 @@ class ChannelPredictor : public Predictor {
       minOverHorizons(s.blend, s.longer, blend_frames_);
     }
     s.blend.z_hold = z;
-    s.blend.recent.remember(t_s, z, s.g.x(1), blendForgetting(t_s - s.blend.recent.lastTime()), normalisedInnovation(s.innovation));
+    s.blend.recent.remember(t_s, z, s.g.x(1), blendForgetting(t_s - s.blend.recent.lastTime()), s.innovation);
     rememberForecastStart(c, t_s);
   }
 
