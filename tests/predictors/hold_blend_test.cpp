@@ -4,6 +4,7 @@
 // and the filter itself is untouched.
 #include "predvs/predictors/kalman_baselines.h"
 #include "predvs/predictors/registry.h"
+#include "predictors/blend_alone.h"
 
 #include <gtest/gtest.h>
 
@@ -22,17 +23,6 @@ constexpr double kRateHz = 10.0;
 constexpr double kH = 2.0 / kRateHz;  // s, the 2-frame horizon
 // Two double evaluations of the same blend differ by rounding only (px).
 constexpr double kRoundingPx = 1e-9;
-
-// kf-cv's blend with hold alone, with forgetting time tau_s, and `extra`: the coasting rules that
-// come with the blend (the shorter coast of a gap after a stop, coast_stop_test.cpp; the speed rule
-// and the shape of the coast, coast_fast_test.cpp) and the raise of q are off, as they change the
-// filter, not only the forecast, so its filter stays a twin's without the blend.
-Params blendAlone(double tau_s, const Params& extra) {
-  Params p{{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0},
-           {"q_raise_ratio", 0.0}};
-  p.setAll(extra);
-  return p;
-}
 
 // Two configurations of one predictor, and hold, each on one channel, fed the same measurements.
 struct TwinsAndHold {

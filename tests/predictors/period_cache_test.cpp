@@ -4,6 +4,7 @@
 // so these keep several dt and replace them in turn. Whatever a cache holds, a prediction must be
 // what a fresh instance gives, bit for bit.
 #include "predvs/predictors/predictor.h"
+#include "predictors/blend_alone.h"
 
 #include <gtest/gtest.h>
 
@@ -92,14 +93,11 @@ TEST(PeriodCache, EveryPredictorGivesAFreshInstancesBitsWhateverItsCachesHold) {
 
 TEST(PeriodCache, BlendForgettingIsExpOfTheFramePeriodOnAJitteredTrack) {
   // GIVEN kf-cv with the blend (tau 1 s) and a twin without it, on a track whose period takes 20
-  // values from 0.05 to 0.15 s, shuffled (the blend's forgetting is kept per dt); the shorter
-  // coasting after a stop, the speed rule and the shape of the coast are off, as they change the
-  // filter in a gap, not only the forecast;
+  // values from 0.05 to 0.15 s, shuffled (the blend's forgetting is kept per dt); the blend alone
+  // (blend_alone.h: the coasting rules that come with it off, as they change the filter in a gap,
+  // not only the forecast), the one-frame regression and one weight;
   const double tau_s = 1.0;
-  auto on = makePredictor("kf-cv", 1,
-                          {{"hold_blend_tau_s", tau_s}, {"coast_stop_fraction", 0.0}, {"coast_fast_ratio", 0.0}, {"coast_shape", 1.0},
-                           {"q_raise_ratio", 0.0}, {"hold_blend_frames", 1.0},  // the blend alone (one-frame
-                           {"hold_blend_split", 0.0}});  // regression, one weight): q stays the twin's
+  auto on = makePredictor("kf-cv", 1, blendAlone(tau_s, {{"hold_blend_frames", 1.0}, {"hold_blend_split", 0.0}}));
   auto off = makePredictor("kf-cv", 1, {{"hold_blend_tau_s", 0.0}});
   const Track tr = jitteredTrack(20, 0.05, 0.1, 3);
   double s_dd = 0.0, s_dy = 0.0, w = 1.0, z_hold = 0.0, t_prev = 0.0;
