@@ -129,6 +129,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       blend_tau_s_(holdBlendTauParam(params)),  // as every per-channel filter (channel_predictor.h)
       blend_frames_(holdBlendFramesParam(params)),
       blend_sigmas_(holdBlendSigmasParam(params)),
+      blend_prior_(holdBlendPriorParam(params)),
       blend_split_(holdBlendSplitParam(params)),
       coast_stop_fraction_(coastStopFractionParam(params)),
       coast_fast_ratio_(coastFastRatioParam(params)),
@@ -386,6 +387,11 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
       ch.initialized = true;
       ch.blend.z_hold = z(c);
+      ch.blend.start(blend_prior_);
+      for (BlendWeight& l : ch.longer) l.start(blend_prior_);
+      for (BlendWeight& b : ch.mode_blend) b.start(blend_prior_);
+      for (auto& longer : ch.mode_longer)
+        for (BlendWeight& l : longer) l.start(blend_prior_);
       ch.blend.recent.remember(t_s, z(c), 0.0, 0.0, Innovation{});
       ch.last_measured = true;
       if (blend_tau_s_ > 0.0 && blend_frames_ > 1) rememberBlendStart(ch, t_s);
@@ -422,11 +428,11 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
         if (blendsMode(j)) {
           const double p0 = d == 3 ? x_ca(0) : ch.g[jj].x(0);  // the mode's forecast start position
           ch.mode_blend[jj].learn(pj - ch.blend.z_hold, p0 - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep,
-                                  blend_sigmas_, blend_split_);
+                                  blend_sigmas_, blend_split_, blend_prior_);
         }
       }
       // the combination's step is not split (it is blended only with blend_per_mode 0)
-      ch.blend.learn(d_step, 0.0, z(c) - ch.blend.z_hold, blend_keep, blend_sigmas_, false);
+      ch.blend.learn(d_step, 0.0, z(c) - ch.blend.z_hold, blend_keep, blend_sigmas_, false, blend_prior_);
       if (blend_frames_ > 1) learnLongerBlend(ch, t_s, z(c), blend_keep);
     }
     const bool started_gap = ch.last_measured && !measured;
@@ -643,9 +649,9 @@ void ImmPredictor::learnLongerBlend(Channel& ch, double t_s, double z, double la
       d += st.fw[jj] * (pj - st.z_hold);
       if (blendsMode(j))
         ch.mode_longer[jj][static_cast<size_t>(h - 2)].learn(pj - st.z_hold, st.x[jj](0) - st.z_hold, y, lambda, blend_sigmas_,
-                                                             blend_split_);
+                                                             blend_split_, blend_prior_);
     }
-    ch.longer[static_cast<size_t>(h - 2)].learn(d, 0.0, y, lambda, blend_sigmas_, false);
+    ch.longer[static_cast<size_t>(h - 2)].learn(d, 0.0, y, lambda, blend_sigmas_, false, blend_prior_);
   }
   minOverHorizons(ch.blend, ch.longer, blend_frames_);
   for (int j = 0; j < m; ++j)

@@ -234,10 +234,12 @@ TEST_F(CliTest, PredictWritesPredictionsAndSummary) {
   // coasting decay on the dropped frames, coast_tau_s = 0: the line is exactly constant-velocity
   // through them; with the default 0.2 s the error below is 0.79 px; and the blend with hold's one
   // weight, hold_blend_split = 0: on this 4 s track the two weights are still fitting the filter's
-  // start-up, 0.72 px)
+  // start-up, 0.72 px; and without the blend's start-up prior, hold_blend_prior = 0: with it the first
+  // forecasts of the track are hold's, 0.83 px)
   const std::string out = path("out");
   const CliRun r = run({"predict", "--input", lineTrack(), "--predictor", "kf-cv", "--delay-frames", "2", "--out", out,
-                        "--param", "q=50", "--param", "coast_tau_s=0", "--param", "hold_blend_split=0"});
+                        "--param", "q=50", "--param", "coast_tau_s=0", "--param", "hold_blend_split=0",
+                        "--param", "hold_blend_prior=0"});
   ASSERT_EQ(r.code, 0) << r.err;
   // THEN every file is there and the summary holds one entry with the documented horizon
   for (const char* f : {"predictions.csv", "summary.json", "predictions.png", "predictions.gp"})

@@ -174,9 +174,9 @@ TEST(Significance, WeightIsHalfAtNSigmasAndOneWhenOff) {
 
 TEST(CsModel, ForecastExtrapolatesTheSignificantPartOfVelocityAndAcceleration) {
   // GIVEN cs-akf-adaptive with its defaults (shrink_sigmas = 2) after 1 s of a noisy accelerating
-  // target at 10 Hz
-  // (accelerating_feed.h)
-  CsAkfAdaptivePredictor f(1, {});
+  // target at 10 Hz (accelerating_feed.h), but for the blend's start-up prior (hold_blend_prior 0:
+  // after 1 s its factor is still 0.98, blend_start_test.cpp)
+  CsAkfAdaptivePredictor f(1, {{"hold_blend_prior", 0.0}});
   feedAcceleratingTarget(f, 3);
   // WHEN the position is queried 0.2 s ahead
   const double h = 0.2;
@@ -191,7 +191,7 @@ TEST(CsModel, ForecastExtrapolatesTheSignificantPartOfVelocityAndAcceleration) {
   EXPECT_TRUE(matricesNear(Vec<3>(f.gaussian(0).x), g.x, 0.0));
   EXPECT_LT(w_a * w_v, 0.999);
   // and cs-akf weighs the acceleration only (shrink_v_sigmas defaults to 0 there)
-  CsAkfPredictor cs(1, {});
+  CsAkfPredictor cs(1, {{"hold_blend_prior", 0.0}});
   feedAcceleratingTarget(cs, 3, 0.0);  // without noise
   const Gaussian<3> gc = cs.gaussian(0);
   const double w_c = significanceWeight(gc.x(2), gc.P(2, 2), kDefaultShrinkSigmasCsAkf);

@@ -260,12 +260,13 @@ TEST(HoldBlend, TwoWeightsKeepTheSmoothingOfAStillTargetThatOneWeightGivesUp) {
 }
 
 TEST(HoldBlend, AnExactRampKeepsTheModelForecast) {
-  // GIVEN kf-cv, kf-ca and imm with their defaults (blend on), with the one weight shrunk by its
-  // own uncertainty (hold_blend_sigmas 1, hold_blend_split 0), and without the blend, on a
-  // noise-free ramp at 80 px/s
+  // GIVEN kf-cv, kf-ca and imm with their defaults (blend on) but the start-up prior off (its
+  // first forecasts are hold's: blend_start_test.cpp), with the one weight shrunk by its own
+  // uncertainty (hold_blend_sigmas 1, hold_blend_split 0), and without the blend, on a noise-free
+  // ramp at 80 px/s
   for (const char* name : {"kf-cv", "kf-ca", "imm"}) {
-    auto on = makePredictor(name, 1);
-    auto shrunk = makePredictor(name, 1, {{"hold_blend_sigmas", 1.0}, {"hold_blend_split", 0.0}});
+    auto on = makePredictor(name, 1, {{"hold_blend_prior", 0.0}});
+    auto shrunk = makePredictor(name, 1, {{"hold_blend_sigmas", 1.0}, {"hold_blend_split", 0.0}, {"hold_blend_prior", 0.0}});
     auto off = makePredictor(name, 1, {{"hold_blend_tau_s", 0.0}});
     Eigen::VectorXd z(1);
     for (int k = 0; k < 60; ++k) {
@@ -339,10 +340,10 @@ TEST(HoldBlend, TheWeightsOwnUncertaintyShrinksANoisyWeightAndLeavesAClearOne) {
   double s_dd = 0.0, s_dy = 0.0, s_yy = 0.0, s_n = 0.0;
   for (int k = 0; k < 200; ++k) {
     const double d = unit(rng), y = 0.5 * d + 1.5 * unit(rng);
-    raw.learn(d, 0.0, y, lambda, 0.0, false);
-    shrunk.learn(d, 0.0, y, lambda, 1.0, false);
-    exact.learn(d, 0.0, d, lambda, 0.0, false);
-    exact_shrunk.learn(d, 0.0, d, lambda, 1.0, false);
+    raw.learn(d, 0.0, y, lambda, 0.0, false, 0.0);
+    shrunk.learn(d, 0.0, y, lambda, 1.0, false, 0.0);
+    exact.learn(d, 0.0, d, lambda, 0.0, false, 0.0);
+    exact_shrunk.learn(d, 0.0, d, lambda, 1.0, false, 0.0);
     s_dd = lambda * s_dd + d * d;
     s_dy = lambda * s_dy + d * y;
     s_yy = lambda * s_yy + y * y;
@@ -367,8 +368,10 @@ TEST(HoldBlend, TheWeightsOwnUncertaintyMovesANoisyForecastTowardsHold) {
     // GIVEN a per-channel filter with its defaults (hold_blend_sigmas 0) and with hold_blend_sigmas 1,
     // on 30 s of a slow sway (6 px, 0.25 Hz) under 3 px noise at 10 Hz: a model step a little better
     // than hold's, by an amount 60 noisy samples hardly resolve
-    // (both with the one weight, hold_blend_split 0: hold_blend_sigmas applies to that weight only)
-    TwinsAndHold p(name, {{"hold_blend_split", 0.0}}, {{"hold_blend_sigmas", 1.0}, {"hold_blend_split", 0.0}});
+    // (both with the one weight, hold_blend_split 0: hold_blend_sigmas applies to that weight only;
+    // and without the start-up prior, blend_start_test.cpp, which moves both towards hold at first)
+    TwinsAndHold p(name, {{"hold_blend_split", 0.0}, {"hold_blend_prior", 0.0}},
+                   {{"hold_blend_sigmas", 1.0}, {"hold_blend_split", 0.0}, {"hold_blend_prior", 0.0}});
     const auto &plain = p.a, &shrunk = p.b, &hold = p.hold;
     std::mt19937 rng(11);
     std::normal_distribution<double> noise(0.0, 3.0);

@@ -129,6 +129,20 @@
 // never saw (measured both ways: the split in gaps too, 18 -> 34 losses to hold on the 5 %-drop
 // grid; on measured frames only, 18 -> 15).
 // hold_blend_sigmas applies to w only. Figures: docs/PERFORMANCE.md "Two blend weights".
+// The start of a track (`hold_blend_prior` p, samples, default kDefaultHoldBlendPrior = 4; 0 = off):
+// a regression that has learnt from c samples hands out its weights (w, w_s, w_x) multiplied by
+//   1 - exp(-(c / p)^2),
+// so a horizon with no sample yet forecasts hold, p samples give 0.63 of the least-squares weight,
+// 2p samples 0.98, and from c = 6.3 p on (25 samples for p = 4) the factor is 1 to the last bit: the
+// weights are the regression's own. c counts every sample of the track (no forgetting; gaps do not
+// reset it). A factor c^2 / (c^2 + p^2), of the same cost in losses and means for p = 3, was not
+// kept: its tail 1 - p^2 / c^2 leaves the forecast of an exact line 1 % short after 30 samples.
+// Why: without it the first forecasts of a track extrapolated the velocity of two or three
+// measurements at full weight, and where the motion does not last that long (a track that begins
+// inside a short dash at 10 Hz, a hand's tremor at 50 Hz) those few forecasts cost more than the
+// rest of the track gained. The price is caution at the start of a track whose first steps are
+// steady, most at low frame rates and low noise. imm starts its regressions (per mode and of the
+// combination) the same way. Figures: docs/PERFORMANCE.md "The blend's start".
 // Units: px, s; the weight is dimensionless, so the rule holds at any frame rate and noise level.
 // tau = 0 switches the blend off; its default is kDefaultHoldBlendTauS whatever the other keys say
 // (`shrink_sigmas: 0` turns the weighting off, not the blend: the papers' plain filters give both,
@@ -183,6 +197,13 @@ inline constexpr double kDefaultHoldBlendSplit = 1.0;
 /// tracks and costs more on every grid's mean ratio; n = 0.5 and 1 each tip one track of the tuning
 /// grid over the `--fit` criterion's 10 %, so it is not on by default.
 inline constexpr double kDefaultHoldBlendSigmas = 0.0;
+/// Default `hold_blend_prior` p (samples >= 0, file comment "The start of a track"; 0 = off): each
+/// blend weight learnt from c samples is handed out times 1 - exp(-(c / p)^2). Measured with `predvs
+/// track-study` and scripts/foreign-tracks.py (docs/PERFORMANCE.md "The blend's start").
+inline constexpr double kDefaultHoldBlendPrior = 4.0;
+/// (c / p)^2 from which 1 - exp(-(c / p)^2) is 1 in double precision (exp(-40) < 2^-54): the factor
+/// is not computed beyond it.
+inline constexpr double kBlendPriorExponentEnd = 40.0;
 
 /// Default `coast_stop_fraction` c (dimensionless, file comment): a gap that begins while the target
 /// decelerates coasts with min(coast_tau_s, c t_stop). Measured with `predvs track-study` on the wide
@@ -327,6 +348,10 @@ inline double holdBlendSigmasParam(const Params& params) {
   return params.get("hold_blend_sigmas", kDefaultHoldBlendSigmas, 0.0, 1e3);
 }
 
+/// The `hold_blend_prior` parameter p (samples >= 0, default kDefaultHoldBlendPrior; 0 = off; file
+/// comment, "The start of a track").
+inline double holdBlendPriorParam(const Params& params) { return params.get("hold_blend_prior", kDefaultHoldBlendPrior, 0.0, 1e6); }
+
 /// The `hold_blend_split` parameter (0 | 1, default kDefaultHoldBlendSplit; file comment, "Two weights").
 inline bool holdBlendSplitParam(const Params& params) {
   return params.get("hold_blend_split", kDefaultHoldBlendSplit, 0.0, 1.0) != 0.0;
@@ -367,20 +392,36 @@ struct BlendWeight {
   double s_ss = 0.0, s_sx = 0.0, s_xx = 0.0, s_sy = 0.0, s_xy = 0.0;
   double w_s = 1.0;  ///< weight of the smoothing step d_s, [0, 1]
   double w_x = 1.0;  ///< weight of the extrapolated step d_x, [0, 1]
+  double count = 0.0;  ///< samples learnt so far (no forgetting; with hold_blend_prior > 0 only)
+  /// The weights before the first sample: hold's (0) with a start-up prior p > 0 (file comment, "The
+  /// start of a track"), else the model's (1).
+  void start(double prior) { w = w_s = w_x = prior > 0.0 ? 0.0 : 1.0; }
   /// One sample: the model's forecast step d = f - z_hold against the measured step y = z - z_hold
   /// (both from the hold of the frame the forecast was made at), lambda = exp(-dt / tau);
   /// n_sigmas = hold_blend_sigmas (file comment, "The weight's own uncertainty"; 0 = the
   /// least-squares weight as it is). With split, d_s = p0 - z_hold (the forecast's start position
-  /// p0) also feeds the two-weight regression, d_x = d - d_s.
-  void learn(double d, double d_s, double y, double lambda, double n_sigmas, bool split) {
+  /// p0) also feeds the two-weight regression, d_x = d - d_s. prior = hold_blend_prior p (file
+  /// comment, "The start of a track"; 0 = off): the weights times 1 - exp(-(c / p)^2) after c samples.
+  void learn(double d, double d_s, double y, double lambda, double n_sigmas, bool split, double prior) {
     s_dd = lambda * s_dd + d * d;
     s_dy = lambda * s_dy + d * y;
     w = s_dd > 0.0 ? std::clamp(s_dy / s_dd, 0.0, 1.0) : 1.0;
     if (split) learnSplit(d_s, d - d_s, y, lambda);
-    if (!(n_sigmas > 0.0)) return;
-    s_yy = lambda * s_yy + y * y;
-    s_n = lambda * s_n + 1.0;
-    if (s_dd > 0.0 && s_n > 2.0) w *= significanceWeight(s_dy / s_dd, weightVariance(), n_sigmas);
+    if (n_sigmas > 0.0) {
+      s_yy = lambda * s_yy + y * y;
+      s_n = lambda * s_n + 1.0;
+      if (s_dd > 0.0 && s_n > 2.0) w *= significanceWeight(s_dy / s_dd, weightVariance(), n_sigmas);
+    }
+    if (prior > 0.0) {
+      count += 1.0;
+      const double u = count / prior;
+      if (u * u < kBlendPriorExponentEnd) {  // beyond it 1 - exp(-u^2) rounds to 1: nothing to do
+        const double k = 1.0 - std::exp(-u * u);
+        w *= k;
+        w_s *= k;
+        w_x *= k;
+      }
+    }
   }
   /// The variance of the least-squares weight: the residual variance of the regression over its
   /// forgetting count less one, over S_dd (the usual approximation for a forgetting regression).
@@ -548,6 +589,8 @@ class ChannelPredictor : public Predictor {
           initialize(c, z(c));
           s.initialized = true;
           s.blend.z_hold = z(c);
+          s.blend.start(blend_prior_);
+          for (BlendWeight& l : s.longer) l.start(blend_prior_);
           s.blend.recent.remember(t_s, z(c), s.g.x(1), 0.0, Innovation{});
           if (blend_tau_s_ > 0.0) rememberForecastStart(c, t_s);
         }
@@ -668,7 +711,8 @@ class ChannelPredictor : public Predictor {
     if (s.run >= 1) {  // frame k - 1 measured: the one-frame forecast made there
       const auto j = static_cast<size_t>(s.head);
       const double f = predictedPosition(s.x_start[j], transition(c, t_s - s.t_start[j]));
-      s.blend.learn(f - s.z_start[j], s.x_start[j](0) - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_, blend_split_);
+      s.blend.learn(f - s.z_start[j], s.x_start[j](0) - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_, blend_split_,
+                    blend_prior_);
       // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
       // the handed-out weight is the smallest over the horizons (file comment).
       for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
@@ -677,7 +721,7 @@ class ChannelPredictor : public Predictor {
         // left-to-right order of predictedPosition): kept so, as its bits are the regression's history.
         const double fh = transition(c, t_s - s.t_start[jh]).row(0).dot(s.x_start[jh]);
         s.longer[static_cast<size_t>(h - 2)].learn(fh - s.z_start[jh], s.x_start[jh](0) - s.z_start[jh], z - s.z_start[jh], lambda,
-                                                   blend_sigmas_, blend_split_);
+                                                   blend_sigmas_, blend_split_, blend_prior_);
       }
       minOverHorizons(s.blend, s.longer, blend_frames_);
     }
@@ -738,6 +782,7 @@ class ChannelPredictor : public Predictor {
     blend_tau_s_ = holdBlendTauParam(params);
     blend_frames_ = holdBlendFramesParam(params);
     blend_sigmas_ = holdBlendSigmasParam(params);
+    blend_prior_ = holdBlendPriorParam(params);
     blend_split_ = holdBlendSplitParam(params);
   }
   /// True when the forecast is weighted (a shrink key > 0).
@@ -827,6 +872,7 @@ class ChannelPredictor : public Predictor {
   RecentValues<double> blend_keep_;  ///< blendForgetting(dt) of the last few dt
   int blend_frames_ = kDefaultHoldBlendFrames;
   double blend_sigmas_ = kDefaultHoldBlendSigmas;  ///< hold_blend_sigmas
+  double blend_prior_ = kDefaultHoldBlendPrior;    ///< hold_blend_prior
   bool blend_split_ = kDefaultHoldBlendSplit != 0.0;  ///< hold_blend_split
 };
 

@@ -180,7 +180,9 @@
 // blend_per_mode 0 the combination's (above); hold_blend_frames (1..8, default 2, as theirs): each
 // of those weights is the smallest of its regressions on the forecasts of 1..H frames (Channel::
 // starts keeps the forecast starts of the last updates); hold_blend_split (0 | 1, default 1, as
-// theirs): each moving mode's weight split in two (above); with it, coast_stop_fraction (default 0.5; 0 = off):
+// theirs): each moving mode's weight split in two (above); hold_blend_prior (default 4, as theirs;
+// 0 = off): every one of those regressions hands out its weights times 1 - exp(-(c / p)^2) after
+// c samples (channel_predictor.h, "The start of a track"); with it, coast_stop_fraction (default 0.5; 0 = off):
 // a gap that begins while the mu-combined velocity falls coasts with a shorter time constant
 // (channel_predictor.h, "A stop before the gap"), and coast_lag_sigmas (default 2; 0 = off): one
 // that begins while the moment-matched innovations of the last 5 measured frames oppose that
@@ -333,6 +335,7 @@ class ImmPredictor : public Predictor {
   /// blended forecast, so H changes imm's filter too (PredictorProperty.ForecastVariantsChangeTheForecastOnly).
   int blend_frames_;
   double blend_sigmas_;  ///< hold_blend_sigmas (channel_predictor.h)
+  double blend_prior_;   ///< hold_blend_prior (channel_predictor.h, "The start of a track"), every weight
   bool blend_split_;     ///< hold_blend_split (channel_predictor.h, "Two weights"), per mode
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
   double coast_fast_ratio_;  ///< coast_fast_ratio (channel_predictor.h), with the blend only
