@@ -4,6 +4,8 @@
 
 #include "predvs/predictors/predictor.h"
 
+#include <initializer_list>
+
 namespace predvs {
 
 /// The blend with hold with forgetting time tau_s, and `extra`: the coasting rules that come with
@@ -18,6 +20,16 @@ inline Params blendAlone(double tau_s, const Params& extra) {
            {"hold_blend_prior", 0.0}};
   p.setAll(extra);
   return p;
+}
+
+/// Frame k of the blend tests' noise-free ramp, 5 px + 80 px/s sampled at rate_hz, fed to each of
+/// `predictors` (one channel); returns the measurement.
+inline double feedRamp(int k, double rate_hz, std::initializer_list<Predictor*> predictors) {
+  const double t = k / rate_hz;
+  Eigen::VectorXd z(1);
+  z(0) = 5.0 + 80.0 * t;
+  for (Predictor* p : predictors) p->update(t, z);
+  return z(0);
 }
 
 }  // namespace predvs

@@ -4,6 +4,7 @@
 // step returns as the track shows that it pays, in full after about 6 p samples.
 #include "predvs/predictors/channel_predictor.h"
 #include "predvs/predictors/registry.h"
+#include "predictors/blend_alone.h"
 
 #include <gtest/gtest.h>
 
@@ -61,27 +62,23 @@ TEST(BlendStart, TheFirstForecastOfATrackIsHoldsAndTheRampsStepReturns) {
   for (const char* name : {"kf-cv", "kf-ca", "imm"}) {
     auto on = makePredictor(name, 1);
     auto off = makePredictor(name, 1, {{"hold_blend_prior", 0.0}});
-    Eigen::VectorXd z(1);
     for (int k = 0; k < 60; ++k) {
-      const double t = k / kRateHz;
-      z(0) = 5.0 + 80.0 * t;
-      on->update(t, z);
-      off->update(t, z);
+      const double z = feedRamp(k, kRateHz, {on.get(), off.get()}), t = k / kRateHz;
       const double with = on->predictPosition(0, t + kH), without = off->predictPosition(0, t + kH);
       if (k <= 1) {
         // THEN on the first two frames (no sample of the two-frame regression yet) the forecast is
         // hold's, the last measurement (imm's: its CP mode's filtered position, which the blend per
         // mode leaves unblended, 0.02 px from it), where the one without the prior extrapolates
-        EXPECT_NEAR(with, z(0), std::string(name) == "imm" ? 0.05 : 0.0) << name << " " << k;
+        EXPECT_NEAR(with, z, std::string(name) == "imm" ? 0.05 : 0.0) << name << " " << k;
         if (k == 1) {
-          EXPECT_GT(without - z(0), 1.0) << name;
+          EXPECT_GT(without - z, 1.0) << name;
         }
       } else if (k >= 28) {
         // and once 26 samples of the two-frame regression are in (the factor is 1 from 25.3 on,
         // p = 4), kf-cv's and kf-ca's forecasts are the ones without the prior, bit for bit; imm's
         // within 1 % (its mode probabilities scored the blended forecasts of the start)
         if (std::string(name) == "imm") {
-          EXPECT_NEAR((with - z(0)) / (without - z(0)), 1.0, 0.01) << name << " " << k;
+          EXPECT_NEAR((with - z) / (without - z), 1.0, 0.01) << name << " " << k;
         } else {
           EXPECT_EQ(with, without) << name << " " << k;
         }

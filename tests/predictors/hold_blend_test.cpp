@@ -268,13 +268,9 @@ TEST(HoldBlend, AnExactRampKeepsTheModelForecast) {
     auto on = makePredictor(name, 1, {{"hold_blend_prior", 0.0}});
     auto shrunk = makePredictor(name, 1, {{"hold_blend_sigmas", 1.0}, {"hold_blend_split", 0.0}, {"hold_blend_prior", 0.0}});
     auto off = makePredictor(name, 1, {{"hold_blend_tau_s", 0.0}});
-    Eigen::VectorXd z(1);
     for (int k = 0; k < 60; ++k) {
+      feedRamp(k, kRateHz, {on.get(), shrunk.get(), off.get()});
       const double t = k / kRateHz;
-      z(0) = 5.0 + 80.0 * t;
-      on->update(t, z);
-      shrunk->update(t, z);
-      off->update(t, z);
       // THEN the weights stay near 1: the model's forecast, within 0.05 px of the 16 px step, and
       // 0.002 px over the last second. They are a hair under 1 because the filters converge from
       // rest (the velocity starts at 0 with a large variance): their two-frame forecasts overshoot
