@@ -656,11 +656,12 @@ class PlotTable : public BlockConsumer {
 namespace {
 
 /// summary.json (see writePredictionOutputs).
-void writeSummaryJson(const FeatureTrack& track, const PredictionReport& report, int delay_frames,
-                      const std::string& command_line, const StagedOutputDir& dir) {
+void writeSummaryJson(const FeatureTrack& track, const PredictionReport& report, const PredictionFiles& files,
+                      const StagedOutputDir& dir) {
+  const int delay_frames = files.delay_frames;
   const int n = track.points();
   nlohmann::json summary;
-  summary["command"] = command_line;
+  summary["command"] = files.command_line;
   summary["input"] = track.path;
   summary["format"] = track.format;
   summary["points"] = track.point_names;
@@ -668,7 +669,9 @@ void writeSummaryJson(const FeatureTrack& track, const PredictionReport& report,
   summary["rows"] = track.size();
   summary["horizon_s"] = report.horizon_s;
   summary["delay_frames"] = delay_frames >= 0 ? nlohmann::json(delay_frames) : nlohmann::json(nullptr);
-  summary["frame_period_s"] = track.size() >= 2 ? medianPeriod(track.t_s) : kNaN;
+  summary["frame_period_s"] = std::isfinite(files.frame_period_s) ? files.frame_period_s
+                             : track.size() >= 2                  ? medianPeriod(track.t_s)
+                                                                  : kNaN;
   summary["error_reference"] =
       "prediction made at t compared with the measurement (and truth) linearly interpolated at t + horizon_s; "
       "per point, and overall over every (frame, point) pair";
@@ -803,7 +806,7 @@ PredictionReport predictToFiles(const FeatureTrack& track, const std::vector<Pre
   streamPredictions(track, predictors, horizon_s, jobs, files.block_rows, consumers);
   errors.finish();
   csv.finish();
-  writeSummaryJson(track, report, files.delay_frames, files.command_line, dir);
+  writeSummaryJson(track, report, files, dir);
   if (plot) {
     writePlotFiles(track, report, files.delay_frames, *plot, dir);
     runGnuplot(dir.staging().string(), "predictions.gp");

@@ -182,6 +182,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   // With --fit-split only the rows after the fit are scored; predictions.csv has every row.
   PredictionFiles files;
   files.delay_frames = delay_frames;
+  if (delay_frames >= 0) files.frame_period_s = period_s;  // measured above
   files.command_line = command_line;
   files.plots = !a.no_plots;
   if (a.fit && !a.fit_split.empty() && fit_rows < track.size()) files.score_from = fit_rows;

@@ -250,6 +250,8 @@ TEST_F(CliTest, PredictWritesPredictionsAndSummary) {
   constexpr double kTimeTol = 1e-9;  // sums of 0.04 s steps in binary floating point
   EXPECT_NEAR(j["horizon_s"].get<double>(), 0.08, kTimeTol);
   EXPECT_EQ(j["delay_frames"].get<int>(), 2);
+  // the frame period the horizon was measured with (medianPeriod, once per run)
+  EXPECT_NEAR(j["frame_period_s"].get<double>(), 0.04, kTimeTol);
   ASSERT_EQ(j["predictors"].size(), 1u);
   EXPECT_EQ(j["predictors"][0]["name"], "kf-cv");
   EXPECT_EQ(j["predictors"][0]["params"]["q"].get<double>(), 50.0);
@@ -279,6 +281,9 @@ TEST_F(CliTest, PredictAllComparesEveryPredictor) {
   const auto j = nlohmann::json::parse(js);
   const auto& reg = predvs::predictorRegistry();
   ASSERT_EQ(j["predictors"].size(), reg.size());
+  // --horizon-s: no frame period was needed for the horizon; the summary measures it itself
+  EXPECT_NEAR(j["frame_period_s"].get<double>(), 0.04, 1e-9);
+  EXPECT_TRUE(j["delay_frames"].is_null());
   double hold = NAN, kfcv = NAN;
   for (size_t i = 0; i < reg.size(); ++i) {
     EXPECT_EQ(j["predictors"][i]["name"], reg[i].name);
