@@ -121,7 +121,8 @@ struct PredictionFiles {
   size_t block_rows = kPredictBlockRows;
   /// The track's median frame period (s) when the caller has measured it (medianPeriod, for
   /// --delay-frames): summary.json's "frame_period_s" then reuses it instead of a second median of
-  /// every row's period (0.02-0.03 s on a 2-million-row track, after the predictors). NaN: measured there.
+  /// every row's period, on one thread after the predictors (docs/PERFORMANCE.md, "Eleventh pass").
+  /// NaN: measured there.
   double frame_period_s = std::numeric_limits<double>::quiet_NaN();
 };
 
