@@ -70,7 +70,8 @@ double parseCell(const std::string& cell, const std::string& file, int line, con
 /// Splits one CSV line on commas (no quoting: predvs files hold numbers and plain names only).
 std::vector<std::string> splitCsvLine(const std::string& line);
 
-/// Median of the positive differences of consecutive times (the frame period of a track).
+/// Median of the differences of consecutive times (the frame period of a track); few distinct
+/// differences are counted without a copy of them, the same result as sorting (track_csv.cpp).
 /// Throws std::invalid_argument when fewer than two times are given.
 double medianPeriod(const std::vector<double>& t_s);
 

@@ -13,8 +13,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -518,6 +520,41 @@ TEST(TrackCsv, InterpolationAndMedianPeriod) {
   EXPECT_TRUE(std::isnan(predvs::interpolateAt(t, y, 4.0)));   // no extrapolation
   EXPECT_NEAR(predvs::medianPeriod(t), 1.0, kTol);
   EXPECT_NEAR(predvs::medianPeriod({0.0, 0.1, 0.2, 0.5}), 0.1, kTol);
+}
+
+/// The median of the consecutive differences by sorting a copy (medianPeriod's general path).
+double medianBySorting(const std::vector<double>& t) {
+  std::vector<double> d;
+  for (size_t i = 1; i < t.size(); ++i) d.push_back(t[i] - t[i - 1]);
+  std::sort(d.begin(), d.end());
+  const size_t mid = d.size() / 2;
+  return d.size() % 2 == 1 ? d[mid] : 0.5 * (d[mid - 1] + d[mid]);
+}
+
+TEST(TrackCsv, MedianPeriodIsTheSameBitsWithFewOrManyDistinctPeriods) {
+  // GIVEN times from a steady clock written with a few digits (few distinct differences, the
+  // counted path), with dropped frames, and times with jitter (every difference distinct: the
+  // sorted path), each with an odd and an even number of differences, and times with a repeat
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const double period : {1.0 / 30.0, 1.0 / 60.0, 0.1}) {
+    for (const size_t rows : {2u, 3u, 1000u, 1001u, 20000u}) {
+      for (const bool jitter : {false, true}) {
+        std::vector<double> t;
+        double clock = 12345.6;
+        while (t.size() < rows) {
+          clock += period * (unit(rng) < 0.05 ? 2.0 : 1.0) * (jitter ? 1.0 + 0.1 * (unit(rng) - 0.5) : 1.0);
+          t.push_back(std::round(clock * 1e6) / 1e6);  // 6 decimals, as a CSV might hold them
+        }
+        // THEN the median is the one of the sorted differences, to the bit
+        const double got = predvs::medianPeriod(t), want = medianBySorting(t);
+        EXPECT_EQ(std::memcmp(&got, &want, sizeof got), 0)
+            << "period " << period << " rows " << rows << " jitter " << jitter << ": " << got << " vs " << want;
+      }
+    }
+  }
+  const std::vector<double> repeat = {0.0, 0.1, 0.1, 0.2, 0.4};  // a zero difference: the sorted path
+  EXPECT_EQ(predvs::medianPeriod(repeat), medianBySorting(repeat));
 }
 
 }  // namespace
