@@ -418,8 +418,10 @@ struct BlendWeight {
       if (u * u < kBlendPriorExponentEnd) {  // beyond it 1 - exp(-u^2) rounds to 1: nothing to do
         const double k = 1.0 - std::exp(-u * u);
         w *= k;
-        w_s *= k;
-        w_x *= k;
+        if (split) {  // w_s, w_x: learnt (each sample anew) and read with the split only
+          w_s *= k;
+          w_x *= k;
+        }
       }
     }
   }
