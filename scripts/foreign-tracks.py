@@ -202,7 +202,12 @@ def run_one(args, kind, rate, noise, seed, work):
     make_track(kind, rate, noise, seed, args.duration_s, args.drop, args.jitter, track)
     if args.keep_tracks:
         shutil.copy(track, os.path.join(args.out, "tracks", name + ".csv"))
-    out = os.path.join(work, name)
+    return kind, rate, noise, seed, predict_rmse(args, track, os.path.join(work, name))
+
+
+def predict_rmse(args, track, out):
+    """Runs `predict --predictor args.predictors --delay-frames 2` on track (with truth) into out;
+    returns {predictor: RMSE vs truth, px}."""
     cmd = [args.bin, "predict", "--input", track, "--predictor", args.predictors, "--delay-frames", "2",
            "--no-plots", "--jobs", "1", "--out", out] + args.predict_args.split()
     res = subprocess.run(cmd, capture_output=True, text=True)
@@ -210,10 +215,7 @@ def run_one(args, kind, rate, noise, seed, work):
         raise RuntimeError(f"{' '.join(cmd)}: {res.stderr.strip()}")
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
-    rows = {}
-    for p in summary["predictors"]:
-        rows[p["name"]] = p["vs_truth"]["rmse_px"]
-    return kind, rate, noise, seed, rows
+    return {p["name"]: p["vs_truth"]["rmse_px"] for p in summary["predictors"]}
 
 
 REFERENCE = ("kf-cv", "kf-ca", "cs-akf")  # the fixed KFs of issue 11's "best fixed KF"
@@ -245,6 +247,28 @@ def print_within_best(results, names, kinds):
         print(f"{n:16s} " + " ".join(f"{c[0]:>4d}/{c[1]:<3d}" for c in per_kind[n].values()))
 
 
+def add_predict_arguments(ap, unit):
+    """The arguments both study scripts take: --predictors, --predict-args, --check and --jobs (unit
+    names what one run is, "track" or "replay")."""
+    ap.add_argument("--predictors", default="all", help="predict's --predictor list ([LABEL=]NAME[:KEY=VALUE...]); must include hold")
+    ap.add_argument("--predict-args", default="", help="further arguments of predict, e.g. '--fit --fit-split 0.5'")
+    ap.add_argument("--check", action="store_true", help=f"exit 1 when some predictor does not beat hold on some {unit}")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help=f"{unit}s run at once (default: the cores)")
+
+
+def rates_and_noise(ap, args):
+    """The lists of --rates and --noise; ap.error unless the rates are positive, the noise levels not
+    negative, --seeds and --jobs at least 1."""
+    try:
+        rates = [float(x) for x in args.rates.split(",")]
+        noises = [float(x) for x in args.noise.split(",")]
+    except ValueError as e:
+        ap.error(f"--rates/--noise: {e}")
+    if args.seeds < 1 or args.jobs < 1 or any(r <= 0 for r in rates) or any(n < 0 for n in noises):
+        ap.error("need --seeds >= 1, --jobs >= 1, positive --rates and --noise not negative")
+    return rates, noises
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("bin", help="the predvs binary")
@@ -257,21 +281,12 @@ def main():
     ap.add_argument("--drop", type=float, default=0.03, help="single-frame drop probability; occlusions of 3-10 frames begin at drop/10")
     ap.add_argument("--jitter", type=float, default=0.1, help="timestamp jitter, fraction of a period (uniform +-)")
     ap.add_argument("--kinds", default=",".join(KINDS), help="comma list of motion kinds (default all: " + ",".join(KINDS) + ")")
-    ap.add_argument("--predictors", default="all", help="predict's --predictor list ([LABEL=]NAME[:KEY=VALUE...]); must include hold")
-    ap.add_argument("--predict-args", default="", help="further arguments of predict, e.g. '--fit --fit-split 0.5'")
     ap.add_argument("--keep-tracks", action="store_true", help="also write each track to OUT/tracks/KIND-RATEhz-NOISEpx-SEED.csv")
-    ap.add_argument("--check", action="store_true", help="exit 1 when some predictor does not beat hold on some track")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="tracks run at once (default: the cores)")
+    add_predict_arguments(ap, "track")
     args = ap.parse_args()
-    try:
-        rates = [float(x) for x in args.rates.split(",")]
-        noises = [float(x) for x in args.noise.split(",")]
-    except ValueError as e:
-        ap.error(f"--rates/--noise: {e}")
-    if args.seeds < 1 or args.jobs < 1 or not args.duration_s > 1.5 or not 0 <= args.drop < 1 or not 0 <= args.jitter < 0.5:
-        ap.error("need --seeds >= 1, --jobs >= 1, --duration-s > 1.5, 0 <= --drop < 1 and 0 <= --jitter < 0.5")
-    if any(r <= 0 for r in rates) or any(n < 0 for n in noises):
-        ap.error("--rates must be positive and --noise not negative")
+    rates, noises = rates_and_noise(ap, args)
+    if not args.duration_s > 1.5 or not 0 <= args.drop < 1 or not 0 <= args.jitter < 0.5:
+        ap.error("need --duration-s > 1.5, 0 <= --drop < 1 and 0 <= --jitter < 0.5")
     kinds = args.kinds.split(",")
     for k in kinds:
         if k not in KINDS:
@@ -281,27 +296,42 @@ def main():
     cells = [(k, r, n, s) for k in kinds for r in rates for n in noises for s in range(args.seed, args.seed + args.seeds)]
     if args.keep_tracks:
         os.makedirs(os.path.join(args.out, "tracks"), exist_ok=True)
-    work = tempfile.mkdtemp(prefix="foreign-tracks-")
-    results, done = [], 0
     try:
-        with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-            futs = [pool.submit(run_one, args, *c, work) for c in cells]
-            for fut in concurrent.futures.as_completed(futs):
-                results.append(fut.result())
-                done += 1
-                if done % 50 == 0 or done == len(cells):
-                    print(f"{done}/{len(cells)} tracks", file=sys.stderr)
+        results = run_cells("foreign-tracks", lambda c, work: run_one(args, *c, work), cells, args.jobs)
     except RuntimeError as e:
         print(f"foreign-tracks: error: {e}", file=sys.stderr)
         return 2
+    return report(results, args.out, kinds, args.check)
+
+
+def run_cells(prefix, fn, cells, jobs):
+    """fn(cell, work) for every cell on jobs threads, work a temporary directory (removed after);
+    progress on stderr every 50 cells. Returns the results; a RuntimeError of fn is raised."""
+    work = tempfile.mkdtemp(prefix=prefix + "-")
+    results = []
+    try:
+        with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+            futs = [pool.submit(fn, c, work) for c in cells]
+            for fut in concurrent.futures.as_completed(futs):
+                results.append(fut.result())
+                if len(results) % 50 == 0 or len(results) == len(cells):
+                    print(f"{len(results)}/{len(cells)} tracks", file=sys.stderr)
     finally:
         shutil.rmtree(work, ignore_errors=True)
+    return results
+
+
+def report(results, out, kinds, check):
+    """Writes out/results.csv from results [(kind, rate, noise, seed, {predictor: RMSE vs truth})]
+    and prints, per predictor, the tracks where it beats hold, the geometric mean and worst ratio,
+    and the comparison with the best fixed KF (print_within_best). Returns the exit status: 1 when
+    check and some predictor does not beat hold on some track (one line each on stderr), else 0."""
     results.sort()
-    os.makedirs(args.out, exist_ok=True)
+    os.makedirs(out, exist_ok=True)
     names = [n for n in results[0][4] if n != "hold"]
     stats = {n: [0, 0.0, 0.0, ""] for n in names}
     losses = []
-    tmp = os.path.join(args.out, ".results.csv")
+    tmp = os.path.join(out, ".results.csv")
     with open(tmp, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["kind", "rate_hz", "noise_px", "seed", "predictor", "rmse_truth_px", "ratio_to_hold"])
@@ -317,13 +347,13 @@ def main():
                     losses.append(f"{n} does not beat hold on {kind} {rate:g} Hz {noise:g} px #{seed}: x{ratio:.3f}")
                 if ratio > st[2]:
                     st[2], st[3] = ratio, f"{kind} {rate:g} Hz {noise:g} px #{seed}"
-    os.replace(tmp, os.path.join(args.out, "results.csv"))
+    os.replace(tmp, os.path.join(out, "results.csv"))
     print(f"{'predictor':16s} {'beats hold':>12s} {'mean ratio':>10s}  worst   (ratio: RMSE vs truth / hold's, 2 frames ahead; geometric mean)")
     for n in names:
         st = stats[n]
         print(f"{n:16s} {st[0]:5d}/{len(results):<6d} {math.exp(st[1] / len(results)):10.3f}  {st[2]:.3f} ({st[3]})")
     print_within_best(results, names, kinds)
-    if args.check and losses:
+    if check and losses:
         print("\n".join(losses), file=sys.stderr)
         return 1
     return 0
