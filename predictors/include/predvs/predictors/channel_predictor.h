@@ -143,6 +143,22 @@
 // rest of the track gained. The price is caution at the start of a track whose first steps are
 // steady, most at low frame rates and low noise. imm starts its regressions (per mode and of the
 // combination) the same way. Figures: docs/PERFORMANCE.md "The blend's start".
+// Extrapolations the track has not shown (`extrapolation_cap` rho, default kDefaultExtrapolationCap;
+// 0 = off; with the split, on forecasts made on a measured frame): each channel keeps the forgetting
+// mean square of the rates of its one-frame extrapolations, r = d_x / dt on the frames the blend
+// learns from, time-weighted as the coast's RMS velocity (r_rms^2 = sum l r^2 dt / sum l dt, the
+// same l); once that memory spans kCoastFastMinMemoryS of measured time, a forecast over h seconds
+// whose extrapolation d_x = x_m(0) - p0 exceeds rho r_rms h is scaled down to that size, its velocity
+// and acceleration by the same factor, before the blend (the first second of a track is the start's
+// business, "The start of a track" above). Why: a one-frame step of the image (a camera bumped, a frame
+// the recording skipped, mire-2's five dots at frames 200 and 332) reads as a velocity and an
+// acceleration tens of times those the track has shown, and the filters with an acceleration state
+// extrapolated it over the whole horizon; at 10-20 Hz that one forecast cost more than the rest of
+// the track gained (mire-2 stamped at 10 Hz). The blend's weights
+// cannot catch it: they are least squares over seconds, and the step is one frame. The cap sees
+// only the track's own rates (px/s), so it holds at any rate and noise. The price: the first frame
+// or two of a real manoeuvre that starts from a slow, steady drift are held back too (a noise-free
+// drift then a dash). Figures: docs/PERFORMANCE.md "A recorded track at other frame rates".
 // Units: px, s; the weight is dimensionless, so the rule holds at any frame rate and noise level.
 // tau = 0 switches the blend off; its default is kDefaultHoldBlendTauS whatever the other keys say
 // (`shrink_sigmas: 0` turns the weighting off, not the blend: the papers' plain filters give both,
@@ -201,6 +217,11 @@ inline constexpr double kDefaultHoldBlendSigmas = 0.0;
 /// blend weight learnt from c samples is handed out times 1 - exp(-(c / p)^2). Measured with `predvs
 /// track-study` and scripts/foreign-tracks.py (docs/PERFORMANCE.md "The blend's start").
 inline constexpr double kDefaultHoldBlendPrior = 4.0;
+/// Default `extrapolation_cap` rho (dimensionless >= 0, file comment "Extrapolations the track has
+/// not shown"; 0 = off): a forecast extrapolates at most rho times the RMS rate of the channel's
+/// one-frame extrapolations. Measured with scripts/recorded-track.py, `predvs track-study` and
+/// scripts/foreign-tracks.py (docs/PERFORMANCE.md "A recorded track at other frame rates").
+inline constexpr double kDefaultExtrapolationCap = 4.0;
 /// (c / p)^2 from which 1 - exp(-(c / p)^2) is 1 in double precision (exp(-40) < 2^-54): the factor
 /// is not computed beyond it.
 inline constexpr double kBlendPriorExponentEnd = 40.0;
@@ -351,6 +372,12 @@ inline double holdBlendSigmasParam(const Params& params) {
 /// The `hold_blend_prior` parameter p (samples >= 0, default kDefaultHoldBlendPrior; 0 = off; file
 /// comment, "The start of a track").
 inline double holdBlendPriorParam(const Params& params) { return params.get("hold_blend_prior", kDefaultHoldBlendPrior, 0.0, 1e6); }
+
+/// The `extrapolation_cap` parameter rho (>= 0, default kDefaultExtrapolationCap; 0 = off; file
+/// comment, "Extrapolations the track has not shown").
+inline double extrapolationCapParam(const Params& params) {
+  return params.get("extrapolation_cap", kDefaultExtrapolationCap, 0.0, 1e6);
+}
 
 /// The `hold_blend_split` parameter (0 | 1, default kDefaultHoldBlendSplit; file comment, "Two weights").
 inline bool holdBlendSplitParam(const Params& params) {
@@ -629,8 +656,17 @@ class ChannelPredictor : public Predictor {
     Gaussian<N> g = forecastWeightingOn() ? weightedForecastStart(channel) : s.g;
     timeUpdate(g, transition(channel, dt), processNoise(channel, dt));
     if (blend_tau_s_ > 0.0) {
-      if (splitsBlend(s)) s.blend.blendStateSplit(s.blend.z_hold, s.x_start[static_cast<size_t>(s.head)](0), g.x);
-      else s.blend.blendState(s.blend.z_hold, g.x);
+      if (splitsBlend(s)) {
+        const double p0 = s.x_start[static_cast<size_t>(s.head)](0);
+        const double k = extrapolationFactor(s, g.x(0) - p0, dt);
+        if (k < 1.0) {
+          g.x(0) = p0 + k * (g.x(0) - p0);
+          for (int i = 1; i < N; ++i) g.x(i) *= k;
+        }
+        s.blend.blendStateSplit(s.blend.z_hold, p0, g.x);
+      } else {
+        s.blend.blendState(s.blend.z_hold, g.x);
+      }
     }
     return toEstimate(g);
   }
@@ -649,8 +685,10 @@ class ChannelPredictor : public Predictor {
                                 : predictedPosition(s.g, transition(channel, dt));
     }
     if (!(blend_tau_s_ > 0.0)) return f;
-    return splitsBlend(s) ? s.blend.blendSplit(s.blend.z_hold, s.x_start[static_cast<size_t>(s.head)](0), f)
-                          : s.blend.position(f);
+    if (!splitsBlend(s)) return s.blend.position(f);
+    const double p0 = s.x_start[static_cast<size_t>(s.head)](0);
+    const double k = extrapolationFactor(s, f - p0, dt);
+    return s.blend.blendSplit(s.blend.z_hold, p0, k < 1.0 ? p0 + k * (f - p0) : f);
   }
 
   Innovation innovation(int channel) const override { return state_.at(channel).innovation; }
@@ -680,7 +718,18 @@ class ChannelPredictor : public Predictor {
     /// The last update after initialisation had no measurement (inside step(): the one before
     /// this update; set after it).
     bool unmeasured_last = false;
+    /// Forgetting sums of the one-frame extrapolation rates squared times dt (px^2/s) and of dt (s),
+    /// and the RMS rate they give (file comment, "Extrapolations the track has not shown").
+    double rate_ss = 0.0, rate_t = 0.0, rate_rms = 0.0;
   };
+
+  /// The factor (in [0, 1]) on an extrapolated step e (px) over h seconds of channel state s: 1,
+  /// or rho r_rms h / |e| when |e| is larger (file comment, "Extrapolations the track has not shown").
+  double extrapolationFactor(const ChannelState& s, double e, double h) const {
+    if (!(extrapolation_cap_ > 0.0) || !(s.rate_t >= kCoastFastMinMemoryS)) return 1.0;
+    const double limit = extrapolation_cap_ * s.rate_rms * h;
+    return std::abs(e) > limit ? limit / std::abs(e) : 1.0;
+  }
 
   /// True when a forecast of channel s now is blended with the two weights (file comment, "Two
   /// weights"): the split is on and the last update was measured, so x_start[head] is its start.
@@ -715,6 +764,13 @@ class ChannelPredictor : public Predictor {
       const double f = predictedPosition(s.x_start[j], transition(c, t_s - s.t_start[j]));
       s.blend.learn(f - s.z_start[j], s.x_start[j](0) - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_, blend_split_,
                     blend_prior_);
+      if (extrapolation_cap_ > 0.0) {
+        const double dt1 = t_s - s.t_start[j];
+        const double rate = (f - s.x_start[j](0)) / dt1;
+        s.rate_ss = lambda * s.rate_ss + rate * rate * dt1;
+        s.rate_t = lambda * s.rate_t + dt1;
+        s.rate_rms = std::sqrt(s.rate_ss / s.rate_t);
+      }
       // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
       // the handed-out weight is the smallest over the horizons (file comment).
       for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
@@ -786,6 +842,7 @@ class ChannelPredictor : public Predictor {
     blend_sigmas_ = holdBlendSigmasParam(params);
     blend_prior_ = holdBlendPriorParam(params);
     blend_split_ = holdBlendSplitParam(params);
+    extrapolation_cap_ = extrapolationCapParam(params);
   }
   /// True when the forecast is weighted (a shrink key > 0).
   bool forecastWeightingOn() const { return shrink_a_sigmas_ > 0.0 || shrink_v_sigmas_ > 0.0; }
@@ -876,6 +933,7 @@ class ChannelPredictor : public Predictor {
   double blend_sigmas_ = kDefaultHoldBlendSigmas;  ///< hold_blend_sigmas
   double blend_prior_ = kDefaultHoldBlendPrior;    ///< hold_blend_prior
   bool blend_split_ = kDefaultHoldBlendSplit != 0.0;  ///< hold_blend_split
+  double extrapolation_cap_ = 0.0;  ///< extrapolation_cap; 0 until readShrinkParams()
 };
 
 }  // namespace predvs
