@@ -718,17 +718,19 @@ class ChannelPredictor : public Predictor {
     /// The last update after initialisation had no measurement (inside step(): the one before
     /// this update; set after it).
     bool unmeasured_last = false;
-    /// Forgetting sums of the one-frame extrapolation rates squared times dt (px^2/s) and of dt (s),
-    /// and the RMS rate they give (file comment, "Extrapolations the track has not shown").
-    double rate_ss = 0.0, rate_t = 0.0, rate_rms = 0.0;
+    /// Forgetting sums of the one-frame extrapolation rates squared times dt (px^2/s) and of dt (s):
+    /// r_rms^2 = rate_ss / rate_t (file comment, "Extrapolations the track has not shown").
+    double rate_ss = 0.0, rate_t = 0.0;
   };
 
   /// The factor (in [0, 1]) on an extrapolated step e (px) over h seconds of channel state s: 1,
   /// or rho r_rms h / |e| when |e| is larger (file comment, "Extrapolations the track has not shown").
+  /// (Compared in squares, |e|^2 r_t > rho^2 r_ss h^2: no root on the frames it lets through.)
   double extrapolationFactor(const ChannelState& s, double e, double h) const {
     if (!(extrapolation_cap_ > 0.0) || !(s.rate_t >= kCoastFastMinMemoryS)) return 1.0;
-    const double limit = extrapolation_cap_ * s.rate_rms * h;
-    return std::abs(e) > limit ? limit / std::abs(e) : 1.0;
+    const double limit_sq_t = extrapolation_cap_ * extrapolation_cap_ * s.rate_ss * h * h;  // (rho r_rms h)^2 r_t
+    if (!(e * e * s.rate_t > limit_sq_t)) return 1.0;
+    return std::sqrt(limit_sq_t / s.rate_t) / std::abs(e);
   }
 
   /// True when a forecast of channel s now is blended with the two weights (file comment, "Two
@@ -765,11 +767,9 @@ class ChannelPredictor : public Predictor {
       s.blend.learn(f - s.z_start[j], s.x_start[j](0) - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_, blend_split_,
                     blend_prior_);
       if (extrapolation_cap_ > 0.0) {
-        const double dt1 = t_s - s.t_start[j];
-        const double rate = (f - s.x_start[j](0)) / dt1;
-        s.rate_ss = lambda * s.rate_ss + rate * rate * dt1;
+        const double dt1 = t_s - s.t_start[j], d_x = f - s.x_start[j](0);
+        s.rate_ss = lambda * s.rate_ss + d_x * d_x / dt1;  // (d_x / dt1)^2 dt1
         s.rate_t = lambda * s.rate_t + dt1;
-        s.rate_rms = std::sqrt(s.rate_ss / s.rate_t);
       }
       // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
       // the handed-out weight is the smallest over the horizons (file comment).
