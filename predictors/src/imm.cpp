@@ -131,6 +131,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       blend_sigmas_(holdBlendSigmasParam(params)),
       blend_prior_(holdBlendPriorParam(params)),
       blend_split_(holdBlendSplitParam(params)),
+      extrapolation_cap_(extrapolationCapParam(params)),
       coast_stop_fraction_(coastStopFractionParam(params)),
       coast_fast_ratio_(coastFastRatioParam(params)),
       coast_lag_sigmas_(coastLagSigmasParam(params)),
@@ -429,6 +430,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
           const double p0 = d == 3 ? x_ca(0) : ch.g[jj].x(0);  // the mode's forecast start position
           ch.mode_blend[jj].learn(pj - ch.blend.z_hold, p0 - ch.blend.z_hold, z(c) - ch.blend.z_hold, blend_keep,
                                   blend_sigmas_, blend_split_, blend_prior_);
+          if (extrapolation_cap_ > 0.0 && blend_split_) ch.mode_rates[jj].learn(pj - p0, dt, blend_keep);
         }
       }
       // the combination's step is not split (it is blended only with blend_per_mode 0)
@@ -751,8 +753,17 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
     const double p0 = g[jj].x(0);
     timeUpdate(g[jj], transition(j, dt), processNoise(j, dt, modeRaise(ch, j)));
     // the mode blended with hold by its own weight(s) (predictPosition's arithmetic)
-    if (blendsMode(j) && splitsBlend(ch)) ch.mode_blend[jj].blendStateSplit(ch.blend.z_hold, p0, g[jj].x);
-    else if (blendsMode(j)) ch.mode_blend[jj].blendState(ch.blend.z_hold, g[jj].x);
+    if (blendsMode(j) && splitsBlend(ch)) {
+      const double k = ch.mode_rates[jj].factor(extrapolation_cap_, g[jj].x(0) - p0, dt);
+      if (k < 1.0) {
+        g[jj].x(0) = p0 + k * (g[jj].x(0) - p0);
+        g[jj].x(1) *= k;
+        g[jj].x(2) *= k;
+      }
+      ch.mode_blend[jj].blendStateSplit(ch.blend.z_hold, p0, g[jj].x);
+    } else if (blendsMode(j)) {
+      ch.mode_blend[jj].blendState(ch.blend.z_hold, g[jj].x);
+    }
   }
   Gaussian<3> out = combine(g, w);
   if (blend_tau_s_ > 0.0 && !blendsPerMode()) ch.blend.blendState(ch.blend.z_hold, out.x);
@@ -774,8 +785,12 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
     const double pj = d == 1   ? ch.g[jj].x(0)
                       : d == 2 ? ch.g[jj].x(0) + dt * ch.g[jj].x(1)
                                : predictedPosition(forecastStartMean(ch, j), transition(j, dt));
-    if (!blendsMode(j)) p += w[jj] * pj;
-    else if (splitsBlend(ch)) p += w[jj] * ch.mode_blend[jj].blendSplit(ch.blend.z_hold, ch.g[jj].x(0), pj);
+    if (!blendsMode(j)) {
+      p += w[jj] * pj;
+    } else if (splitsBlend(ch)) {
+      const double p0 = ch.g[jj].x(0), k = ch.mode_rates[jj].factor(extrapolation_cap_, pj - p0, dt);
+      p += w[jj] * ch.mode_blend[jj].blendSplit(ch.blend.z_hold, p0, k < 1.0 ? p0 + k * (pj - p0) : pj);
+    }
     else p += w[jj] * ch.mode_blend[jj].blend(ch.blend.z_hold, pj);
   }
   return blend_tau_s_ > 0.0 && !blendsPerMode() ? ch.blend.position(p) : p;

@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
-#include <string>
 
 namespace predvs {
 namespace {
@@ -69,15 +68,11 @@ TEST(BlendHorizons, TheTwoFrameWeightKeepsTheFiltersBelowHoldOnShortDashes) {
     const double hold_px = scoreOnTrack(tr, *hold, horizon).rmse_truth_px;
     for (const char* name : {"kf-cv", "kf-ca", "imm"}) {
       // WHEN the filter runs with its defaults (the blend on 1 and 2 frames) and with the blend
-      // learnt on one-frame forecasts only (hold_blend_frames 1, the default before); the
-      // per-channel filters without their extrapolation cap in both (extrapolation_cap 0: it came
-      // after, and holds back the dashes' overshoot too, so that with it the one-frame blend lost
-      // 4 of the 9; imm has no cap)
-      const bool capped = std::string(name) != "imm";
-      Params defaults, one_frame{{"hold_blend_frames", 1.0}};
-      if (capped) defaults.set("extrapolation_cap", 0.0), one_frame.set("extrapolation_cap", 0.0);
-      auto two = makePredictor(name, 2, defaults);
-      auto one = makePredictor(name, 2, one_frame);
+      // learnt on one-frame forecasts only (hold_blend_frames 1, the default before), both without
+      // the extrapolation cap (extrapolation_cap 0: it came after, and holds back the dashes'
+      // overshoot too, so that with it the one-frame blend lost 4 of the 9)
+      auto two = makePredictor(name, 2, {{"extrapolation_cap", 0.0}});
+      auto one = makePredictor(name, 2, {{"hold_blend_frames", 1.0}, {"extrapolation_cap", 0.0}});
       const double two_px = scoreOnTrack(tr, *two, horizon).rmse_truth_px;
       const double one_px = scoreOnTrack(tr, *one, horizon).rmse_truth_px;
       std::printf("[ dashes #%u ] %s / hold: %.3f (one-frame blend %.3f)\n", seed, name, two_px / hold_px, one_px / hold_px);

@@ -379,6 +379,21 @@ inline double extrapolationCapParam(const Params& params) {
   return params.get("extrapolation_cap", kDefaultExtrapolationCap, 0.0, 1e6);
 }
 
+/// The cap's state (file comment, "Extrapolations the track has not shown"): forgetting sums of the
+/// one-frame extrapolation rates squared times dt (px^2/s) and of dt (s), r_rms^2 = ss / t.
+struct ExtrapolationRates {
+  double ss = 0.0, t = 0.0;
+  /// One one-frame extrapolation d_x (px) over dt (s), lambda the blend's forgetting.
+  void learn(double d_x, double dt, double lambda) {
+    ss = lambda * ss + d_x * d_x / dt;  // (d_x / dt)^2 dt
+    t = lambda * t + dt;
+  }
+  /// The factor (in [0, 1]) on an extrapolated step e (px) over h seconds: 1, or rho r_rms h / |e|
+  /// when |e| is larger, once the memory spans kCoastFastMinMemoryS (rho = cap; 0 = off). Compared
+  /// in squares, |e|^2 t > rho^2 ss h^2: no root on the forecasts it lets through.
+  double factor(double cap, double e, double h) const;
+};
+
 /// The `hold_blend_split` parameter (0 | 1, default kDefaultHoldBlendSplit; file comment, "Two weights").
 inline bool holdBlendSplitParam(const Params& params) {
   return params.get("hold_blend_split", kDefaultHoldBlendSplit, 0.0, 1.0) != 0.0;
@@ -576,6 +591,13 @@ inline double coastLagSigmasParam(const Params& params) {
 /// The `coast_shape` parameter (1..10, default kDefaultCoastShape; 1 = exponential; file comment).
 inline double coastShapeParam(const Params& params) { return params.get("coast_shape", kDefaultCoastShape, 1.0, 10.0); }
 
+inline double ExtrapolationRates::factor(double cap, double e, double h) const {
+  if (!(cap > 0.0) || !(t >= kCoastFastMinMemoryS)) return 1.0;
+  const double limit_sq_t = cap * cap * ss * h * h;  // (rho r_rms h)^2 t
+  if (!(e * e * t > limit_sq_t)) return 1.0;
+  return std::sqrt(limit_sq_t / t) / std::abs(e);
+}
+
 /// v <- v e, a <- a e^2 on a state [p, v(, a)] for a given factor e (the gap's coasting,
 /// HoldBlend::gapDecay, or coast() below).
 template <int N>
@@ -658,7 +680,7 @@ class ChannelPredictor : public Predictor {
     if (blend_tau_s_ > 0.0) {
       if (splitsBlend(s)) {
         const double p0 = s.x_start[static_cast<size_t>(s.head)](0);
-        const double k = extrapolationFactor(s, g.x(0) - p0, dt);
+        const double k = s.rates.factor(extrapolation_cap_, g.x(0) - p0, dt);
         if (k < 1.0) {
           g.x(0) = p0 + k * (g.x(0) - p0);
           for (int i = 1; i < N; ++i) g.x(i) *= k;
@@ -687,7 +709,7 @@ class ChannelPredictor : public Predictor {
     if (!(blend_tau_s_ > 0.0)) return f;
     if (!splitsBlend(s)) return s.blend.position(f);
     const double p0 = s.x_start[static_cast<size_t>(s.head)](0);
-    const double k = extrapolationFactor(s, f - p0, dt);
+    const double k = s.rates.factor(extrapolation_cap_, f - p0, dt);
     return s.blend.blendSplit(s.blend.z_hold, p0, k < 1.0 ? p0 + k * (f - p0) : f);
   }
 
@@ -718,20 +740,9 @@ class ChannelPredictor : public Predictor {
     /// The last update after initialisation had no measurement (inside step(): the one before
     /// this update; set after it).
     bool unmeasured_last = false;
-    /// Forgetting sums of the one-frame extrapolation rates squared times dt (px^2/s) and of dt (s):
-    /// r_rms^2 = rate_ss / rate_t (file comment, "Extrapolations the track has not shown").
-    double rate_ss = 0.0, rate_t = 0.0;
+    ExtrapolationRates rates;  ///< the cap's (file comment, "Extrapolations the track has not shown")
   };
 
-  /// The factor (in [0, 1]) on an extrapolated step e (px) over h seconds of channel state s: 1,
-  /// or rho r_rms h / |e| when |e| is larger (file comment, "Extrapolations the track has not shown").
-  /// (Compared in squares, |e|^2 r_t > rho^2 r_ss h^2: no root on the frames it lets through.)
-  double extrapolationFactor(const ChannelState& s, double e, double h) const {
-    if (!(extrapolation_cap_ > 0.0) || !(s.rate_t >= kCoastFastMinMemoryS)) return 1.0;
-    const double limit_sq_t = extrapolation_cap_ * extrapolation_cap_ * s.rate_ss * h * h;  // (rho r_rms h)^2 r_t
-    if (!(e * e * s.rate_t > limit_sq_t)) return 1.0;
-    return std::sqrt(limit_sq_t / s.rate_t) / std::abs(e);
-  }
 
   /// True when a forecast of channel s now is blended with the two weights (file comment, "Two
   /// weights"): the split is on and the last update was measured, so x_start[head] is its start.
@@ -766,11 +777,7 @@ class ChannelPredictor : public Predictor {
       const double f = predictedPosition(s.x_start[j], transition(c, t_s - s.t_start[j]));
       s.blend.learn(f - s.z_start[j], s.x_start[j](0) - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_, blend_split_,
                     blend_prior_);
-      if (extrapolation_cap_ > 0.0) {
-        const double dt1 = t_s - s.t_start[j], d_x = f - s.x_start[j](0);
-        s.rate_ss = lambda * s.rate_ss + d_x * d_x / dt1;  // (d_x / dt1)^2 dt1
-        s.rate_t = lambda * s.rate_t + dt1;
-      }
+      if (extrapolation_cap_ > 0.0) s.rates.learn(f - s.x_start[j](0), t_s - s.t_start[j], lambda);
       // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
       // the handed-out weight is the smallest over the horizons (file comment).
       for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {

@@ -182,7 +182,10 @@
 // starts keeps the forecast starts of the last updates); hold_blend_split (0 | 1, default 1, as
 // theirs): each moving mode's weight split in two (above); hold_blend_prior (default 4, as theirs;
 // 0 = off): every one of those regressions hands out its weights times 1 - exp(-(c / p)^2) after
-// c samples (channel_predictor.h, "The start of a track"); with it, coast_stop_fraction (default 0.5; 0 = off):
+// c samples (channel_predictor.h, "The start of a track"); extrapolation_cap (default 4, as theirs;
+// 0 = off): with the split, each moving mode's forecast extrapolates from its start position at most
+// rho times the RMS rate of that mode's one-frame extrapolations (Channel::mode_rates;
+// channel_predictor.h, "Extrapolations the track has not shown"); with it, coast_stop_fraction (default 0.5; 0 = off):
 // a gap that begins while the mu-combined velocity falls coasts with a shorter time constant
 // (channel_predictor.h, "A stop before the gap"), and coast_lag_sigmas (default 2; 0 = off): one
 // that begins while the moment-matched innovations of the last 5 measured frames oppose that
@@ -285,6 +288,8 @@ class ImmPredictor : public Predictor {
     /// Each mode's own blend weight with hold (blend_per_mode; the hold and the gap's coasting are
     /// blend's).
     std::array<BlendWeight, kMaxModes> mode_blend{};
+    /// Each blended mode's one-frame extrapolation rates, for its cap (extrapolation_cap).
+    std::array<ExtrapolationRates, kMaxModes> mode_rates{};
     /// The blend on more than one horizon (hold_blend_frames H, channel_predictor.h): the forecast
     /// starts of the last measured updates (ring, newest at start_head; start_run of them in a row)
     /// and the regressions on the forecasts of h = 2..H frames, combined (longer[h - 2]) and per mode
@@ -337,6 +342,7 @@ class ImmPredictor : public Predictor {
   double blend_sigmas_;  ///< hold_blend_sigmas (channel_predictor.h)
   double blend_prior_;   ///< hold_blend_prior (channel_predictor.h, "The start of a track"), every weight
   bool blend_split_;     ///< hold_blend_split (channel_predictor.h, "Two weights"), per mode
+  double extrapolation_cap_;  ///< extrapolation_cap (channel_predictor.h), per blended mode with the split
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
   double coast_fast_ratio_;  ///< coast_fast_ratio (channel_predictor.h), with the blend only
   double coast_lag_sigmas_;  ///< coast_lag_sigmas (channel_predictor.h), with the blend only
