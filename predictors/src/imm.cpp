@@ -416,6 +416,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     const bool score_blended = blendsPerMode() && ch.last_measured;
     const double z_hold_before = ch.blend.z_hold;
     const std::array<BlendWeight, kMaxModes> weight_before = ch.mode_blend;
+    const std::array<ExtrapolationRates, kMaxModes> rates_before = ch.mode_rates;  // the forecast's cap then
     if (blend_tau_s_ > 0.0 && measured && ch.last_measured) {
       const std::array<double, kMaxModes>& fw = forecastWeights(ch);
       double d_step = 0.0;
@@ -539,10 +540,15 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
               fpf = f * g.P * f.transpose();
             }
           }
-          if (score_blended && blendsMode(j)) {
+          if (score_blended && blendsMode(j)) {  // the forecast handed out then: capped, blended
             const double f = z(c) - e;
-            e = z(c) - (blend_split_ ? weight_before[jj].blendSplit(z_hold_before, modes_[jj].dim == 3 ? x_ca(0) : g.x(0), f)
-                                     : weight_before[jj].blend(z_hold_before, f));
+            if (blend_split_) {
+              const double p0 = modes_[jj].dim == 3 ? x_ca(0) : g.x(0);
+              const double k = rates_before[jj].factor(extrapolation_cap_, f - p0, dt);
+              e = z(c) - weight_before[jj].blendSplit(z_hold_before, p0, k < 1.0 ? p0 + k * (f - p0) : f);
+            } else {
+              e = z(c) - weight_before[jj].blend(z_hold_before, f);
+            }
           }
           // The forecast's variance as the model states it, lowered to the realised one where the
           // model overstates it (calibration, imm.h): v_j = min(1, c_j) s_j, c_j from the frames
@@ -790,8 +796,9 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
     } else if (splitsBlend(ch)) {
       const double p0 = ch.g[jj].x(0), k = ch.mode_rates[jj].factor(extrapolation_cap_, pj - p0, dt);
       p += w[jj] * ch.mode_blend[jj].blendSplit(ch.blend.z_hold, p0, k < 1.0 ? p0 + k * (pj - p0) : pj);
+    } else {
+      p += w[jj] * ch.mode_blend[jj].blend(ch.blend.z_hold, pj);
     }
-    else p += w[jj] * ch.mode_blend[jj].blend(ch.blend.z_hold, pj);
   }
   return blend_tau_s_ > 0.0 && !blendsPerMode() ? ch.blend.position(p) : p;
 }
