@@ -258,7 +258,9 @@ def add_predict_arguments(ap, unit):
 
 def rates_and_noise(ap, args):
     """The lists of --rates and --noise; ap.error unless the rates are positive, the noise levels not
-    negative, --seeds and --jobs at least 1."""
+    negative, --seeds and --jobs at least 1, and --predictors has hold (every ratio is to hold's)."""
+    if not {"all", "hold"} & set(args.predictors.split(",")):
+        ap.error(f"--predictors: '{args.predictors}' has no hold (add ',hold': every figure is a ratio to hold's RMSE)")
     try:
         rates = [float(x) for x in args.rates.split(",")]
         noises = [float(x) for x in args.noise.split(",")]
@@ -304,9 +306,10 @@ def main():
     return report(results, args.out, kinds, args.check)
 
 
-def run_cells(prefix, fn, cells, jobs):
+def run_cells(prefix, fn, cells, jobs, unit="tracks"):
     """fn(cell, work) for every cell on jobs threads, work a temporary directory (removed after);
-    progress on stderr every 50 cells. Returns the results; a RuntimeError of fn is raised."""
+    progress on stderr every 50 cells (counted in unit). Returns the results; a RuntimeError of fn is
+    raised."""
     work = tempfile.mkdtemp(prefix=prefix + "-")
     results = []
     try:
@@ -315,7 +318,7 @@ def run_cells(prefix, fn, cells, jobs):
             for fut in concurrent.futures.as_completed(futs):
                 results.append(fut.result())
                 if len(results) % 50 == 0 or len(results) == len(cells):
-                    print(f"{len(results)}/{len(cells)} tracks", file=sys.stderr)
+                    print(f"{len(results)}/{len(cells)} {unit}", file=sys.stderr)
     finally:
         shutil.rmtree(work, ignore_errors=True)
     return results

@@ -109,7 +109,7 @@ def main():
                 write_replay(header, rows, rate, noise, seed, base + ".csv")
                 return name, rate, noise, seed, foreign_tracks.predict_rmse(args, base + ".csv", base)
 
-            results = foreign_tracks.run_cells("recorded-track", replay, cells, args.jobs)
+            results = foreign_tracks.run_cells("recorded-track", replay, cells, args.jobs, "replays")
     except RuntimeError as e:
         print(f"recorded-track: error: {e}", file=sys.stderr)
         return 2

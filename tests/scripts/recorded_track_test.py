@@ -8,7 +8,7 @@ recorded-track replays it at 10 Hz without added noise, THEN its results.csv hol
 predictor, hold's ratio is not listed, kf-ca beats hold with its defaults and loses to it without
 its extrapolation cap (the same track, `--param kf-ca.extrapolation_cap=0`), and --check exits 1
 with one line per loss there; a file that is not a wide track is refused with a one-line error
-that names it and a non-zero exit, and nothing is written.
+that names it and a non-zero exit, and nothing is written; so is a predictor list without hold.
 """
 import csv
 import math
@@ -67,6 +67,9 @@ def main():
     lines = r.stderr.strip().split("\n")
     if r.returncode != 2 or len(lines) != 1 or "bad.csv:1" not in lines[0] or os.path.exists(os.path.join(work, "bad")):
         failures.append(f"a file that is not a wide track: exit {r.returncode}, stderr {r.stderr!r}")
+    r = run([sys.executable, SCRIPT, predvs, "--track", track, "--predictors", "kf-cv", "--out", os.path.join(work, "nohold")])
+    if r.returncode != 2 or "has no hold" not in r.stderr or os.path.exists(os.path.join(work, "nohold")):
+        failures.append(f"a predictor list without hold: exit {r.returncode}, stderr {r.stderr!r}")
     if failures:
         sys.exit("\n".join(failures))
     print(f"recorded-track: kf-ca / hold {capped:.3f} with the cap, {free:.3f} without")

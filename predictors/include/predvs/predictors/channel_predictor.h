@@ -777,7 +777,7 @@ class ChannelPredictor : public Predictor {
       const double f = predictedPosition(s.x_start[j], transition(c, t_s - s.t_start[j]));
       s.blend.learn(f - s.z_start[j], s.x_start[j](0) - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_, blend_split_,
                     blend_prior_);
-      if (extrapolation_cap_ > 0.0) s.rates.learn(f - s.x_start[j](0), t_s - s.t_start[j], lambda);
+      if (extrapolation_cap_ > 0.0 && blend_split_) s.rates.learn(f - s.x_start[j](0), t_s - s.t_start[j], lambda);
       // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
       // the handed-out weight is the smallest over the horizons (file comment).
       for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
