@@ -544,8 +544,8 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
             const double f = z(c) - e;
             if (blend_split_) {
               const double p0 = modes_[jj].dim == 3 ? x_ca(0) : g.x(0);
-              const double k = rates_before[jj].factor(extrapolation_cap_, f - p0, dt);
-              e = z(c) - weight_before[jj].blendSplit(z_hold_before, p0, k < 1.0 ? p0 + k * (f - p0) : f);
+              const double fc = rates_before[jj].capped(extrapolation_cap_, p0, f, dt);
+              e = z(c) - weight_before[jj].blendSplit(z_hold_before, p0, fc);
             } else {
               e = z(c) - weight_before[jj].blend(z_hold_before, f);
             }
@@ -760,12 +760,7 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
     timeUpdate(g[jj], transition(j, dt), processNoise(j, dt, modeRaise(ch, j)));
     // the mode blended with hold by its own weight(s) (predictPosition's arithmetic)
     if (blendsMode(j) && splitsBlend(ch)) {
-      const double k = ch.mode_rates[jj].factor(extrapolation_cap_, g[jj].x(0) - p0, dt);
-      if (k < 1.0) {
-        g[jj].x(0) = p0 + k * (g[jj].x(0) - p0);
-        g[jj].x(1) *= k;
-        g[jj].x(2) *= k;
-      }
+      ch.mode_rates[jj].capState(extrapolation_cap_, p0, g[jj].x, dt);
       ch.mode_blend[jj].blendStateSplit(ch.blend.z_hold, p0, g[jj].x);
     } else if (blendsMode(j)) {
       ch.mode_blend[jj].blendState(ch.blend.z_hold, g[jj].x);
@@ -794,8 +789,8 @@ double ImmPredictor::predictPosition(int channel, double t_s) const {
     if (!blendsMode(j)) {
       p += w[jj] * pj;
     } else if (splitsBlend(ch)) {
-      const double p0 = ch.g[jj].x(0), k = ch.mode_rates[jj].factor(extrapolation_cap_, pj - p0, dt);
-      p += w[jj] * ch.mode_blend[jj].blendSplit(ch.blend.z_hold, p0, k < 1.0 ? p0 + k * (pj - p0) : pj);
+      const double p0 = ch.g[jj].x(0);
+      p += w[jj] * ch.mode_blend[jj].blendSplit(ch.blend.z_hold, p0, ch.mode_rates[jj].capped(extrapolation_cap_, p0, pj, dt));
     } else {
       p += w[jj] * ch.mode_blend[jj].blend(ch.blend.z_hold, pj);
     }

@@ -392,6 +392,20 @@ struct ExtrapolationRates {
   /// when |e| is larger, once the memory spans kCoastFastMinMemoryS (rho = cap; 0 = off). Compared
   /// in squares, |e|^2 t > rho^2 ss h^2: no root on the forecasts it lets through.
   double factor(double cap, double e, double h) const;
+  /// The forecast position f, extrapolated from p0 over h seconds, with its step p0 -> f capped.
+  double capped(double cap, double p0, double f, double h) const {
+    const double k = factor(cap, f - p0, h);
+    return k < 1.0 ? p0 + k * (f - p0) : f;
+  }
+  /// A forecast state [p, v(, a)] extrapolated from the position p0 over h seconds, capped: the
+  /// position's step and the derivatives scaled by the same factor.
+  template <int N>
+  void capState(double cap, double p0, Vec<N>& x, double h) const {
+    const double k = factor(cap, x(0) - p0, h);
+    if (!(k < 1.0)) return;
+    x(0) = p0 + k * (x(0) - p0);
+    for (int i = 1; i < N; ++i) x(i) *= k;
+  }
 };
 
 /// The `hold_blend_split` parameter (0 | 1, default kDefaultHoldBlendSplit; file comment, "Two weights").
@@ -680,11 +694,7 @@ class ChannelPredictor : public Predictor {
     if (blend_tau_s_ > 0.0) {
       if (splitsBlend(s)) {
         const double p0 = s.x_start[static_cast<size_t>(s.head)](0);
-        const double k = s.rates.factor(extrapolation_cap_, g.x(0) - p0, dt);
-        if (k < 1.0) {
-          g.x(0) = p0 + k * (g.x(0) - p0);
-          for (int i = 1; i < N; ++i) g.x(i) *= k;
-        }
+        s.rates.capState(extrapolation_cap_, p0, g.x, dt);
         s.blend.blendStateSplit(s.blend.z_hold, p0, g.x);
       } else {
         s.blend.blendState(s.blend.z_hold, g.x);
@@ -709,8 +719,7 @@ class ChannelPredictor : public Predictor {
     if (!(blend_tau_s_ > 0.0)) return f;
     if (!splitsBlend(s)) return s.blend.position(f);
     const double p0 = s.x_start[static_cast<size_t>(s.head)](0);
-    const double k = s.rates.factor(extrapolation_cap_, f - p0, dt);
-    return s.blend.blendSplit(s.blend.z_hold, p0, k < 1.0 ? p0 + k * (f - p0) : f);
+    return s.blend.blendSplit(s.blend.z_hold, p0, s.rates.capped(extrapolation_cap_, p0, f, dt));
   }
 
   Innovation innovation(int channel) const override { return state_.at(channel).innovation; }
@@ -742,7 +751,6 @@ class ChannelPredictor : public Predictor {
     bool unmeasured_last = false;
     ExtrapolationRates rates;  ///< the cap's (file comment, "Extrapolations the track has not shown")
   };
-
 
   /// True when a forecast of channel s now is blended with the two weights (file comment, "Two
   /// weights"): the split is on and the last update was measured, so x_start[head] is its start.
