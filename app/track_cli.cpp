@@ -337,13 +337,14 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
   make_track->add_option("--duration-s", mta.duration_s, "duration in s")->capture_default_str()->type_name("S");
   make_track->add_option("--drop", mta.drop_prob, "probability of a dropped frame; with probability drop/5 an occlusion of 0.1-0.3 s begins")->capture_default_str()->type_name("P");
   make_track->add_option("--seed", mta.seed, "random seed")->capture_default_str()->type_name("N");
+  make_track->add_option("--draw", mta.draw, "draw of the noise and the dropped frames over the motion of --seed: 0 = the track's own, D > 0 another independent one (the same truth)")->capture_default_str()->type_name("D");
   make_track->add_option("--out", mta.out, "output CSV file")->required()->type_name("FILE");
 
   TrackStudyArgs& tsa = s_->track_study_args;
   std::string &ts_kinds = s_->ts_kinds, &ts_predictors = s_->ts_predictors, &ts_rates = s_->ts_rates,
               &ts_noise = s_->ts_noise;
   CLI::App* track_study = s_->track_study = app.add_subcommand("track-study", "Every predictor against hold on a grid of generated maneuvering tracks");
-  track_study->footer("For each kind x rate x noise x seed, generates a track (make-track), predicts --delay-frames ahead "
+  track_study->footer("For each kind x rate x noise x seed (x draw), generates a track (make-track), predicts --delay-frames ahead "
                       "as `predvs predict` does and scores against the truth. Prints per predictor how many tracks it "
                       "beats hold on, and the mean / worst RMSE ratio to hold; and, when kf-cv, kf-ca or cs-akf run, "
                       "per adaptive predictor on how many tracks it is within 10 % of the best of them (with --fit: "
@@ -354,6 +355,7 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
   track_study->add_option("--noise", ts_noise, "comma list of noise std, px")->capture_default_str()->type_name("PX,...");
   track_study->add_option("--seeds", tsa.seeds, "tracks per cell (seeds S..S+N-1)")->capture_default_str()->type_name("N");
   track_study->add_option("--seed", tsa.seed, "first seed S")->capture_default_str()->type_name("S");
+  track_study->add_option("--draws", tsa.draws, "draws of the noise and the dropped frames per motion (make-track --draw 0..N-1): how much of a result is the luck of where the gaps fall")->capture_default_str()->type_name("N");
   track_study->add_option("--duration-s", tsa.duration_s, "track duration, s")->capture_default_str()->type_name("S");
   track_study->add_option("--drop", tsa.drop_prob, "dropped-frame probability")->capture_default_str()->type_name("P");
   track_study->add_option("--delay-frames", tsa.delay_frames, "prediction horizon in frames")->capture_default_str()->type_name("H");

@@ -35,12 +35,14 @@ int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
   if (!(a.duration_s > 0.0 && a.duration_s <= 1e6)) throw std::invalid_argument("--duration-s: expected a duration in (0, 1e6] s");
   if (!(a.drop_prob >= 0.0 && a.drop_prob <= 0.5)) throw std::invalid_argument("--drop: expected a probability in [0, 0.5]");
   if (a.seed < 0) throw std::invalid_argument("--seed: expected an integer >= 0");
+  if (a.draw < 0) throw std::invalid_argument("--draw: expected an integer >= 0");
   if (a.out.empty()) throw std::invalid_argument("--out: expected a file path");
   c.rate_hz = a.rate_hz;
   c.noise_px = a.noise_px;
   c.duration_s = a.duration_s;
   c.drop_prob = a.drop_prob;
   c.seed = static_cast<std::uint64_t>(a.seed);
+  c.draw = static_cast<std::uint64_t>(a.draw);
   const ManeuverTrack track = generateManeuverTrack(c);
 
   namespace fs = std::filesystem;
@@ -70,7 +72,8 @@ int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
   size_t dropped = 0;
   for (double u : track.u_px) dropped += std::isfinite(u) ? 0 : 1;
   out << "wrote " << a.out << ": " << maneuverKindName(c.kind) << ", " << track.size() << " frames at " << c.rate_hz
-      << " Hz, noise " << c.noise_px << " px, " << dropped << " dropped frames, seed " << c.seed << "\n";
+      << " Hz, noise " << c.noise_px << " px, " << dropped << " dropped frames, seed " << c.seed
+      << (c.draw > 0 ? ", draw " + std::to_string(c.draw) : std::string()) << "\n";
   return 0;
 }
 
@@ -110,6 +113,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     return it == names.end() ? label : types[static_cast<size_t>(it - names.begin())];
   };
   if (a.seeds < 1) throw std::invalid_argument("--seeds: expected an integer >= 1");
+  if (a.draws < 1) throw std::invalid_argument("--draws: expected an integer >= 1");
   if (a.delay_frames < 0) throw std::invalid_argument("--delay-frames: expected an integer >= 0");
   for (double r : a.rates_hz)
     if (!(r >= 1.0 && r <= 1000.0)) throw std::invalid_argument("--rates: expected rates in [1, 1000] Hz");
@@ -169,7 +173,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   struct Row {
     std::string kind;
     double rate_hz, noise_px;
-    long seed;
+    long seed, draw;
     std::string predictor;
     TrackScore score;
     double ratio;
@@ -179,16 +183,18 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   for (ManeuverKind kind : kinds)
     for (double rate : a.rates_hz)
       for (double noise : a.noises_px)
-        for (int s = 0; s < a.seeds; ++s) {
-          ManeuverTrackConfig c;
-          c.kind = kind;
-          c.rate_hz = rate;
-          c.noise_px = noise;
-          c.duration_s = a.duration_s;
-          c.drop_prob = a.drop_prob;
-          c.seed = static_cast<std::uint64_t>(a.seed + s);
-          configs.push_back(c);
-        }
+        for (int s = 0; s < a.seeds; ++s)
+          for (int d = 0; d < a.draws; ++d) {
+            ManeuverTrackConfig c;
+            c.kind = kind;
+            c.rate_hz = rate;
+            c.noise_px = noise;
+            c.duration_s = a.duration_s;
+            c.drop_prob = a.drop_prob;
+            c.seed = static_cast<std::uint64_t>(a.seed + s);
+            c.draw = static_cast<std::uint64_t>(d);
+            configs.push_back(c);
+          }
   // One track per work item; the rows of track i go to per_track[i], so the order (and every
   // figure) does not depend on --jobs.
   std::vector<std::vector<Row>> per_track(configs.size());
@@ -226,7 +232,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
       auto p = makePredictor(types[j], 2, params);
       const TrackScore sc = scoreOnTrack(track, *p, horizon, first_scored);
       if (name == "hold") hold_rmse = sc.rmse_truth_px;
-      per_track[i].push_back({maneuverKindName(c.kind), c.rate_hz, c.noise_px, static_cast<long>(c.seed), name, sc,
+      per_track[i].push_back({maneuverKindName(c.kind), c.rate_hz, c.noise_px, static_cast<long>(c.seed), static_cast<long>(c.draw), name, sc,
                               sc.rmse_truth_px / hold_rmse, variant});
     }
   };
@@ -240,6 +246,13 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   }
   std::vector<Row> rows;
   for (auto& v : per_track) rows.insert(rows.end(), v.begin(), v.end());
+  // "kind rate Hz noise px #seed", "/dD" after the seed for a draw D > 0: a track's name and key.
+  const auto trackKey = [](const Row& r) {
+    std::ostringstream k;
+    k << r.kind << " " << r.rate_hz << " Hz " << r.noise_px << " px #" << r.seed;
+    if (r.draw > 0) k << "/d" << r.draw;
+    return k.str();
+  };
 
   // Summary per predictor.
   size_t w = 9;
@@ -261,12 +274,10 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
         worst_row = &r;
       }
     }
-    std::ostringstream wt;
-    if (worst_row)
-      wt << worst_row->kind << " " << worst_row->rate_hz << " Hz " << worst_row->noise_px << " px #" << worst_row->seed;
     out << std::left << std::setw(static_cast<int>(w)) << name << std::right << std::setw(12)
         << (std::to_string(wins) + "/" + std::to_string(total)) << std::setw(12) << std::fixed << std::setprecision(3)
-        << std::exp(sum / std::max(1, total)) << std::setw(12) << worst << "  " << wt.str() << "\n";
+        << std::exp(sum / std::max(1, total)) << std::setw(12) << worst << "  " << (worst_row ? trackKey(*worst_row) : "")
+        << "\n";
     out.unsetf(std::ios::fixed);
   }
   out << "ratio = RMSE vs truth / RMSE(hold) vs truth, " << a.delay_frames
@@ -276,11 +287,10 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   if (has("imm") && has("kf-cv") && has("kf-ca")) {
     std::map<std::string, double> best, imm;  // key: kind rate noise seed
     for (const auto& r : rows) {
-      std::ostringstream k;
-      k << r.kind << " " << r.rate_hz << " Hz " << r.noise_px << " px #" << r.seed;
-      if (r.predictor == "imm") imm[k.str()] = r.score.rmse_truth_px;
+      const std::string k = trackKey(r);
+      if (r.predictor == "imm") imm[k] = r.score.rmse_truth_px;
       if (r.predictor == "kf-cv" || r.predictor == "kf-ca")
-        best[k.str()] = best.count(k.str()) ? std::min(best[k.str()], r.score.rmse_truth_px) : r.score.rmse_truth_px;
+        best[k] = best.count(k) ? std::min(best[k], r.score.rmse_truth_px) : r.score.rmse_truth_px;
     }
     int within = 0;
     double worst = 0.0, sum = 0.0;
@@ -312,11 +322,6 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
         adaptive.push_back(n);
     }
     if (!present_fixed.empty() && !adaptive.empty()) {
-      const auto trackKey = [](const Row& r) {
-        std::ostringstream k;
-        k << r.kind << " " << r.rate_hz << " Hz " << r.noise_px << " px #" << r.seed;
-        return k.str();
-      };
       std::map<std::string, double> best;
       for (const auto& r : rows)
         if (std::find(present_fixed.begin(), present_fixed.end(), r.predictor) != present_fixed.end()) {
@@ -404,7 +409,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   if (!a.out.empty()) {
     StagedOutputDir dir(a.out);
     std::ofstream csv(dir.file("study.csv"));
-    csv << "kind,rate_hz,noise_px,seed,predictor,rmse_truth_px,rmse_meas_px,n,ratio_to_hold,fit_variant\n";
+    csv << "kind,rate_hz,noise_px,seed,predictor,rmse_truth_px,rmse_meas_px,n,ratio_to_hold,fit_variant,draw\n";
     for (const auto& r : rows)
       csv << r.kind << "," << r.rate_hz << "," << r.noise_px << "," << r.seed << "," << r.predictor << ","
           << csvCell(r.score.rmse_truth_px) << "," << csvCell(r.score.rmse_meas_px) << "," << r.score.n << ","
@@ -412,7 +417,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
                std::string v = r.variant;  // "key=value,key=value": one CSV cell
                std::replace(v.begin(), v.end(), ',', ';');
                return v;
-             }() << "\n";
+             }() << "," << r.draw << "\n";
     if (!csv) throw std::runtime_error(dir.file("study.csv") + ": write failed");
     csv.close();
     dir.commit();

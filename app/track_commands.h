@@ -6,7 +6,8 @@
 // truth. The track is servo/maneuver_tracks.h's generateManeuverTrack().
 //
 // track-study: for every kind x rate x noise x seed it generates the track (seed s of a cell is
-// seed + s), runs each predictor as `predvs predict` does (horizon = delay_frames / rate), and
+// seed + s; with --draws N, N tracks of that motion, draws 0..N-1 of the noise and the dropped
+// frames, named #seed/dD for D > 0), runs each predictor as `predvs predict` does (horizon = delay_frames / rate), and
 // scores it against the truth (and the measurement). The printed table gives, per predictor,
 // on how many tracks it beat hold (RMSE vs truth strictly smaller), the worst and the mean of the
 // ratio RMSE / RMSE(hold), and the worst kind/rate/noise. With --fit every predictor except hold
@@ -35,6 +36,7 @@ struct MakeTrackArgs {
   double duration_s = 20.0;
   double drop_prob = 0.02;
   long seed = 1;
+  long draw = 0;  ///< --draw D: the draw of the noise and the drops (ManeuverTrackConfig::draw)
   std::string out;
 };
 
@@ -47,6 +49,7 @@ struct TrackStudyArgs {
   std::vector<double> noises_px = {0.5, 1.5, 3.0};
   int seeds = 3;
   long seed = 1;
+  int draws = 1;  ///< --draws N: each motion with the draws 0..N-1 of its noise and drops
   double duration_s = 20.0;
   double drop_prob = 0.02;
   int delay_frames = 2;

@@ -240,6 +240,11 @@ ManeuverTrack generateManeuverTrack(const ManeuverTrackConfig& c) {
 
   std::mt19937_64 motion_rng(c.seed);
   std::mt19937_64 noise_rng(c.seed ^ 0x9e3779b97f4a7c15ULL);
+  if (c.draw != 0) {  // another draw of the noise and the drops: the motion's rng is untouched
+    std::seed_seq seq{static_cast<std::uint32_t>(c.seed), static_cast<std::uint32_t>(c.seed >> 32),
+                      static_cast<std::uint32_t>(c.draw), static_cast<std::uint32_t>(c.draw >> 32), 0x6472u};
+    noise_rng.seed(seq);
+  }
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   Motion motion(c.kind, motion_rng);

@@ -37,6 +37,41 @@ TEST(ManeuverTracks, SameSeedSameTrackOtherSeedOtherTrack) {
   EXPECT_NE(a.u_true_px.back(), d.u_true_px.back());
 }
 
+TEST(ManeuverTracks, AnotherDrawKeepsTheMotionAndRedrawsNoiseAndDrops) {
+  // GIVEN a track with drops and noise, and draws 1 and 2 of it
+  ManeuverTrackConfig c;
+  c.kind = ManeuverKind::Bursts;
+  c.rate_hz = 60.0;
+  c.noise_px = 1.5;
+  c.duration_s = 10.0;
+  c.drop_prob = 0.05;
+  c.seed = 7;
+  const ManeuverTrack own = generateManeuverTrack(c);
+  c.draw = 1;
+  const ManeuverTrack d1 = generateManeuverTrack(c), d1_again = generateManeuverTrack(c);
+  c.draw = 2;
+  const ManeuverTrack d2 = generateManeuverTrack(c);
+  // THEN the truth is the same bits in every draw, a draw is reproducible, and the noise and the
+  // dropped frames differ from draw to draw
+  ASSERT_EQ(own.size(), d1.size());
+  ASSERT_EQ(own.size(), d2.size());
+  size_t drop_differs = 0, noise_differs = 0, both_measured = 0;
+  for (size_t i = 0; i < own.size(); ++i) {
+    ASSERT_EQ(own.u_true_px[i], d1.u_true_px[i]) << i;
+    ASSERT_EQ(own.v_true_px[i], d2.v_true_px[i]) << i;
+    ASSERT_EQ(std::isfinite(d1.u_px[i]), std::isfinite(d1_again.u_px[i])) << i;
+    if (std::isfinite(d1.u_px[i])) ASSERT_EQ(d1.u_px[i], d1_again.u_px[i]) << i;
+    drop_differs += std::isfinite(own.u_px[i]) != std::isfinite(d1.u_px[i]) ? 1 : 0;
+    if (std::isfinite(d1.u_px[i]) && std::isfinite(d2.u_px[i])) {
+      ++both_measured;
+      noise_differs += d1.u_px[i] != d2.u_px[i] ? 1 : 0;
+    }
+  }
+  EXPECT_GT(drop_differs, 20u);
+  EXPECT_EQ(noise_differs, both_measured);
+  EXPECT_GT(both_measured, own.size() / 2);
+}
+
 TEST(ManeuverTracks, RateNoiseAndDropsAreAsConfigured) {
   for (ManeuverKind kind : maneuverKinds()) {
     ManeuverTrackConfig c;

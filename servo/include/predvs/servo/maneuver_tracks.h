@@ -58,7 +58,11 @@ struct ManeuverTrackConfig {
   double duration_s = 20.0;  ///< > 0; frames at k / rate_hz for k = 0 .. floor(duration * rate)
   double drop_prob = 0.02;   ///< probability of a dropped frame, [0, 0.5]
   double u0_px = 320.0, v0_px = 240.0;  ///< start position
-  std::uint64_t seed = 1;
+  std::uint64_t seed = 1;     ///< the motion's seed; also the noise's and the drops' when draw = 0
+  /// Which draw of the noise and the dropped frames over the motion of `seed`: 0 = the track's own
+  /// (seeded from seed alone, as before draws existed); d > 0 = another, independent draw of them
+  /// over the same motion and truth (`predvs make-track --draw`, `track-study --draws`).
+  std::uint64_t draw = 0;
 };
 
 /// A generated track: measured u, v (NaN = dropped frame) and truth, per frame.
