@@ -136,6 +136,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       coast_fast_ratio_(coastFastRatioParam(params)),
       coast_lag_sigmas_(coastLagSigmasParam(params)),
       coast_shape_(coastShapeParam(params)),
+      coast_crossing_(coastCrossingParam(params)),
       coast_cp_(params.get("coast_cp", kDefaultCoastCp, 0.0, 1.0)),
       gap_weight_power_(params.get("gap_weight_power", kDefaultGapWeightPower, 0.0, 1.0)),
       q_raise_cv_exponent_(params.get("q_raise_cv_exponent", kDefaultQRaiseCvExponent, 0.0, 1.0)),
@@ -465,8 +466,13 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     // combined velocity and its P_vv), and any other gap with the shape coast_shape.
     if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
       if (blend_tau_s_ > 0.0) {
-        if (started_gap)
+        if (started_gap) {
           ch.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, coast_lag_sigmas_, combinedVelocityVariance(ch), R);
+          if (coast_crossing_) {  // the CA mode's acceleration (the others have none), on the combined velocity's crossing
+            const double var_v = combinedVelocityVariance(ch);
+            for (int j = 0; j < m; ++j) coastThroughCrossing(ch.blend.recent, var_v, mixed[static_cast<size_t>(j)].x);
+          }
+        }
         const double e = ch.blend.gapDecay(t_s, dt, coast_tau_s_, coast_shape_);
         for (int j = 0; j < m; ++j) coastBy(mixed[static_cast<size_t>(j)].x, e);
       } else {
@@ -613,6 +619,8 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     if (blend_tau_s_ > 0.0 && isMeasured(z(c)))
       ch.blend.recent.remember(t_s, z(c), combinedVelocity(ch), blendForgetting(t_s - ch.blend.recent.lastTime()),
                                ch.innovation);
+    if (blend_tau_s_ > 0.0 && isMeasured(z(c)) && coast_crossing_)
+      ch.blend.recent.watchCrossing(combinedVelocityVariance(ch), blend_tau_s_);
     if (blend_tau_s_ > 0.0 && blend_frames_ > 1) {
       if (isMeasured(z(c)))
         rememberBlendStart(ch, t_s);

@@ -14,7 +14,8 @@ namespace predvs {
 /// The generated track of that cell (the config's other fields at their defaults; drop_prob, the
 /// probability of a dropped frame, at the generator's 2 % unless given, as `track-study --drop`).
 inline ManeuverTrack maneuverTrackCell(ManeuverKind kind, double rate_hz, double noise_px, double duration_s,
-                                       std::uint64_t seed, double drop_prob = ManeuverTrackConfig{}.drop_prob) {
+                                       std::uint64_t seed, double drop_prob = ManeuverTrackConfig{}.drop_prob,
+                                       std::uint64_t draw = 0) {
   ManeuverTrackConfig c;
   c.kind = kind;
   c.rate_hz = rate_hz;
@@ -22,6 +23,7 @@ inline ManeuverTrack maneuverTrackCell(ManeuverKind kind, double rate_hz, double
   c.duration_s = duration_s;
   c.seed = seed;
   c.drop_prob = drop_prob;
+  c.draw = draw;  // another draw of the noise and the drops (make-track --draw)
   return generateManeuverTrack(c);
 }
 

@@ -60,7 +60,9 @@ TEST(ManeuverTracks, AnotherDrawKeepsTheMotionAndRedrawsNoiseAndDrops) {
     ASSERT_EQ(own.u_true_px[i], d1.u_true_px[i]) << i;
     ASSERT_EQ(own.v_true_px[i], d2.v_true_px[i]) << i;
     ASSERT_EQ(std::isfinite(d1.u_px[i]), std::isfinite(d1_again.u_px[i])) << i;
-    if (std::isfinite(d1.u_px[i])) ASSERT_EQ(d1.u_px[i], d1_again.u_px[i]) << i;
+    if (std::isfinite(d1.u_px[i])) {
+      ASSERT_EQ(d1.u_px[i], d1_again.u_px[i]) << i;
+    }
     drop_differs += std::isfinite(own.u_px[i]) != std::isfinite(d1.u_px[i]) ? 1 : 0;
     if (std::isfinite(d1.u_px[i]) && std::isfinite(d2.u_px[i])) {
       ++both_measured;
@@ -321,6 +323,38 @@ TEST(DefaultsThatHold, UnusualSpeedLossesOf13b32f0AreWins) {
       {30, 3, 10, 0.05, 522, ""}, {60, 1.5, 10, 0.05, 519, ""}, {60, 3, 10, 0.05, 519, ""},
       {60, 3, 12, 0.08, 623, ""}, {60, 3, 12, 0.1, 722, ""},
   });
+}
+
+/// Draws of the drop grids (`predvs track-study --draws 5`, docs/PERFORMANCE.md "Losses are draws,
+/// not motions") on which filters with an acceleration state lost to hold at 22cd516: a burst's
+/// stop that their velocity fell through just before a gap, the deceleration coasted into a drift
+/// back (up to x1.46). With the acceleration scaled by the channel's share of crossings that turned
+/// (channel_predictor.h, `coast_crossing`) each of them beats hold, and loses without the rule.
+TEST(DefaultsThatHold, StopThroughZeroLossesOf22cd516AreWins) {
+  struct Draw {
+    double rate_hz, noise_px, duration_s, drop;
+    std::uint64_t seed, draw;
+    std::vector<const char*> names;
+  };
+  const std::vector<Draw> draws = {
+      {60, 0.5, 10, 0.05, 505, 4, {"kf-ca", "stkf", "st-akf", "st-akf-pm"}},
+      {60, 0.5, 12, 0.10, 702, 2, {"kf-ca", "stkf"}},
+      {60, 1.5, 12, 0.08, 1019, 1, {"kf-ca", "stkf"}},
+      {60, 0.5, 10, 0.06, 928, 0, {"kf-ca"}},
+  };
+  for (const Draw& d : draws) {
+    const ManeuverTrack t = maneuverTrackCell(ManeuverKind::Bursts, d.rate_hz, d.noise_px, d.duration_s, d.seed, d.drop, d.draw);
+    const double horizon = 2.0 / d.rate_hz;
+    auto hold = makePredictor("hold", 2);
+    const double hold_rmse = scoreOnTrack(t, *hold, horizon).rmse_truth_px;
+    const std::string label = cellLabel(ManeuverKind::Bursts, d.rate_hz, d.noise_px, d.seed) + "/d" + std::to_string(d.draw);
+    for (const char* name : d.names) {
+      auto p = makePredictor(name, 2);
+      EXPECT_LT(scoreOnTrack(t, *p, horizon).rmse_truth_px / hold_rmse, 1.0) << name << " " << label;
+      auto off = makePredictor(name, 2, {{"coast_crossing", 0.0}});
+      EXPECT_GT(scoreOnTrack(t, *off, horizon).rmse_truth_px / hold_rmse, 1.0) << name << " " << label << " without the rule";
+    }
+  }
 }
 
 /// Tracks of the drop grids on which st-akf (and st-akf-pm) lost to hold at 056b9cd: the first

@@ -43,6 +43,21 @@
 //   tau_gap = min(tau_gap, tau (n_l / |z_l|)^kCoastLagPower).
 // It sees a stop earlier than the stop rule's fits at 3 px: a burst that stops two or three noisy
 // frames before its gap (docs/PERFORMANCE.md "Measurements falling behind before a gap").
+// A turn or a stop through zero (`coast_crossing`, default 1; 0 = off; issue 11 item 3,
+// docs/MODELS.md §15, with the blend only): a filter with an acceleration state lags a hard stop,
+// its velocity falls through zero a frame or two after the target came to rest, and a gap that
+// begins there coasts the deceleration into a drift the other way (kf-ca 45 px back over a 0.53 s
+// gap after a burst at 60 Hz, 1.46 times hold's error over the track). A turn falls through zero
+// too, and there the acceleration is the new direction. Each channel learns which of the two its
+// crossings are: on a measured frame where the filter's velocity changed sign, and fell through
+// zero within kCoastStopWindowS by more than kCoastStopVelocitySigmas sqrt(P_vv) (CoastStop::
+// crossedZero()), it notes the velocity v_0 at the window's start, and kCoastStopWindowS later
+// scores the outcome o = clamp(-v / v_0, 0, 1) (1: the other way as fast, 0: at rest or back the
+// same way); the share of turns is the forgetting mean of o (events forgotten with exp(-elapsed /
+// hold_blend_tau_s); one turn counted as a prior, so a channel that has not crossed yet keeps its
+// acceleration). A gap that begins within kCoastStopWindowS of such a crossing coasts with its
+// acceleration multiplied by that share (the velocity is left to the rules above). A tremor or a
+// zigzag keeps its acceleration, a track that bursts and stops loses it.
 // A gap no rule shortened coasts with a hazard that grows with the time u since the last
 // measurement: v(u) = v0 S(u), S(u) = exp(-(u / tau)^k), k = coast_shape (the per-frame factor
 // S(u + dt) / S(u) on v, its square on a); k = 1 is the exponential decay above, k > 1 keeps more
@@ -270,6 +285,9 @@ inline constexpr double kDefaultCoastLagSigmas = 2.0;
 inline constexpr int kCoastLagFrames = 5;
 /// The exponent of tau (n_l / |z_l|)^p (file comment).
 inline constexpr double kCoastLagPower = 2.0;
+/// Default `coast_crossing` (0 | 1; file comment "A turn or a stop through zero"). Measured with
+/// `predvs track-study --draws 5` (docs/PERFORMANCE.md "Losses are draws, not motions").
+inline constexpr double kDefaultCoastCrossing = 1.0;
 
 /// The last measured frames of one channel (time s, measurement px, the filter's velocity px/s after
 /// the update) and the stop time they give when a gap begins (file comment, "A stop before the gap").
@@ -318,12 +336,7 @@ struct CoastStop {
     if (n < 2) return t_stop;
     const double t_last = t[static_cast<size_t>(head)], v_last = v[static_cast<size_t>(head)];
     // The filter's velocity fall over the last kCoastStopWindowS.
-    int oldest = -1;
-    for (int i = 1; i < n; ++i) {
-      const int j = (head - i + kFrames) % kFrames;
-      if (t[static_cast<size_t>(j)] < t_last - kCoastStopWindowS - 1e-9) break;
-      oldest = j;
-    }
+    const int oldest = windowStart();
     if (oldest >= 0) {
       const double dv = v_last - v[static_cast<size_t>(oldest)];
       if (dv * v_last < 0.0 && dv * dv >= kCoastStopVelocitySigmas * kCoastStopVelocitySigmas * var_v)
@@ -350,6 +363,53 @@ struct CoastStop {
   }
   /// The time of the last measured frame (s).
   double lastTime() const { return t[static_cast<size_t>(head)]; }
+  /// The oldest remembered frame within kCoastStopWindowS before the last one (-1: none).
+  int windowStart() const {
+    int oldest = -1;
+    const double t_last = t[static_cast<size_t>(head)];
+    for (int i = 1; i < n; ++i) {
+      const int j = (head - i + kFrames) % kFrames;
+      if (t[static_cast<size_t>(j)] < t_last - kCoastStopWindowS - 1e-9) break;
+      oldest = j;
+    }
+    return oldest;
+  }
+  /// True when the filter's velocity fell through zero within kCoastStopWindowS before the last
+  /// measured frame, by more than kCoastStopVelocitySigmas sqrt(var_v); *v0 = the velocity at the
+  /// window's start (file comment, "A turn or a stop through zero").
+  bool crossedZero(double var_v, double* v0 = nullptr) const {
+    const int oldest = n >= 2 ? windowStart() : -1;
+    if (oldest < 0) return false;
+    const double v_first = v[static_cast<size_t>(oldest)], v_last = v[static_cast<size_t>(head)];
+    const double dv = v_last - v_first;
+    if (v0) *v0 = v_first;
+    return v_first * v_last < 0.0 && dv * dv >= kCoastStopVelocitySigmas * kCoastStopVelocitySigmas * var_v;
+  }
+  /// After remember(): scores a crossing whose outcome is due, and notes a new one (file comment);
+  /// var_v = P_vv of the last velocity, tau_s = hold_blend_tau_s (the forgetting of the outcomes).
+  void watchCrossing(double var_v, double tau_s) {
+    if (n < 2) return;
+    const double t_last = t[static_cast<size_t>(head)], v_last = v[static_cast<size_t>(head)];
+    if (cross_due_t >= 0.0 && t_last >= cross_due_t) {
+      const double keep = std::exp(-(t_last - cross_scored_t) / tau_s);
+      turn_sum = keep * turn_sum + std::clamp(-v_last / cross_v0, 0.0, 1.0);
+      turn_n = keep * turn_n + 1.0;
+      cross_scored_t = t_last;
+      cross_due_t = -1.0;
+    }
+    const double v_prev = v[static_cast<size_t>((head - 1 + kFrames) % kFrames)];
+    double v0 = 0.0;
+    if (cross_due_t < 0.0 && v_prev * v_last < 0.0 && crossedZero(var_v, &v0)) {
+      cross_due_t = t_last + kCoastStopWindowS;
+      cross_v0 = v0;
+    }
+  }
+  /// The forgetting mean of the crossings' outcomes: the share of them that turned (file comment).
+  double turnShare() const { return turn_sum / turn_n; }
+  double cross_due_t = -1.0;  ///< when the outcome of the last crossing is scored (s; < 0: none pending)
+  double cross_v0 = 0.0;      ///< the velocity before that crossing (px/s)
+  double turn_sum = 1.0, turn_n = 1.0;  ///< forgetting sums of the outcomes and their count (one turn as the prior)
+  double cross_scored_t = 0.0;  ///< time of the last scored outcome (s)
   /// |v| / v_rms of the last measured frame (file comment), 0 before kCoastFastMinMemoryS of memory.
   double speedRatio() const {
     if (n == 0 || time_s < kCoastFastMinMemoryS || !(v_sq_time > 0.0)) return 0.0;
@@ -604,6 +664,19 @@ inline double coastLagSigmasParam(const Params& params) {
 }
 /// The `coast_shape` parameter (1..10, default kDefaultCoastShape; 1 = exponential; file comment).
 inline double coastShapeParam(const Params& params) { return params.get("coast_shape", kDefaultCoastShape, 1.0, 10.0); }
+/// The `coast_crossing` parameter (0 | 1, default kDefaultCoastCrossing; file comment, "A turn or a
+/// stop through zero").
+inline bool coastCrossingParam(const Params& params) {
+  return params.get("coast_crossing", kDefaultCoastCrossing, 0.0, 1.0) != 0.0;
+}
+/// At the start of a gap: the acceleration of x (N = 3) times the channel's turn share when the
+/// velocity fell through zero just before (file comment, "A turn or a stop through zero").
+template <int N>
+inline void coastThroughCrossing(const CoastStop& recent, double var_v, Vec<N>& x) {
+  if constexpr (N == 3) {
+    if (recent.crossedZero(var_v)) x(2) *= recent.turnShare();
+  }
+}
 
 inline double ExtrapolationRates::factor(double cap, double e, double h) const {
   if (!(cap > 0.0) || !(t >= kCoastFastMinMemoryS)) return 1.0;
@@ -663,9 +736,11 @@ class ChannelPredictor : public Predictor {
       }
       if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
         if (blend_tau_s_ > 0.0) {  // the blend's coasting: a gap after a stop coasts shorter (file comment)
-          if (s.run > 0)
+          if (s.run > 0) {
             s.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, coast_lag_sigmas_, s.g.P(1, 1),
                              measurementNoise(c));
+            if (coast_crossing_) coastThroughCrossing(s.blend.recent, s.g.P(1, 1), s.g.x);
+          }
           coastBy(s.g.x, s.blend.gapDecay(t_s, dt, coast_tau_s_, coast_shape_));
         } else {
           coast(s.g.x, dt, coast_tau_s_);
@@ -800,6 +875,7 @@ class ChannelPredictor : public Predictor {
     }
     s.blend.z_hold = z;
     s.blend.recent.remember(t_s, z, s.g.x(1), blendForgetting(t_s - s.blend.recent.lastTime()), s.innovation);
+    if (N == 3 && coast_crossing_) s.blend.recent.watchCrossing(s.g.P(1, 1), blend_tau_s_);
     rememberForecastStart(c, t_s);
   }
 
@@ -820,8 +896,9 @@ class ChannelPredictor : public Predictor {
   void enableAutoNoise() { r_est_.assign(state_.size(), StartupNoiseEstimator(r0_)); }
   /// Reads `coast_tau_s` (s, >= 0, default kDefaultCoastTauS), and `coast_stop_fraction` (>= 0,
   /// default kDefaultCoastStopFraction), `coast_fast_ratio` (>= 0, default kDefaultCoastFastRatio),
-  /// `coast_lag_sigmas` (>= 0, default kDefaultCoastLagSigmas) and `coast_shape` (1..10, default
-  /// kDefaultCoastShape), used with the blend only; called by every
+  /// `coast_lag_sigmas` (>= 0, default kDefaultCoastLagSigmas), `coast_shape` (1..10, default
+  /// kDefaultCoastShape) and `coast_crossing` (0 | 1, default kDefaultCoastCrossing), used with the
+  /// blend only; called by every
   /// derived constructor whose state has a velocity.
   void readCoastParam(const Params& params) {
     coast_tau_s_ = coastTauParam(params);
@@ -829,6 +906,7 @@ class ChannelPredictor : public Predictor {
     coast_fast_ratio_ = coastFastRatioParam(params);
     coast_lag_sigmas_ = coastLagSigmasParam(params);
     coast_shape_ = coastShapeParam(params);
+    coast_crossing_ = coastCrossingParam(params);
   }
   double coastTauS() const { return coast_tau_s_; }
   /// Reads `adapt_after_gap` (0 | 1, default 0; file comment, "The first measurement after a
@@ -939,6 +1017,7 @@ class ChannelPredictor : public Predictor {
   double coast_fast_ratio_ = 0.0;     ///< coast_fast_ratio (with the blend only)
   double coast_lag_sigmas_ = 0.0;     ///< coast_lag_sigmas (with the blend only)
   double coast_shape_ = 1.0;          ///< coast_shape (with the blend only)
+  bool coast_crossing_ = false;       ///< coast_crossing (with the blend only, on a state with an acceleration)
   bool adapt_after_gap_ = true;       ///< adapt_after_gap; true until readAdaptAfterGapParam()
   double shrink_a_sigmas_ = 0.0;  ///< 0 until readShrinkParams(): unweighted forecast
   double shrink_v_sigmas_ = 0.0;
