@@ -619,7 +619,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     if (blend_tau_s_ > 0.0 && isMeasured(z(c)))
       ch.blend.recent.remember(t_s, z(c), combinedVelocity(ch), blendForgetting(t_s - ch.blend.recent.lastTime()),
                                ch.innovation);
-    if (blend_tau_s_ > 0.0 && isMeasured(z(c)) && coast_crossing_)
+    if (blend_tau_s_ > 0.0 && isMeasured(z(c)) && coast_crossing_ && ch.blend.recent.watching())
       ch.blend.recent.watchCrossing(combinedVelocityVariance(ch), blend_tau_s_);
     if (blend_tau_s_ > 0.0 && blend_frames_ > 1) {
       if (isMeasured(z(c)))

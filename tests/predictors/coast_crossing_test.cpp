@@ -24,7 +24,7 @@ void feed(CoastStop& s, const V& v, double t0, double seconds, double& z) {
     const double t = t0 + k * kDt;
     z += v(t) * kDt;
     s.remember(t, z, v(t), std::exp(-kDt / 6.0), Innovation{});
-    s.watchCrossing(1.0, 6.0);
+    if (s.watching()) s.watchCrossing(1.0, 6.0);
   }
 }
 

@@ -303,6 +303,7 @@ struct CoastStop {
   /// frame's time (the forgetting of the RMS velocity; unused on the first frame); in = the
   /// update's innovation (none: not valid).
   void remember(double t_s, double z_px, double v_px_s, double keep, const Innovation& in) {
+    sign_changed = n > 0 && v[static_cast<size_t>(head)] * v_px_s < 0.0;
     if (n > 0) {
       const double dt = t_s - t[static_cast<size_t>(head)];
       v_sq_time = keep * v_sq_time + v_px_s * v_px_s * dt;
@@ -385,21 +386,22 @@ struct CoastStop {
     if (v0) *v0 = v_first;
     return v_first * v_last < 0.0 && dv * dv >= kCoastStopVelocitySigmas * kCoastStopVelocitySigmas * var_v;
   }
-  /// After remember(): scores a crossing whose outcome is due, and notes a new one (file comment);
+  /// After remember(), when watching(): scores a crossing whose outcome is due, and notes a new one (file comment);
   /// var_v = P_vv of the last velocity, tau_s = hold_blend_tau_s (the forgetting of the outcomes).
+  /// True when watchCrossing() has something to do on this frame: a crossing's outcome is pending,
+  /// or the velocity changed sign (most frames: neither).
+  bool watching() const { return cross_due_t >= 0.0 || sign_changed; }
   void watchCrossing(double var_v, double tau_s) {
-    if (n < 2) return;
-    const double t_last = t[static_cast<size_t>(head)], v_last = v[static_cast<size_t>(head)];
+    const double t_last = t[static_cast<size_t>(head)];
     if (cross_due_t >= 0.0 && t_last >= cross_due_t) {
       const double keep = std::exp(-(t_last - cross_scored_t) / tau_s);
-      turn_sum = keep * turn_sum + std::clamp(-v_last / cross_v0, 0.0, 1.0);
+      turn_sum = keep * turn_sum + std::clamp(-v[static_cast<size_t>(head)] / cross_v0, 0.0, 1.0);
       turn_n = keep * turn_n + 1.0;
       cross_scored_t = t_last;
       cross_due_t = -1.0;
     }
-    const double v_prev = v[static_cast<size_t>((head - 1 + kFrames) % kFrames)];
     double v0 = 0.0;
-    if (cross_due_t < 0.0 && v_prev * v_last < 0.0 && crossedZero(var_v, &v0)) {
+    if (cross_due_t < 0.0 && sign_changed && crossedZero(var_v, &v0)) {
       cross_due_t = t_last + kCoastStopWindowS;
       cross_v0 = v0;
     }
@@ -410,6 +412,7 @@ struct CoastStop {
   double cross_v0 = 0.0;      ///< the velocity before that crossing (px/s)
   double turn_sum = 1.0, turn_n = 1.0;  ///< forgetting sums of the outcomes and their count (one turn as the prior)
   double cross_scored_t = 0.0;  ///< time of the last scored outcome (s)
+  bool sign_changed = false;    ///< the last remember()'s velocity has the other sign than the one before
   /// |v| / v_rms of the last measured frame (file comment), 0 before kCoastFastMinMemoryS of memory.
   double speedRatio() const {
     if (n == 0 || time_s < kCoastFastMinMemoryS || !(v_sq_time > 0.0)) return 0.0;
@@ -875,7 +878,7 @@ class ChannelPredictor : public Predictor {
     }
     s.blend.z_hold = z;
     s.blend.recent.remember(t_s, z, s.g.x(1), blendForgetting(t_s - s.blend.recent.lastTime()), s.innovation);
-    if (N == 3 && coast_crossing_) s.blend.recent.watchCrossing(s.g.P(1, 1), blend_tau_s_);
+    if (N == 3 && coast_crossing_ && s.blend.recent.watching()) s.blend.recent.watchCrossing(s.g.P(1, 1), blend_tau_s_);
     rememberForecastStart(c, t_s);
   }
 
