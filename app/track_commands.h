@@ -7,8 +7,8 @@
 //
 // track-study: for every kind x rate x noise x seed it generates the track (seed s of a cell is
 // seed + s; with --draws N, N tracks of that motion, draws 0..N-1 of the noise and the dropped
-// frames, named #seed/dD for D > 0), runs each predictor as `predvs predict` does (horizon = delay_frames / rate), and
-// scores it against the truth (and the measurement). The printed table gives, per predictor,
+// frames, named #seed/dD for D > 0), runs each predictor as `predvs predict` does (horizon =
+// delay_frames / rate), and scores it against the truth (and the measurement). The printed table gives, per predictor,
 // on how many tracks it beat hold (RMSE vs truth strictly smaller), the worst and the mean of the
 // ratio RMSE / RMSE(hold), and the worst kind/rate/noise. With --fit every predictor except hold
 // is first fitted (calibration/noise_fit.h) on the first --fit-split of the track and scored on

@@ -386,11 +386,12 @@ struct CoastStop {
     if (v0) *v0 = v_first;
     return v_first * v_last < 0.0 && dv * dv >= kCoastStopVelocitySigmas * kCoastStopVelocitySigmas * var_v;
   }
-  /// After remember(), when watching(): scores a crossing whose outcome is due, and notes a new one (file comment);
-  /// var_v = P_vv of the last velocity, tau_s = hold_blend_tau_s (the forgetting of the outcomes).
   /// True when watchCrossing() has something to do on this frame: a crossing's outcome is pending,
   /// or the velocity changed sign (most frames: neither).
   bool watching() const { return cross_due_t >= 0.0 || sign_changed; }
+  /// After remember(), when watching(): scores a crossing whose outcome is due, and notes a new one
+  /// (file comment); var_v = P_vv of the last velocity, tau_s = hold_blend_tau_s (the forgetting of
+  /// the outcomes).
   void watchCrossing(double var_v, double tau_s) {
     const double t_last = t[static_cast<size_t>(head)];
     if (cross_due_t >= 0.0 && t_last >= cross_due_t) {
