@@ -14,7 +14,7 @@ hold's.
 
     scripts/foreign-tracks.py BIN [--out DIR] [--seed S] [--seeds N] [--rates 10,15,...]
                               [--noise 0.5,1,...] [--duration-s T] [--drop P] [--jitter F]
-                              [--kinds a,b,...] [--predictors LIST]
+                              [--kinds a,b,...] [--draw D] [--predictors LIST]
                               [--predict-args '...'] [--jobs J] [--check]
 
 Writes DIR/results.csv (one row per track and predictor: kind, rate, noise, seed, predictor,
@@ -168,9 +168,11 @@ def weave(rng, duration):
 KINDS = {"orbit": orbit, "stopgo": stopgo, "dash": dash, "saw": saw, "shake": shake, "weave": weave}
 
 
-def make_track(kind, rate, noise, seed, duration, drop, jitter, path):
+def make_track(kind, rate, noise, seed, duration, drop, jitter, path, draw=0):
     rng = random.Random(f"{kind}/{rate}/{noise}/{seed}")
     truth = KINDS[kind](rng, duration)
+    if draw:  # another draw of the jitter, drops and noise over the same motion (--draw)
+        rng = random.Random(f"{kind}/{rate}/{noise}/{seed}/draw{draw}")
     n = int(duration * rate)
     style = "rows" if seed % 2 else "cells"
     lost, occluded = False, 0
@@ -197,9 +199,9 @@ def make_track(kind, rate, noise, seed, duration, drop, jitter, path):
 
 
 def run_one(args, kind, rate, noise, seed, work):
-    name = f"{kind}-{rate:g}hz-{noise:g}px-{seed}"
+    name = f"{kind}-{rate:g}hz-{noise:g}px-{seed}" + (f"-d{args.draw}" if args.draw else "")
     track = os.path.join(work, name + ".csv")
-    make_track(kind, rate, noise, seed, args.duration_s, args.drop, args.jitter, track)
+    make_track(kind, rate, noise, seed, args.duration_s, args.drop, args.jitter, track, args.draw)
     if args.keep_tracks:
         shutil.copy(track, os.path.join(args.out, "tracks", name + ".csv"))
     return kind, rate, noise, seed, predict_rmse(args, track, os.path.join(work, name))
@@ -277,6 +279,9 @@ def main():
     ap.add_argument("--out", default="out/foreign-tracks", help="output directory of results.csv (default out/foreign-tracks)")
     ap.add_argument("--seed", type=int, default=1, help="first seed S (default 1)")
     ap.add_argument("--seeds", type=int, default=4, help="tracks per cell, seeds S..S+N-1 (default 4)")
+    ap.add_argument("--draw", type=int, default=0,
+                    help="draw D of the timestamp jitter, dropped frames and noise over the same motions: "
+                         "0 = the tracks as before, D > 0 another independent one (default 0)")
     ap.add_argument("--rates", default="10,15,25,30,50,60", help="comma list of frame rates, Hz (default 10,15,25,30,50,60)")
     ap.add_argument("--noise", default="0.5,1,2,3", help="comma list of noise std per coordinate, px (default 0.5,1,2,3)")
     ap.add_argument("--duration-s", type=float, default=15.0, help="track duration, s (default 15)")
@@ -287,6 +292,8 @@ def main():
     add_predict_arguments(ap, "track")
     args = ap.parse_args()
     rates, noises = rates_and_noise(ap, args)
+    if args.draw < 0:
+        ap.error("--draw: expected an integer >= 0")
     if not args.duration_s > 1.5 or not 0 <= args.drop < 1 or not 0 <= args.jitter < 0.5:
         ap.error("need --duration-s > 1.5, 0 <= --drop < 1 and 0 <= --jitter < 0.5")
     kinds = args.kinds.split(",")
