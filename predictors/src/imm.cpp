@@ -467,10 +467,11 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
     if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
       if (blend_tau_s_ > 0.0) {
         if (started_gap) {
-          ch.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, coast_lag_sigmas_, combinedVelocityVariance(ch), R);
+          const double var_v = combinedVelocityVariance(ch);
+          ch.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, coast_lag_sigmas_, var_v, R);
           if (coast_crossing_) {  // the CA mode's acceleration (the others have none), on the combined velocity's crossing
-            const double var_v = combinedVelocityVariance(ch);
-            for (int j = 0; j < m; ++j) coastThroughCrossing(ch.blend.recent, var_v, mixed[static_cast<size_t>(j)].x);
+            const double k = ch.blend.recent.gapAccelerationFactor(var_v);
+            for (int j = 0; j < m; ++j) mixed[static_cast<size_t>(j)].x(2) *= k;
           }
         }
         const double e = ch.blend.gapDecay(t_s, dt, coast_tau_s_, coast_shape_);
@@ -616,11 +617,12 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
     }
     ch.g = mixed;
-    if (blend_tau_s_ > 0.0 && isMeasured(z(c)))
+    if (blend_tau_s_ > 0.0 && isMeasured(z(c))) {
       ch.blend.recent.remember(t_s, z(c), combinedVelocity(ch), blendForgetting(t_s - ch.blend.recent.lastTime()),
                                ch.innovation);
-    if (blend_tau_s_ > 0.0 && isMeasured(z(c)) && coast_crossing_ && ch.blend.recent.watching())
-      ch.blend.recent.watchCrossing(combinedVelocityVariance(ch), blend_tau_s_);
+      if (coast_crossing_ && ch.blend.recent.watching())
+        ch.blend.recent.watchCrossing(combinedVelocityVariance(ch), blend_tau_s_);
+    }
     if (blend_tau_s_ > 0.0 && blend_frames_ > 1) {
       if (isMeasured(z(c)))
         rememberBlendStart(ch, t_s);

@@ -409,6 +409,9 @@ struct CoastStop {
   }
   /// The forgetting mean of the crossings' outcomes: the share of them that turned (file comment).
   double turnShare() const { return turn_sum / turn_n; }
+  /// At the start of a gap: the factor on the acceleration, the turn share when the velocity fell
+  /// through zero just before, else 1 (file comment, "A turn or a stop through zero").
+  double gapAccelerationFactor(double var_v) const { return crossedZero(var_v) ? turnShare() : 1.0; }
   double cross_due_t = -1.0;  ///< when the outcome of the last crossing is scored (s; < 0: none pending)
   double cross_v0 = 0.0;      ///< the velocity before that crossing (px/s)
   double turn_sum = 1.0, turn_n = 1.0;  ///< forgetting sums of the outcomes and their count (one turn as the prior)
@@ -673,14 +676,6 @@ inline double coastShapeParam(const Params& params) { return params.get("coast_s
 inline bool coastCrossingParam(const Params& params) {
   return params.get("coast_crossing", kDefaultCoastCrossing, 0.0, 1.0) != 0.0;
 }
-/// At the start of a gap: the acceleration of x (N = 3) times the channel's turn share when the
-/// velocity fell through zero just before (file comment, "A turn or a stop through zero").
-template <int N>
-inline void coastThroughCrossing(const CoastStop& recent, double var_v, Vec<N>& x) {
-  if constexpr (N == 3) {
-    if (recent.crossedZero(var_v)) x(2) *= recent.turnShare();
-  }
-}
 
 inline double ExtrapolationRates::factor(double cap, double e, double h) const {
   if (!(cap > 0.0) || !(t >= kCoastFastMinMemoryS)) return 1.0;
@@ -743,7 +738,9 @@ class ChannelPredictor : public Predictor {
           if (s.run > 0) {
             s.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, coast_lag_sigmas_, s.g.P(1, 1),
                              measurementNoise(c));
-            if (coast_crossing_) coastThroughCrossing(s.blend.recent, s.g.P(1, 1), s.g.x);
+            if constexpr (N == 3) {
+              if (coast_crossing_) s.g.x(2) *= s.blend.recent.gapAccelerationFactor(s.g.P(1, 1));
+            }
           }
           coastBy(s.g.x, s.blend.gapDecay(t_s, dt, coast_tau_s_, coast_shape_));
         } else {
