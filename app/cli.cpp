@@ -12,6 +12,7 @@
 #include "track_cli.h"
 #include "track_command.h"
 
+#include "predvs/predictors/glitch_gate.h"
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/feature_source.h"
 #include "predvs/servo/image_tracker.h"
@@ -79,6 +80,11 @@ void paramsFileOverrides(const std::string& file, std::vector<ScenarioOverride>&
 struct TrackArgs {
   std::string images, source = "dots", predictor = "all", delay_frames = "2", fps = "30", out_dir = "out/track";
   std::string strip_frames = "4", max_frames;
+  std::string glitch_sigmas = [] {  ///< --glitch-sigmas G, default kTrackerGlitchSigmas
+    std::ostringstream g;
+    g << kTrackerGlitchSigmas;
+    return g.str();
+  }();
   std::vector<std::string> sets;
   bool no_plots = false;
 };
@@ -88,6 +94,7 @@ int runTrack(const TrackArgs& a, const std::string& command_line, std::ostream& 
   o.images = a.images;
   o.source = a.source;
   o.predictors = predictorSpecs(a.predictor);
+  setGlitchSigmas(o.predictors, parseNumberArg("--glitch-sigmas", a.glitch_sigmas));
   o.delay_frames = static_cast<int>(parseIntegerArg("--delay-frames", a.delay_frames, 0, 100000));
   o.fps = parseNumberArg("--fps", a.fps);
   if (!(o.fps > 0.0)) throw std::invalid_argument("--fps: expected a number > 0, got '" + a.fps + "'");
@@ -163,6 +170,12 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->capture_default_str()
       ->type_name("K");
   track->add_option("--max-frames", ta.max_frames, "read at most N frames")->type_name("N");
+  track->add_option("--glitch-sigmas", ta.glitch_sigmas,
+                    "the glitch gate on every predictor that does not set glitch_sigmas itself: a point G sigmas off the "
+                    "line of the two frames before it is held in doubt until the next frame shows a tracker glitch (kept "
+                    "out of the predictor) or a step (docs/MODELS.md §16); 0 = off")
+      ->capture_default_str()
+      ->type_name("G");
   track->add_option("--out", ta.out_dir, "output directory, replaced only when the run succeeds")
       ->capture_default_str()
       ->type_name("DIR");

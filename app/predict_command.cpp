@@ -445,6 +445,12 @@ void requirePredictor(const std::string& option, const std::string& name) {
   throw std::invalid_argument(option + ": unknown predictor '" + name + "' (known: " + known + ")");
 }
 
+void setGlitchSigmas(std::vector<PredictorSpec>& specs, double g) {
+  if (!(g >= 0.0 && std::isfinite(g))) throw std::invalid_argument("--glitch-sigmas: expected a number of sigmas >= 0 (0 = no gate)");
+  for (PredictorSpec& s : specs)
+    if (!s.params.has("glitch_sigmas")) s.params.set("glitch_sigmas", g);
+}
+
 std::vector<PredictorSpec> parsePredictorSpecs(const std::string& option, const std::vector<std::string>& items) {
   std::vector<PredictorSpec> specs;
   if (items.size() == 1 && items[0] == "all") {

@@ -55,6 +55,10 @@ void requirePredictor(const std::string& option, const std::string& name);
 /// parameter sets side by side. Throws std::invalid_argument "OPTION: ..." for an empty list, 'all'
 /// in a list, an unknown TYPE, a malformed element or a name shown twice.
 std::vector<PredictorSpec> parsePredictorSpecs(const std::string& option, const std::vector<std::string>& items);
+/// `--glitch-sigmas G` of predict, track and track-study: sets the key glitch_sigmas to G (the glitch
+/// gate, glitch_gate.h) on every spec that does not set it itself. Throws std::invalid_argument
+/// "--glitch-sigmas: ..." unless G >= 0.
+void setGlitchSigmas(std::vector<PredictorSpec>& specs, double g);
 
 /// RMSE of predictions against a reference (see file comment). NaN when n == 0.
 struct PredictionErrors {

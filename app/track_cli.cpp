@@ -39,6 +39,7 @@ struct PredictArgs {
   std::string fit_objective;  ///< --fit-objective likelihood|prediction (default prediction at the horizon)
   std::string fit_select_holdout;  ///< --fit-select-holdout F (fit-noise --select-holdout)
   bool no_warm_start = false;      ///< --no-warm-start (track-study's)
+  std::string glitch_sigmas;       ///< --glitch-sigmas G (setGlitchSigmas; default: the predictors' own, 0)
 };
 
 /// Sets the params of a parameter file on the specs shown under the name of one of its entries
@@ -90,6 +91,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
     if (!applied)
       throw std::invalid_argument("--param " + kv.substr(0, eq) + ": predictor '" + scope + "' is not being run");
   }
+  if (!a.glitch_sigmas.empty()) setGlitchSigmas(specs, parseNumberArg("--glitch-sigmas", a.glitch_sigmas));
   // Build each predictor once to reject unknown parameter keys now, naming the option.
   for (const auto& s : specs) {
     try {
@@ -263,6 +265,11 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
   predict->add_option("--jobs", pa.jobs,
                       "threads running the predictors and writing predictions.csv (default: every core; the outputs do not depend on it)")
       ->type_name("N");
+  predict->add_option("--glitch-sigmas", pa.glitch_sigmas,
+                      "the glitch gate on every predictor that does not set glitch_sigmas itself: a measurement G sigmas "
+                      "off the line of the two before it is held in doubt until the next frame shows a tracker glitch or a "
+                      "step (docs/MODELS.md §16); 0 = off (the default); `predvs track` uses 8")
+      ->type_name("G");
   predict->add_option("--params", pa.params_file,
                       "parameter file (YAML, as written by fit-noise) for the predictors it names (not a LABEL=NAME "
                       "entry of --predictor: give it --param LABEL.KEY=VALUE); --param wins")
@@ -338,6 +345,8 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
   make_track->add_option("--drop", mta.drop_prob, "probability of a dropped frame; with probability drop/5 an occlusion of 0.1-0.3 s begins")->capture_default_str()->type_name("P");
   make_track->add_option("--seed", mta.seed, "random seed")->capture_default_str()->type_name("N");
   make_track->add_option("--draw", mta.draw, "draw of the noise and the dropped frames over the motion of --seed: 0 = the track's own, D > 0 another independent one (the same truth)")->capture_default_str()->type_name("D");
+  make_track->add_option("--glitch", mta.glitch_prob, "probability that a measured frame is a tracker glitch: u, v displaced by --glitch-px for that frame only (own random stream: noise and drops unchanged)")->capture_default_str()->type_name("P");
+  make_track->add_option("--glitch-px", mta.glitch_px, "size of a glitch, px")->capture_default_str()->type_name("PX");
   make_track->add_option("--out", mta.out, "output CSV file")->required()->type_name("FILE");
 
   TrackStudyArgs& tsa = s_->track_study_args;
@@ -358,6 +367,9 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
   track_study->add_option("--draws", tsa.draws, "draws of the noise and the dropped frames per motion (make-track --draw 0..N-1): how much of a result is the luck of where the gaps fall")->capture_default_str()->type_name("N");
   track_study->add_option("--duration-s", tsa.duration_s, "track duration, s")->capture_default_str()->type_name("S");
   track_study->add_option("--drop", tsa.drop_prob, "dropped-frame probability")->capture_default_str()->type_name("P");
+  track_study->add_option("--glitch", tsa.glitch_prob, "probability that a measured frame is a tracker glitch (make-track --glitch)")->capture_default_str()->type_name("P");
+  track_study->add_option("--glitch-px", tsa.glitch_px, "size of a glitch, px")->capture_default_str()->type_name("PX");
+  track_study->add_option("--glitch-sigmas", tsa.glitch_sigmas, "the glitch gate on every predictor that does not set glitch_sigmas itself (predict --glitch-sigmas; 0 = off)")->capture_default_str()->type_name("G");
   track_study->add_option("--delay-frames", tsa.delay_frames, "prediction horizon in frames")->capture_default_str()->type_name("H");
   track_study->add_option("--predictors", ts_predictors, "comma list of predictors or 'all'; an element may be [LABEL=]NAME[:KEY=VALUE...] as in compare")->capture_default_str()->type_name("A,B|all");
   track_study->add_option("--param", tsa.params, "parameter of one predictor (repeatable)")->type_name("PREDICTOR.KEY=VALUE");

@@ -27,6 +27,13 @@ namespace {
 
 }  // namespace
 
+namespace {
+void checkGlitchArgs(double prob, double px) {
+  if (!(prob >= 0.0 && prob <= 0.5)) throw std::invalid_argument("--glitch: expected a probability in [0, 0.5]");
+  if (!(px > 0.0 && std::isfinite(px))) throw std::invalid_argument("--glitch-px: expected a size > 0 px");
+}
+}  // namespace
+
 int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
   ManeuverTrackConfig c;
   c.kind = parseManeuverKind(a.kind);
@@ -36,6 +43,7 @@ int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
   if (!(a.drop_prob >= 0.0 && a.drop_prob <= 0.5)) throw std::invalid_argument("--drop: expected a probability in [0, 0.5]");
   if (a.seed < 0) throw std::invalid_argument("--seed: expected an integer >= 0");
   if (a.draw < 0) throw std::invalid_argument("--draw: expected an integer >= 0");
+  checkGlitchArgs(a.glitch_prob, a.glitch_px);
   if (a.out.empty()) throw std::invalid_argument("--out: expected a file path");
   c.rate_hz = a.rate_hz;
   c.noise_px = a.noise_px;
@@ -43,6 +51,8 @@ int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
   c.drop_prob = a.drop_prob;
   c.seed = static_cast<std::uint64_t>(a.seed);
   c.draw = static_cast<std::uint64_t>(a.draw);
+  c.glitch_prob = a.glitch_prob;
+  c.glitch_px = a.glitch_px;
   const ManeuverTrack track = generateManeuverTrack(c);
 
   namespace fs = std::filesystem;
@@ -87,8 +97,10 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   // registry predictor, inline: its KEY=VALUE (parsePredictorSpecs, predict_command.h).
   std::vector<std::string> names, types;
   std::vector<Params> inline_params;
-  for (const PredictorSpec& s :
-       parsePredictorSpecs("--predictors", a.predictors.empty() ? std::vector<std::string>{"all"} : a.predictors)) {
+  std::vector<PredictorSpec> specs =
+      parsePredictorSpecs("--predictors", a.predictors.empty() ? std::vector<std::string>{"all"} : a.predictors);
+  setGlitchSigmas(specs, a.glitch_sigmas);
+  for (const PredictorSpec& s : specs) {
     names.push_back(s.shownName());
     types.push_back(s.name);
     inline_params.push_back(s.params);
@@ -114,6 +126,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   };
   if (a.seeds < 1) throw std::invalid_argument("--seeds: expected an integer >= 1");
   if (a.draws < 1) throw std::invalid_argument("--draws: expected an integer >= 1");
+  checkGlitchArgs(a.glitch_prob, a.glitch_px);
   if (a.delay_frames < 0) throw std::invalid_argument("--delay-frames: expected an integer >= 0");
   for (double r : a.rates_hz)
     if (!(r >= 1.0 && r <= 1000.0)) throw std::invalid_argument("--rates: expected rates in [1, 1000] Hz");
@@ -193,6 +206,8 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
             c.drop_prob = a.drop_prob;
             c.seed = static_cast<std::uint64_t>(a.seed + s);
             c.draw = static_cast<std::uint64_t>(d);
+            c.glitch_prob = a.glitch_prob;
+            c.glitch_px = a.glitch_px;
             configs.push_back(c);
           }
   // One track per work item; the rows of track i go to per_track[i], so the order (and every

@@ -37,6 +37,8 @@ struct MakeTrackArgs {
   double drop_prob = 0.02;
   long seed = 1;
   long draw = 0;  ///< --draw D: the draw of the noise and the drops (ManeuverTrackConfig::draw)
+  double glitch_prob = 0.0;  ///< --glitch P (ManeuverTrackConfig::glitch_prob)
+  double glitch_px = 15.0;   ///< --glitch-px G
   std::string out;
 };
 
@@ -52,6 +54,9 @@ struct TrackStudyArgs {
   int draws = 1;  ///< --draws N: each motion with the draws 0..N-1 of its noise and drops
   double duration_s = 20.0;
   double drop_prob = 0.02;
+  double glitch_prob = 0.0;  ///< --glitch P
+  double glitch_px = 15.0;   ///< --glitch-px G
+  double glitch_sigmas = 0.0;  ///< --glitch-sigmas G (setGlitchSigmas, predict_command.h)
   int delay_frames = 2;
   std::vector<std::string> predictors;  ///< empty = all registered
   std::vector<std::string> params;      ///< PREDICTOR.KEY=VALUE (--param)

@@ -2,6 +2,7 @@
 // suite, tests/predictors/property_test.cpp).
 #include "predvs/predictors/cs_akf.h"
 #include "predvs/predictors/fakf.h"
+#include "predvs/predictors/glitch_gate.h"
 #include "predvs/predictors/imm.h"
 #include "predvs/predictors/kalman_baselines.h"
 #include "predvs/predictors/predictor.h"
@@ -63,7 +64,7 @@ bool isPredictor(const std::string& name) {
 std::unique_ptr<Predictor> makePredictor(const std::string& name, int channels, const Params& params) {
   for (const auto& e : entries()) {
     if (e.info.name != name) continue;
-    auto p = e.make(channels, params);
+    auto p = withGlitchGate(e.make(channels, params), glitchSigmasParam(params));
     params.requireAllUsed("predictor '" + name + "'");
     return p;
   }

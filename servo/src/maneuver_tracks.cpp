@@ -237,6 +237,8 @@ ManeuverTrack generateManeuverTrack(const ManeuverTrackConfig& c) {
   if (!(c.noise_px >= 0.0 && std::isfinite(c.noise_px))) throw std::invalid_argument("track noise_px must be >= 0");
   if (!(c.duration_s > 0.0 && c.duration_s <= 1e6)) throw std::invalid_argument("track duration_s must be > 0");
   if (!(c.drop_prob >= 0.0 && c.drop_prob <= 0.5)) throw std::invalid_argument("track drop_prob must be in [0, 0.5]");
+  if (!(c.glitch_prob >= 0.0 && c.glitch_prob <= 0.5)) throw std::invalid_argument("track glitch_prob must be in [0, 0.5]");
+  if (!(c.glitch_px > 0.0 && std::isfinite(c.glitch_px))) throw std::invalid_argument("track glitch_px must be > 0");
 
   std::mt19937_64 motion_rng(c.seed);
   std::mt19937_64 noise_rng(c.seed ^ 0x9e3779b97f4a7c15ULL);
@@ -247,6 +249,10 @@ ManeuverTrack generateManeuverTrack(const ManeuverTrackConfig& c) {
   }
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
+  // The glitches' own stream (glitch_prob > 0 only): seeded from the seed and the draw.
+  std::seed_seq glitch_seq{static_cast<std::uint32_t>(c.seed), static_cast<std::uint32_t>(c.seed >> 32),
+                           static_cast<std::uint32_t>(c.draw), static_cast<std::uint32_t>(c.draw >> 32), 0x676cu};
+  std::mt19937_64 glitch_rng(glitch_seq);
   Motion motion(c.kind, motion_rng);
 
   const double T = 1.0 / c.rate_hz;
@@ -291,8 +297,14 @@ ManeuverTrack generateManeuverTrack(const ManeuverTrackConfig& c) {
         dropped = true;
       }
     }
-    track.u_px.push_back(dropped ? kNaN : x + nu);
-    track.v_px.push_back(dropped ? kNaN : y + nv);
+    double gu = 0.0, gv = 0.0;
+    if (k > 0 && !dropped && c.glitch_prob > 0.0 && unit(glitch_rng) < c.glitch_prob) {
+      const double angle = 2.0 * M_PI * unit(glitch_rng);
+      gu = c.glitch_px * std::cos(angle);
+      gv = c.glitch_px * std::sin(angle);
+    }
+    track.u_px.push_back(dropped ? kNaN : x + nu + gu);
+    track.v_px.push_back(dropped ? kNaN : y + nv + gv);
   }
   return track;
 }

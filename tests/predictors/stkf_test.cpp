@@ -203,7 +203,7 @@ TEST(StkfModels, CvGivesTheSameNumbersAsBeforeAndTheDefaultIsCa) {
   // (the forecast's blend with hold, channel_predictor.h, is off in both: it came after b41f742)
   Params paper{{"r", 5.0}, {"q_pos", 5.0}, {"q_vel", 20.0}, {"squared", 1.0}, {"coast_tau_s", 0.0}, {"hold_blend_tau_s", 0.0}};
   paper.setText("model", "cv");
-  auto by_default = makePredictor("stkf", 2);
+  auto by_default = makePredictor("stkf", 2, {{"glitch_sigmas", 0.0}});  // the filter itself, not behind the glitch gate
   Params cv_params = modelParams("cv");
   cv_params.set("hold_blend_tau_s", 0.0);
   auto cv = makePredictor("stkf", 2, cv_params);
@@ -274,6 +274,7 @@ TEST(StkfModels, CaWithoutSelfTuningIsKfCa) {
   Params st = modelParams("ca", kfca);
   st.set("window", 0);
   st.set("p0_pos", r);  // kf-ca starts P(0,0) at R
+  st.set("glitch_sigmas", 0.0);  // the filter itself (its reinitialisations()), not behind the glitch gate
   auto a = makePredictor("stkf", 2, st);
   auto b = makePredictor("kf-ca", 2, kfca);
   // WHEN both track a manoeuvring target at 30 Hz with noise, dropped entries and 3-frame gaps

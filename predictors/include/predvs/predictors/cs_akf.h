@@ -195,6 +195,7 @@ class CsKalmanPredictor : public ChannelPredictor<3> {
 /// slow response to manoeuvres, large a_max the opposite.
 class CsAkfPredictor : public CsKalmanPredictor {
  public:
+  std::unique_ptr<Predictor> clone() const override { return std::make_unique<CsAkfPredictor>(*this); }
   CsAkfPredictor(int channels, const Params& params);
   std::string name() const override { return "cs-akf"; }
   double accelerationVariance(int c) const override;
@@ -254,6 +255,7 @@ class CsAkfPredictor : public CsKalmanPredictor {
 /// give access to the per-channel estimate.
 class CsAkfAdaptivePredictor : public CsKalmanPredictor {
  public:
+  std::unique_ptr<Predictor> clone() const override { return std::make_unique<CsAkfAdaptivePredictor>(*this); }
   CsAkfAdaptivePredictor(int channels, const Params& params);
   std::string name() const override { return "cs-akf-adaptive"; }
   double accelerationVariance(int c) const override { return sigma2_[static_cast<size_t>(c)]; }

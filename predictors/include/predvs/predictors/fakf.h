@@ -100,6 +100,7 @@ class FakfClassicPredictor : public ChannelPredictor<N> {
   using Base = ChannelPredictor<N>;
 
  public:
+  std::unique_ptr<Predictor> clone() const override { return std::make_unique<FakfClassicPredictor>(*this); }
   FakfClassicPredictor(int channels, const Params& params);
   std::string name() const override { return "fakf-classic"; }
   /// q (white-acceleration density on cv, white-jerk density on ca) and r (the initial R).
@@ -207,6 +208,7 @@ inline constexpr double kDefaultFakfRBand = 1.5;
 ///     itself is within about +-15 % of cs-akf-adaptive alone, not consistently better.
 class FakfPredictor : public CsAkfAdaptivePredictor {
  public:
+  std::unique_ptr<Predictor> clone() const override { return std::make_unique<FakfPredictor>(*this); }
   FakfPredictor(int channels, const Params& params);
   std::string name() const override { return "fakf"; }
   /// alpha, the CS variance bounds sigma_min_sq and sigma_max_sq, and r (the initial R): the

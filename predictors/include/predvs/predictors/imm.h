@@ -227,6 +227,7 @@ const char* immModeName(ImmMode m);
 
 class ImmPredictor : public Predictor {
  public:
+  std::unique_ptr<Predictor> clone() const override { return std::make_unique<ImmPredictor>(*this); }
   static constexpr int kMaxModes = 3;
   ImmPredictor(int channels, const Params& params);
   std::string name() const override { return "imm"; }

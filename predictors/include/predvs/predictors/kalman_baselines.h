@@ -28,6 +28,7 @@ inline constexpr bool kDefaultShrinkVelocityKfCa = true;
 /// (zero velocity), which is what a servo loop without a predictor acts on.
 class HoldPredictor : public ChannelPredictor<2> {
  public:
+  std::unique_ptr<Predictor> clone() const override { return std::make_unique<HoldPredictor>(*this); }
   HoldPredictor(int channels, const Params& params);
   std::string name() const override { return "hold"; }
   bool extrapolates() const override { return false; }
@@ -51,6 +52,7 @@ class HoldPredictor : public ChannelPredictor<2> {
 /// of the forecast velocity (channel_predictor.h).
 class KfCvPredictor : public ChannelPredictor<2> {
  public:
+  std::unique_ptr<Predictor> clone() const override { return std::make_unique<KfCvPredictor>(*this); }
   KfCvPredictor(int channels, const Params& params);
   std::string name() const override { return "kf-cv"; }
   std::vector<NoiseParameter> noiseParameters() const override {
@@ -75,6 +77,7 @@ class KfCvPredictor : public ChannelPredictor<2> {
 /// shrink_v_sigmas (n of the velocity weight, default shrink_sigmas; channel_predictor.h).
 class KfCaPredictor : public ChannelPredictor<3> {
  public:
+  std::unique_ptr<Predictor> clone() const override { return std::make_unique<KfCaPredictor>(*this); }
   KfCaPredictor(int channels, const Params& params);
   std::string name() const override { return "kf-ca"; }
   std::vector<NoiseParameter> noiseParameters() const override {

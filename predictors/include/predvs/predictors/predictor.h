@@ -105,6 +105,10 @@ class Predictor {
   virtual double predictPosition(int channel, double t_s) const { return predict(channel, t_s).position(); }
   /// Innovation of the last update on `channel`.
   virtual Innovation innovation(int channel) const = 0;
+  /// A copy in the current state, fed the same measurements from here on it gives the same bits
+  /// (the glitch gate, glitch_gate.h, keeps one while a measurement is in doubt). nullptr: this
+  /// predictor cannot be copied, and is not gated.
+  virtual std::unique_ptr<Predictor> clone() const { return nullptr; }
 
   /// Capabilities the servo loop asks for instead of a name:
   /// whether the predictor forecasts motion at all (false for `hold`, which repeats the last

@@ -85,6 +85,7 @@ class StAkfPredictor : public ChannelPredictor<N> {
   using Base = ChannelPredictor<N>;
 
  public:
+  std::unique_ptr<Predictor> clone() const override { return std::make_unique<StAkfPredictor>(*this); }
   StAkfPredictor(int channels, const Params& params);
   std::string name() const override { return "st-akf"; }
   /// q (the white-acceleration density for cv, the white-jerk density for ca) and r (also those of
@@ -174,6 +175,7 @@ class StAkfPmPredictor : public StAkfPredictor<N> {
   using Base = StAkfPredictor<N>;
 
  public:
+  std::unique_ptr<Predictor> clone() const override { return std::make_unique<StAkfPmPredictor>(*this); }
   StAkfPmPredictor(int channels, const Params& params);
   std::string name() const override { return "st-akf-pm"; }
 

@@ -122,6 +122,7 @@ class StkfFilter : public ChannelPredictor<N> {
   using Base = ChannelPredictor<N>;
 
  public:
+  std::unique_ptr<Predictor> clone() const override { return std::make_unique<StkfFilter>(*this); }
   StkfFilter(int channels, const Params& params);
   std::string name() const override { return "stkf"; }
   /// cv: r (R_0), q_pos, q_vel (white-acceleration: r, q). q_pos defaults to 0, below its bound:

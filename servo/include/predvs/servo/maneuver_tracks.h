@@ -63,6 +63,11 @@ struct ManeuverTrackConfig {
   /// (seeded from seed alone, as before draws existed); d > 0 = another, independent draw of them
   /// over the same motion and truth (`predvs make-track --draw`, `track-study --draws`).
   std::uint64_t draw = 0;
+  /// Probability that a measured frame (after the first) is a tracker glitch: its u, v displaced by
+  /// glitch_px in a uniformly drawn direction, for that frame only; [0, 0.5], default 0 (none). The
+  /// glitches have their own random stream, so the noise and the drops are those of glitch_prob 0.
+  double glitch_prob = 0.0;
+  double glitch_px = 15.0;  ///< size of a glitch, px (> 0)
 };
 
 /// A generated track: measured u, v (NaN = dropped frame) and truth, per frame.
