@@ -1,5 +1,6 @@
 #include "predvs/predictors/glitch_gate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -63,8 +64,15 @@ bool GlitchGate::test(Line& line, double t, double z) const {
     line.m2 = keep * line.m2 + (1.0 - keep) * step * step;
   } else {
     const double n = line.samples;
-    line.s = (n * line.s + d2) / (n + 1.0);
     line.m2 = (n * line.m2 + step * step) / (n + 1.0);
+    line.warm[static_cast<size_t>(line.samples)] = d2;
+    if (line.samples + 1 == kGlitchWarmup) {  // all but the two largest (file comment)
+      std::array<double, kGlitchWarmup> w = line.warm;
+      std::sort(w.begin(), w.end());
+      double sum = 0.0;
+      for (int i = 0; i < kGlitchWarmup - 2; ++i) sum += w[static_cast<size_t>(i)];
+      line.s = sum / (kGlitchWarmup - 2) / kGlitchTrimmedMean;
+    }
   }
   ++line.samples;
   line.keep(t, z);

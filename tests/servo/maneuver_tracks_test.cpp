@@ -74,6 +74,40 @@ TEST(ManeuverTracks, AnotherDrawKeepsTheMotionAndRedrawsNoiseAndDrops) {
   EXPECT_GT(both_measured, own.size() / 2);
 }
 
+TEST(ManeuverTracks, GlitchesDisplaceSingleFramesAndLeaveTheRestAsItWas) {
+  // GIVEN a track and the same track with glitches (make-track --glitch 0.02 --glitch-px 25)
+  ManeuverTrackConfig c;
+  c.kind = ManeuverKind::Hand;
+  c.rate_hz = 60.0;
+  c.duration_s = 20.0;
+  c.seed = 12;
+  const ManeuverTrack plain = generateManeuverTrack(c);
+  c.glitch_prob = 0.02;
+  c.glitch_px = 25.0;
+  const ManeuverTrack glitched = generateManeuverTrack(c);
+  // THEN the truth and the dropped frames are the same, and a measured frame either has the same
+  // bits or is displaced by 25 px (about 2 % of them)
+  ASSERT_EQ(plain.size(), glitched.size());
+  size_t measured = 0, displaced = 0;
+  for (size_t i = 0; i < plain.size(); ++i) {
+    ASSERT_EQ(plain.u_true_px[i], glitched.u_true_px[i]) << i;
+    ASSERT_EQ(std::isfinite(plain.u_px[i]), std::isfinite(glitched.u_px[i])) << i;
+    if (!std::isfinite(plain.u_px[i])) continue;
+    ++measured;
+    const double du = glitched.u_px[i] - plain.u_px[i], dv = glitched.v_px[i] - plain.v_px[i];
+    if (du == 0.0 && dv == 0.0) continue;
+    ++displaced;
+    EXPECT_NEAR(std::hypot(du, dv), 25.0, 1e-9) << i;
+  }
+  EXPECT_GT(displaced, measured / 100);
+  EXPECT_LT(displaced, measured / 25);
+  c.glitch_prob = 0.6;
+  EXPECT_THROW(generateManeuverTrack(c), std::invalid_argument);
+  c.glitch_prob = 0.1;
+  c.glitch_px = 0.0;
+  EXPECT_THROW(generateManeuverTrack(c), std::invalid_argument);
+}
+
 TEST(ManeuverTracks, RateNoiseAndDropsAreAsConfigured) {
   for (ManeuverKind kind : maneuverKinds()) {
     ManeuverTrackConfig c;

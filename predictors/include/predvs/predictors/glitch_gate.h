@@ -14,8 +14,12 @@
 // frames are consecutive at a steady period (their two intervals within a
 // factor kGlitchPeriodRatio of each other), against s, the mean of d^2 with
 // forgetting (time constant kGlitchScaleTauS; each sample clipped at
-// kGlitchClip^2 s so that one jump does not inflate it; a plain mean over the
-// first kGlitchWarmup samples, and no test before them). s has a floor of
+// kGlitchClip^2 s so that one jump does not inflate it; no test over the first
+// kGlitchWarmup samples, after which s starts at the mean of all but their two
+// largest, over kGlitchTrimmedMean: two glitches among them do not count, and
+// a tracker whose resting positions repeat to the bit does not make s zero as
+// a median would).
+// s has a floor of
 // (kGlitchFloor m)^2, m^2 the mean square step between frames (the same
 // forgetting), so that a track without noise is not tested against nothing.
 // |d| > g sqrt(s), g = `glitch_sigmas` (default 0 = off; `predvs track`, which
@@ -40,6 +44,7 @@
 
 #include "predvs/predictors/predictor.h"
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -58,8 +63,11 @@ inline constexpr double kTrackerGlitchSigmas = 8.0;
 inline constexpr double kGlitchPeriodRatio = 1.5;
 /// Time constant of the forgetting means s and m^2 (s).
 inline constexpr double kGlitchScaleTauS = 2.0;
-/// Samples of d^2 before the first test (s is their plain mean until then).
+/// Samples of d^2 before the first test (file comment).
 inline constexpr int kGlitchWarmup = 10;
+/// The expected mean of the 8 smallest of 10 chi-square variables of one degree of freedom
+/// (400,000 simulated sets), which s's start divides by so as to estimate their variance.
+inline constexpr double kGlitchTrimmedMean = 0.503;
 /// A sample of d^2 enters s clipped at kGlitchClip^2 s.
 inline constexpr double kGlitchClip = 3.0;
 /// Floor of sqrt(s) as a fraction of the rms step between frames.
@@ -107,6 +115,7 @@ class GlitchGate : public Predictor {
     int kept = 0;              ///< how many of them are valid (0..2)
     double s = 0.0, m2 = 0.0;  ///< forgetting means of d^2 and of the step^2
     int samples = 0;
+    std::array<double, kGlitchWarmup> warm{};  ///< the first samples of d^2
     bool doubt = false;
     double t_doubt = 0.0, z_doubt = 0.0;
     void keep(double t, double z) {
