@@ -66,12 +66,12 @@ bool GlitchGate::test(Line& line, double t, double z) const {
     const double n = line.samples;
     line.m2 = (n * line.m2 + step * step) / (n + 1.0);
     line.warm[static_cast<size_t>(line.samples)] = d2;
-    if (line.samples + 1 == kGlitchWarmup) {  // all but the two largest (file comment)
+    if (line.samples + 1 == kGlitchWarmup) {  // all but the kGlitchTrimmed largest (file comment)
       std::array<double, kGlitchWarmup> w = line.warm;
       std::sort(w.begin(), w.end());
       double sum = 0.0;
-      for (int i = 0; i < kGlitchWarmup - 2; ++i) sum += w[static_cast<size_t>(i)];
-      line.s = sum / (kGlitchWarmup - 2) / kGlitchTrimmedMean;
+      for (int i = 0; i < kGlitchWarmup - kGlitchTrimmed; ++i) sum += w[static_cast<size_t>(i)];
+      line.s = sum / (kGlitchWarmup - kGlitchTrimmed) / kGlitchTrimmedMean;
     }
   }
   ++line.samples;

@@ -14,12 +14,12 @@
 // frames are consecutive at a steady period (their two intervals within a
 // factor kGlitchPeriodRatio of each other), against s, the mean of d^2 with
 // forgetting (time constant kGlitchScaleTauS; each sample clipped at
-// kGlitchClip^2 s so that one jump does not inflate it; no test over the first
-// kGlitchWarmup samples, after which s starts at the mean of all but their two
-// largest, over kGlitchTrimmedMean: two glitches among them do not count, and
-// a tracker whose resting positions repeat to the bit does not make s zero as
-// a median would).
-// s has a floor of
+// kGlitchClip^2 s so that one jump does not inflate it). There is no test over
+// the first kGlitchWarmup samples; s then starts at the mean of all but their
+// kGlitchTrimmed largest, over kGlitchTrimmedMean: a glitch, which spoils the
+// sample of its frame and of the two after it (it is a point of their lines),
+// does not count, and a tracker whose resting positions repeat to the bit does
+// not make s zero as a median would. s has a floor of
 // (kGlitchFloor m)^2, m^2 the mean square step between frames (the same
 // forgetting), so that a track without noise is not tested against nothing.
 // |d| > g sqrt(s), g = `glitch_sigmas` (default 0 = off; `predvs track`, which
@@ -65,9 +65,11 @@ inline constexpr double kGlitchPeriodRatio = 1.5;
 inline constexpr double kGlitchScaleTauS = 2.0;
 /// Samples of d^2 before the first test (file comment).
 inline constexpr int kGlitchWarmup = 10;
-/// The expected mean of the 8 smallest of 10 chi-square variables of one degree of freedom
+/// Of the first kGlitchWarmup samples, the largest kGlitchTrimmed are left out of s's start.
+inline constexpr int kGlitchTrimmed = 3;
+/// The expected mean of the 7 smallest of 10 chi-square variables of one degree of freedom
 /// (400,000 simulated sets), which s's start divides by so as to estimate their variance.
-inline constexpr double kGlitchTrimmedMean = 0.503;
+inline constexpr double kGlitchTrimmedMean = 0.372;
 /// A sample of d^2 enters s clipped at kGlitchClip^2 s.
 inline constexpr double kGlitchClip = 3.0;
 /// Floor of sqrt(s) as a fraction of the rms step between frames.
