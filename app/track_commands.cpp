@@ -28,6 +28,11 @@ namespace {
 }  // namespace
 
 namespace {
+std::string formatGlitchPx(double px) {
+  std::ostringstream s;
+  s << px;
+  return s.str();
+}
 void checkGlitchArgs(double prob, double px) {
   if (!(prob >= 0.0 && prob <= 0.5)) throw std::invalid_argument("--glitch: expected a probability in [0, 0.5]");
   if (!(px > 0.0 && std::isfinite(px))) throw std::invalid_argument("--glitch-px: expected a size > 0 px");
@@ -82,7 +87,9 @@ int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
   size_t dropped = 0;
   for (double u : track.u_px) dropped += std::isfinite(u) ? 0 : 1;
   out << "wrote " << a.out << ": " << maneuverKindName(c.kind) << ", " << track.size() << " frames at " << c.rate_hz
-      << " Hz, noise " << c.noise_px << " px, " << dropped << " dropped frames, seed " << c.seed
+      << " Hz, noise " << c.noise_px << " px, " << dropped << " dropped frames, "
+      << (c.glitch_prob > 0.0 ? std::to_string(track.glitches) + " glitches of " + formatGlitchPx(c.glitch_px) + " px, " : std::string())
+      << "seed " << c.seed
       << (c.draw > 0 ? ", draw " + std::to_string(c.draw) : std::string()) << "\n";
   return 0;
 }

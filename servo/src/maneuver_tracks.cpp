@@ -302,6 +302,7 @@ ManeuverTrack generateManeuverTrack(const ManeuverTrackConfig& c) {
       const double angle = 2.0 * M_PI * unit(glitch_rng);
       gu = c.glitch_px * std::cos(angle);
       gv = c.glitch_px * std::sin(angle);
+      ++track.glitches;
     }
     track.u_px.push_back(dropped ? kNaN : x + nu + gu);
     track.v_px.push_back(dropped ? kNaN : y + nv + gv);

@@ -99,6 +99,8 @@ TEST(ManeuverTracks, GlitchesDisplaceSingleFramesAndLeaveTheRestAsItWas) {
     ++displaced;
     EXPECT_NEAR(std::hypot(du, dv), 25.0, 1e-9) << i;
   }
+  EXPECT_EQ(glitched.glitches, displaced);
+  EXPECT_EQ(plain.glitches, 0u);
   EXPECT_GT(displaced, measured / 100);
   EXPECT_LT(displaced, measured / 25);
   c.glitch_prob = 0.6;

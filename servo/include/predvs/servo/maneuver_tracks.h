@@ -75,6 +75,7 @@ struct ManeuverTrack {
   std::vector<double> t_s;
   std::vector<double> u_px, v_px;
   std::vector<double> u_true_px, v_true_px;
+  size_t glitches = 0;  ///< measured frames displaced by a glitch (ManeuverTrackConfig::glitch_prob)
   size_t size() const { return t_s.size(); }
 };
 
