@@ -541,6 +541,11 @@ void runTrackCommand(const TrackOptions& o, std::ostream& out, std::ostream& err
     for (size_t row = 0; row < r.rows(); ++row)
       if (r.frame_ok[row] && !std::isfinite(r.u_px[p][row])) ++lost;
   out << ", " << lost << " point-frames lost\n";
+  double gate = 0.0;  // the glitch gate of the specs (--glitch-sigmas), when one has it on
+  for (const auto& spec : o.predictors)
+    if (spec.params.has("glitch_sigmas")) gate = std::max(gate, spec.params.get("glitch_sigmas", 0.0));
+  if (gate > 0.0)
+    out << "glitch gate at " << gate << " sigmas on the predictors (hold excepted; docs/MODELS.md §16; --glitch-sigmas 0: off)\n";
   out << "wrote " << dir.target().string() << "/: tracks.csv, tracks_wide.csv, predictions.csv, leaderboard.csv/.json, "
       << (strip.empty() ? "" : "strip.png, ");
   for (const auto& p : plots) out << p << ", ";
