@@ -58,7 +58,11 @@ bool GlitchGate::test(Line& line, double t, double z) const {
     const double floor2 = kGlitchFloor * kGlitchFloor * line.m2;
     const double s = line.s > floor2 ? line.s : floor2;
     if (d2 > g_ * g_ * s) return true;  // in doubt: neither learnt nor kept until settled
-    const double keep = std::exp(-h / kGlitchScaleTauS);
+    if (h != line.keep_h) {  // the forgetting of the last interval, kept: a steady clock repeats it
+      line.keep_h = h;
+      line.keep_factor = std::exp(-h / kGlitchScaleTauS);
+    }
+    const double keep = line.keep_factor;
     const double clip = kGlitchClip * kGlitchClip * line.s;
     line.s = keep * line.s + (1.0 - keep) * (d2 < clip ? d2 : clip);
     line.m2 = keep * line.m2 + (1.0 - keep) * step * step;

@@ -38,8 +38,11 @@
 // predictor exactly as without the gate. A frame that measures none of them
 // settles for A.
 //
-// Cost: a few flops per channel and frame; a copy of the predictor only on a
-// frame in doubt.
+// Cost: the test on every measured frame of every channel (an exponential, a
+// division and a few flops, about 100 instructions) and an indirection on every
+// update and forecast; a copy of the predictor and one more update on a frame in
+// doubt. On `predict --predictor all` that is 10 % more instructions
+// (docs/PERFORMANCE.md "Tracker glitches").
 #pragma once
 
 #include "predvs/predictors/predictor.h"
@@ -116,6 +119,7 @@ class GlitchGate : public Predictor {
            z2 = 0.0;           ///< the last two measured frames kept (1 = newest)
     int kept = 0;              ///< how many of them are valid (0..2)
     double s = 0.0, m2 = 0.0;  ///< forgetting means of d^2 and of the step^2
+    double keep_h = -1.0, keep_factor = 0.0;       ///< exp(-keep_h / kGlitchScaleTauS), cached
     int samples = 0;
     std::array<double, kGlitchWarmup> warm{};  ///< the first samples of d^2
     bool doubt = false;
