@@ -208,6 +208,17 @@ class RoundBarrier {
   std::condition_variable changed_;
 };
 
+/// Adds each of `from`'s counts to the count of the same name in `to` (appended when new).
+void addTallies(NamedValues& to, const NamedValues& from) {
+  for (const auto& kv : from) {
+    auto it = std::find_if(to.begin(), to.end(), [&](const auto& t) { return t.first == kv.first; });
+    if (it == to.end())
+      to.push_back(kv);
+    else
+      it->second += kv.second;
+  }
+}
+
 /// Runs every predictor along the track in blocks of `block_rows` rows and hands each block to the
 /// consumers; nothing of a whole track's size is allocated (docs/PERFORMANCE.md, "Ninth pass").
 ///
@@ -226,8 +237,10 @@ class RoundBarrier {
 /// channels after it in (predictor, channel) order stop too, the ones before it run to the end, and
 /// the first exception in that order is rethrown (the consumers get no more blocks once one has
 /// thrown); else a consumer's first exception is rethrown after the round it happened in.
+/// tallies (when given): Predictor::tallies() summed per predictor over its channels' instances.
 void streamPredictions(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors, double horizon_s,
-                       int jobs, size_t block_rows, const std::vector<BlockConsumer*>& consumers) {
+                       int jobs, size_t block_rows, const std::vector<BlockConsumer*>& consumers,
+                       std::vector<NamedValues>* tallies) {
   if (!(horizon_s >= 0.0) || !std::isfinite(horizon_s))
     throw std::invalid_argument("the prediction horizon must be a finite number >= 0 s");
   const size_t np = static_cast<size_t>(track.points()), nc = 2 * np, rows = track.size();
@@ -280,6 +293,7 @@ void streamPredictions(const FeatureTrack& track, const std::vector<PredictorSpe
   std::vector<std::atomic<size_t>> next(blocks + 1);  // the shared queue's cursor, one per round
   for (auto& n : next) n.store(0);
   RoundBarrier barrier(threads);
+  std::mutex tallies_mutex;
   auto channelFailed = [&](size_t item) {
     channel_errors[item] = std::current_exception();
     size_t seen = first_failed.load();
@@ -343,7 +357,13 @@ void streamPredictions(const FeatureTrack& track, const std::vector<PredictorSpe
       });
       if (stop) break;
     }
+    if (tallies) {  // each instance's counts into its predictor's sums (integers: any order, the same sums)
+      std::lock_guard<std::mutex> lock(tallies_mutex);
+      for (size_t j = 0; j < mine[t].size(); ++j)
+        if (instances[j]) addTallies((*tallies)[mine[t][j] / nc], instances[j]->tallies());
+    }
   };
+  if (tallies) tallies->assign(predictors.size(), NamedValues{});
   std::vector<std::thread> pool;
   for (size_t t = 1; t < threads; ++t) pool.emplace_back(worker, t);
   worker(0);
@@ -477,7 +497,9 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
   PredictionReport report = emptyReport(track, predictors, horizon_s);
   ErrorSums errors(report, track.hasTruth(), 0);
   ColumnKeeper columns(report, track.size());
-  streamPredictions(track, predictors, horizon_s, jobs, block_rows, {&columns, &errors});
+  std::vector<NamedValues> tallies;
+  streamPredictions(track, predictors, horizon_s, jobs, block_rows, {&columns, &errors}, &tallies);
+  for (size_t k = 0; k < report.runs.size(); ++k) report.runs[k].tallies = tallies[k];
   errors.finish();
   return report;
 }
@@ -690,6 +712,10 @@ void writeSummaryJson(const FeatureTrack& track, const PredictionReport& report,
     for (const auto& kv : run.spec.params.values()) p["params"][kv.first] = kv.second;
     p["vs_measurement"] = errorsJson(run.vs_measurement);
     p["vs_truth"] = track.hasTruth() ? errorsJson(run.vs_truth) : nlohmann::json(nullptr);
+    if (!run.tallies.empty()) {
+      p["tallies"] = nlohmann::json::object();
+      for (const auto& kv : run.tallies) p["tallies"][kv.first] = kv.second;
+    }
     p["per_point"] = nlohmann::json::array();
     for (int k = 0; k < n; ++k) {
       const PointPrediction& pt = run.points[static_cast<size_t>(k)];
@@ -809,7 +835,9 @@ PredictionReport predictToFiles(const FeatureTrack& track, const std::vector<Pre
     plot = std::make_unique<PlotTable>(track, report);
     consumers.push_back(plot.get());
   }
-  streamPredictions(track, predictors, horizon_s, jobs, files.block_rows, consumers);
+  std::vector<NamedValues> tallies;
+  streamPredictions(track, predictors, horizon_s, jobs, files.block_rows, consumers, &tallies);
+  for (size_t k = 0; k < report.runs.size(); ++k) report.runs[k].tallies = tallies[k];
   errors.finish();
   csv.finish();
   writeSummaryJson(track, report, files, dir);

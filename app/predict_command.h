@@ -81,6 +81,9 @@ struct PredictionRun {
   std::vector<PointPrediction> points;  ///< one per FeatureTrack point, in its order
   PredictionErrors vs_measurement;      ///< overall: every scored (frame, point) pair
   PredictionErrors vs_truth;            ///< overall; n == 0 when the track has no truth
+  /// Predictor::tallies() summed over the run's instances (one per channel), by name in the order
+  /// they first appear; empty when the predictor keeps none (the glitch gate's "glitches", "steps").
+  NamedValues tallies;
 };
 
 struct PredictionReport {

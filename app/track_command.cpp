@@ -212,6 +212,7 @@ static TrackResult trackAndKeep(const TrackOptions& o, std::ostream& log, std::v
       pred.v_pred_px.push_back(pp.v_pred_px);
     }
     pred.pooled = trackErrorStats(pooled);
+    pred.tallies = run.tallies;
     r.predictions.push_back(std::move(pred));
   }
   std::stable_sort(r.predictions.begin(), r.predictions.end(), [](const auto& a, const auto& b) {
@@ -302,6 +303,10 @@ nlohmann::json predictorsJson(const TrackResult& r) {
     if (!pr.spec.label.empty()) j["type"] = pr.spec.name;  // a labelled entry: its registry name
     j["params"] = paramsJson(pr.spec.params);
     j["all"] = statsJson(pr.pooled);
+    if (!pr.tallies.empty()) {
+      j["tallies"] = nlohmann::json::object();
+      for (const auto& kv : pr.tallies) j["tallies"][kv.first] = kv.second;
+    }
     j["per_point"] = nlohmann::json::array();
     for (size_t p = 0; p < pr.per_point.size(); ++p) {
       nlohmann::json q = statsJson(pr.per_point[p]);
@@ -544,8 +549,18 @@ void runTrackCommand(const TrackOptions& o, std::ostream& out, std::ostream& err
   double gate = 0.0;  // the glitch gate of the specs (--glitch-sigmas), when one has it on
   for (const auto& spec : o.predictors)
     if (spec.params.has("glitch_sigmas")) gate = std::max(gate, spec.params.get("glitch_sigmas", 0.0));
-  if (gate > 0.0)
-    out << "glitch gate at " << gate << " sigmas on the predictors (hold excepted; docs/MODELS.md §16; --glitch-sigmas 0: off)\n";
+  if (gate > 0.0) {  // with the doubts each predictor settled as glitches / steps (its tallies)
+    out << "glitch gate at " << gate << " sigmas (docs/MODELS.md §16; --glitch-sigmas 0: off), doubts settled as glitches/steps:";
+    for (const auto& pr : r.predictions) {
+      double glitches = -1.0, steps = -1.0;
+      for (const auto& kv : pr.tallies) {
+        if (kv.first == "glitches") glitches = kv.second;
+        if (kv.first == "steps") steps = kv.second;
+      }
+      if (glitches >= 0.0 && steps >= 0.0) out << " " << pr.spec.shownName() << " " << glitches << "/" << steps;
+    }
+    out << "\n";
+  }
   out << "wrote " << dir.target().string() << "/: tracks.csv, tracks_wide.csv, predictions.csv, leaderboard.csv/.json, "
       << (strip.empty() ? "" : "strip.png, ");
   for (const auto& p : plots) out << p << ", ";

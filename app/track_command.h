@@ -90,6 +90,7 @@ struct TrackResult {
     std::vector<std::vector<double>> u_pred_px, v_pred_px;  ///< [point][row]: made at t_row
     std::vector<TrackErrorStats> per_point;
     TrackErrorStats pooled;
+    NamedValues tallies;  ///< PredictionRun::tallies (the glitch gate's doubts settled each way)
   };
   std::vector<Prediction> predictions;      ///< in leaderboard order (pooled RMSE)
   size_t rows() const { return t_s.size(); }

@@ -164,6 +164,13 @@ double GlitchGate::predictPosition(int channel, double t_s) const {
   return p * coasted_->predictPosition(channel, t_s) + (1.0 - p) * fa;
 }
 
+NamedValues GlitchGate::tallies() const {
+  NamedValues out = inner_->tallies();
+  out.emplace_back("glitches", n_glitch_);
+  out.emplace_back("steps", n_step_);
+  return out;
+}
+
 std::unique_ptr<Predictor> withGlitchGate(std::unique_ptr<Predictor> inner, double g) {
   if (!(g > 0.0) || !inner || !inner->extrapolates()) return inner;
   if (!inner->clone()) return inner;

@@ -41,6 +41,28 @@ TEST_F(GlitchOptions, TheGateOnGlitchedTracksBeatsTheSamePredictorWithout) {
   }
 }
 
+TEST_F(GlitchOptions, PredictSumsTheGatesSettledDoubtsInSummaryJson) {
+  // GIVEN a track with 30 px glitches on 2 % of its frames
+  ASSERT_EQ(run({"make-track", "--kind", "turns", "--noise-px", "1", "--glitch", "0.02", "--glitch-px", "30", "--out",
+                 path("g.csv")})
+                .code,
+            0);
+  // WHEN predict runs kf-cv behind the gate and hold
+  const CliRun r = run({"predict", "--input", path("g.csv"), "--predictor", "hold,kf-cv", "--delay-frames", "2", "--glitch-sigmas", "8",
+                        "--no-plots", "--out", path("p")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  // THEN summary.json has kf-cv's doubts settled each way (most of them glitches), and none for hold
+  const std::string json = slurp(path("p") + "/summary.json");
+  const auto kf = json.find("\"name\": \"kf-cv\"");
+  ASSERT_NE(kf, std::string::npos) << json;
+  const auto tallies = json.find("\"tallies\"", kf);
+  ASSERT_NE(tallies, std::string::npos) << json;
+  const auto glitches = json.find("\"glitches\": ", tallies);
+  ASSERT_NE(glitches, std::string::npos) << json;
+  EXPECT_GE(std::stod(json.substr(glitches + 12)), 5.0) << json.substr(tallies, 80);
+  EXPECT_EQ(json.find("\"tallies\""), tallies) << "hold has none";
+}
+
 TEST_F(GlitchOptions, BadValuesAreOneLineErrors) {
   expectError(run({"make-track", "--glitch", "0.7", "--out", path("t.csv")}), "--glitch: expected a probability",
               path("t.csv"));

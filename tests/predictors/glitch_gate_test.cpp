@@ -108,6 +108,11 @@ TEST(GlitchGate, AGlitchNeverEntersThePredictor) {
     // forecasts are, bit for bit, those of the predictor that never saw frame
     // 200
     EXPECT_EQ(dynamic_cast<GlitchGate*>(gated.get())->glitches(), 1) << name;
+    const NamedValues tallies = gated->tallies();  // what a report sums (Predictor::tallies())
+    ASSERT_GE(tallies.size(), 2u) << name;
+    EXPECT_EQ(tallies[tallies.size() - 2], (std::pair<std::string, double>{"glitches", 1.0})) << name;
+    EXPECT_EQ(tallies.back().first, "steps") << name;
+    EXPECT_TRUE(fed->tallies().empty()) << name;
     for (size_t k = 201; k < fg.size(); ++k) ASSERT_TRUE(same(fg[k], fs[k])) << name << " frame " << k;
     // AND the forecasts made on frames 200-203 are nearer the truth than the
     // ungated predictor's

@@ -25,8 +25,10 @@ def main():
     runs = {}
     for g in ("8", "0"):
         out = os.path.join(work, "g" + g)
-        checked([predvs, "track", "--images", IMAGES, "--glitch-sigmas", g, "--no-plots", "--out", out])
+        r = checked([predvs, "track", "--images", IMAGES, "--glitch-sigmas", g, "--no-plots", "--out", out])
         runs[g] = pooled_rmse(out)
+        said = "glitch gate at 8 sigmas" in r.stdout
+        assert said == (g == "8"), f"--glitch-sigmas {g}: the gate's line printed: {said}"
     gated, plain = runs["8"], runs["0"]
     hold = gated["hold"]
     assert plain["hold"] == hold, "hold does not depend on the gate"

@@ -101,6 +101,8 @@ class GlitchGate : public Predictor {
   bool extrapolates() const override { return inner_->extrapolates(); }
   int monitorAlarms() const override { return inner_->monitorAlarms(); }
   NamedValues diagnostics() const override { return inner_->diagnostics(); }
+  /// The inner predictor's, then "glitches" and "steps" (glitches(), steps()).
+  NamedValues tallies() const override;
   std::vector<NoiseParameter> noiseParameters() const override { return inner_->noiseParameters(); }
   std::vector<Params> structuralVariants() const override { return inner_->structuralVariants(); }
   std::vector<FitSeed> fitSeeds() const override { return inner_->fitSeeds(); }

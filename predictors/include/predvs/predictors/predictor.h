@@ -120,6 +120,9 @@ class Predictor {
   /// Named per-channel internals after the last update, for traces (e.g. imm's mode probabilities
   /// "mu_ca_0", ...). Empty for a predictor without any.
   virtual NamedValues diagnostics() const { return {}; }
+  /// Counts of events since reset() that a report sums over a run's instances (the glitch gate's
+  /// doubts settled each way, glitch_gate.h: "glitches", "steps"). Empty for a predictor without any.
+  virtual NamedValues tallies() const { return {}; }
   /// The parameters that set this predictor's process and measurement noise, with bounds wide
   /// enough for 0.1..10 px noise at 1..1000 Hz on targets up to ~1e4 px/s^2, and the values this
   /// instance was built with. Empty: nothing to fit (e.g. `hold`). Each key is a Params key of the
