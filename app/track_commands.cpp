@@ -25,18 +25,18 @@
 namespace predvs {
 namespace {
 
-}  // namespace
-
-namespace {
+/// A glitch size as make-track reports it (the shortest form: 15, 2.5).
 std::string formatGlitchPx(double px) {
   std::ostringstream s;
   s << px;
   return s.str();
 }
+/// The checks of --glitch P and --glitch-px G (make-track and track-study).
 void checkGlitchArgs(double prob, double px) {
   if (!(prob >= 0.0 && prob <= 0.5)) throw std::invalid_argument("--glitch: expected a probability in [0, 0.5]");
   if (!(px > 0.0 && std::isfinite(px))) throw std::invalid_argument("--glitch-px: expected a size > 0 px");
 }
+
 }  // namespace
 
 int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
