@@ -117,11 +117,10 @@ class GlitchGate : public Predictor {
  private:
   /// One channel's line test (file comment).
   struct Line {
-    double t1 = 0.0, z1 = 0.0, t2 = 0.0,
-           z2 = 0.0;           ///< the last two measured frames kept (1 = newest)
-    int kept = 0;              ///< how many of them are valid (0..2)
-    double s = 0.0, m2 = 0.0;  ///< forgetting means of d^2 and of the step^2
-    double keep_h = -1.0, keep_factor = 0.0;       ///< exp(-keep_h / kGlitchScaleTauS), cached
+    double t1 = 0.0, z1 = 0.0, t2 = 0.0, z2 = 0.0;  ///< the last two measured frames kept (1 = newest)
+    int kept = 0;                                   ///< how many of them are valid (0..2)
+    double s = 0.0, m2 = 0.0;                       ///< forgetting means of d^2 and of the step^2
+    double keep_h = -1.0, keep_factor = 0.0;        ///< exp(-keep_h / kGlitchScaleTauS), cached
     int samples = 0;
     std::array<double, kGlitchWarmup> warm{};  ///< the first samples of d^2
     bool doubt = false;
