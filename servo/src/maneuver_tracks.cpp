@@ -14,6 +14,14 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+/// A random stream of the track of `seed` for its draw `draw`, one per `stream` tag (the noise and
+/// drops of a draw > 0, the glitches of every draw): seeded from all three, so no two share bits.
+std::mt19937_64 drawStream(std::uint64_t seed, std::uint64_t draw, std::uint32_t stream) {
+  std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                    static_cast<std::uint32_t>(draw), static_cast<std::uint32_t>(draw >> 32), stream};
+  return std::mt19937_64(seq);
+}
+
 /// The velocity profile of one kind: a state machine advanced in small steps, v(t) in px/s.
 class Motion {
  public:
@@ -242,17 +250,10 @@ ManeuverTrack generateManeuverTrack(const ManeuverTrackConfig& c) {
 
   std::mt19937_64 motion_rng(c.seed);
   std::mt19937_64 noise_rng(c.seed ^ 0x9e3779b97f4a7c15ULL);
-  if (c.draw != 0) {  // another draw of the noise and the drops: the motion's rng is untouched
-    std::seed_seq seq{static_cast<std::uint32_t>(c.seed), static_cast<std::uint32_t>(c.seed >> 32),
-                      static_cast<std::uint32_t>(c.draw), static_cast<std::uint32_t>(c.draw >> 32), 0x6472u};
-    noise_rng.seed(seq);
-  }
+  if (c.draw != 0) noise_rng = drawStream(c.seed, c.draw, 0x6472u);  // another draw: the motion's rng is untouched
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  // The glitches' own stream (glitch_prob > 0 only): seeded from the seed and the draw.
-  std::seed_seq glitch_seq{static_cast<std::uint32_t>(c.seed), static_cast<std::uint32_t>(c.seed >> 32),
-                           static_cast<std::uint32_t>(c.draw), static_cast<std::uint32_t>(c.draw >> 32), 0x676cu};
-  std::mt19937_64 glitch_rng(glitch_seq);
+  std::mt19937_64 glitch_rng = drawStream(c.seed, c.draw, 0x676cu);  // the glitches' own (glitch_prob > 0 only)
   Motion motion(c.kind, motion_rng);
 
   const double T = 1.0 / c.rate_hz;
@@ -299,7 +300,7 @@ ManeuverTrack generateManeuverTrack(const ManeuverTrackConfig& c) {
     }
     double gu = 0.0, gv = 0.0;
     if (k > 0 && !dropped && c.glitch_prob > 0.0 && unit(glitch_rng) < c.glitch_prob) {
-      const double angle = 2.0 * M_PI * unit(glitch_rng);
+      const double angle = 2.0 * kPi * unit(glitch_rng);
       gu = c.glitch_px * std::cos(angle);
       gv = c.glitch_px * std::sin(angle);
       ++track.glitches;
