@@ -6,6 +6,7 @@
 #include "report.h"
 #include "track_csv.h"
 
+#include "predvs/predictors/glitch_gate.h"
 #include "predvs/servo/image_sequence.h"
 #include "predvs/servo/image_tracker.h"
 
@@ -547,8 +548,7 @@ void runTrackCommand(const TrackOptions& o, std::ostream& out, std::ostream& err
       if (r.frame_ok[row] && !std::isfinite(r.u_px[p][row])) ++lost;
   out << ", " << lost << " point-frames lost\n";
   double gate = 0.0;  // the glitch gate of the specs (--glitch-sigmas), when one has it on
-  for (const auto& spec : o.predictors)
-    if (spec.params.has("glitch_sigmas")) gate = std::max(gate, spec.params.get("glitch_sigmas", 0.0));
+  for (const auto& spec : o.predictors) gate = std::max(gate, glitchSigmasParam(spec.params));
   if (gate > 0.0) {  // with the doubts each predictor settled as glitches / steps (its tallies)
     out << "glitch gate at " << gate << " sigmas (docs/MODELS.md §16; --glitch-sigmas 0: off), doubts settled as glitches/steps:";
     for (const auto& pr : r.predictions) {

@@ -25,12 +25,6 @@
 namespace predvs {
 namespace {
 
-/// A glitch size as make-track reports it (the shortest form: 15, 2.5).
-std::string formatGlitchPx(double px) {
-  std::ostringstream s;
-  s << px;
-  return s.str();
-}
 /// The checks of --glitch P and --glitch-px G (make-track and track-study).
 void checkGlitchArgs(double prob, double px) {
   if (!(prob >= 0.0 && prob <= 0.5)) throw std::invalid_argument("--glitch: expected a probability in [0, 0.5]");
@@ -87,10 +81,11 @@ int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
   size_t dropped = 0;
   for (double u : track.u_px) dropped += std::isfinite(u) ? 0 : 1;
   out << "wrote " << a.out << ": " << maneuverKindName(c.kind) << ", " << track.size() << " frames at " << c.rate_hz
-      << " Hz, noise " << c.noise_px << " px, " << dropped << " dropped frames, "
-      << (c.glitch_prob > 0.0 ? std::to_string(track.glitches) + " glitches of " + formatGlitchPx(c.glitch_px) + " px, " : std::string())
-      << "seed " << c.seed
-      << (c.draw > 0 ? ", draw " + std::to_string(c.draw) : std::string()) << "\n";
+      << " Hz, noise " << c.noise_px << " px, " << dropped << " dropped frames, ";
+  if (c.glitch_prob > 0.0) out << track.glitches << " glitches of " << c.glitch_px << " px, ";
+  out << "seed " << c.seed;
+  if (c.draw > 0) out << ", draw " << c.draw;
+  out << "\n";
   return 0;
 }
 
