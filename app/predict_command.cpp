@@ -237,10 +237,11 @@ void addTallies(NamedValues& to, const NamedValues& from) {
 /// channels after it in (predictor, channel) order stop too, the ones before it run to the end, and
 /// the first exception in that order is rethrown (the consumers get no more blocks once one has
 /// thrown); else a consumer's first exception is rethrown after the round it happened in.
-/// tallies (when given): Predictor::tallies() summed per predictor over its channels' instances.
+/// report.runs[k].tallies (one run per predictor, in order): Predictor::tallies() of predictor k
+/// summed over its channels' instances.
 void streamPredictions(const FeatureTrack& track, const std::vector<PredictorSpec>& predictors, double horizon_s,
                        int jobs, size_t block_rows, const std::vector<BlockConsumer*>& consumers,
-                       std::vector<NamedValues>* tallies) {
+                       PredictionReport& report) {
   if (!(horizon_s >= 0.0) || !std::isfinite(horizon_s))
     throw std::invalid_argument("the prediction horizon must be a finite number >= 0 s");
   const size_t np = static_cast<size_t>(track.points()), nc = 2 * np, rows = track.size();
@@ -357,13 +358,13 @@ void streamPredictions(const FeatureTrack& track, const std::vector<PredictorSpe
       });
       if (stop) break;
     }
-    if (tallies) {  // each instance's counts into its predictor's sums (integers: any order, the same sums)
+    {  // each instance's counts into its predictor's sums (integers: any order, the same sums)
       std::lock_guard<std::mutex> lock(tallies_mutex);
       for (size_t j = 0; j < mine[t].size(); ++j)
-        if (instances[j]) addTallies((*tallies)[mine[t][j] / nc], instances[j]->tallies());
+        if (instances[j]) addTallies(report.runs[mine[t][j] / nc].tallies, instances[j]->tallies());
     }
   };
-  if (tallies) tallies->assign(predictors.size(), NamedValues{});
+  for (PredictionRun& run : report.runs) run.tallies.clear();
   std::vector<std::thread> pool;
   for (size_t t = 1; t < threads; ++t) pool.emplace_back(worker, t);
   worker(0);
@@ -497,9 +498,7 @@ PredictionReport predictTrack(const FeatureTrack& track, const std::vector<Predi
   PredictionReport report = emptyReport(track, predictors, horizon_s);
   ErrorSums errors(report, track.hasTruth(), 0);
   ColumnKeeper columns(report, track.size());
-  std::vector<NamedValues> tallies;
-  streamPredictions(track, predictors, horizon_s, jobs, block_rows, {&columns, &errors}, &tallies);
-  for (size_t k = 0; k < report.runs.size(); ++k) report.runs[k].tallies = tallies[k];
+  streamPredictions(track, predictors, horizon_s, jobs, block_rows, {&columns, &errors}, report);
   errors.finish();
   return report;
 }
@@ -835,9 +834,7 @@ PredictionReport predictToFiles(const FeatureTrack& track, const std::vector<Pre
     plot = std::make_unique<PlotTable>(track, report);
     consumers.push_back(plot.get());
   }
-  std::vector<NamedValues> tallies;
-  streamPredictions(track, predictors, horizon_s, jobs, files.block_rows, consumers, &tallies);
-  for (size_t k = 0; k < report.runs.size(); ++k) report.runs[k].tallies = tallies[k];
+  streamPredictions(track, predictors, horizon_s, jobs, files.block_rows, consumers, report);
   errors.finish();
   csv.finish();
   writeSummaryJson(track, report, files, dir);
