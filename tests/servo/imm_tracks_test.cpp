@@ -182,7 +182,9 @@ TEST(ImmOnTracks, TemperedWeightsInGapsBringTwoMissesWithinTenPercentAndLeaveMea
     const double best = t.bestSingleModel(then), hold = t.score("hold");
     // WHEN imm forecasts a gap with the whole forecast weights (gap_weight_power 1) and tempered
     // (the default)
-    const double whole = t.score("imm", Params{{"gap_weight_power", 1.0}, {"hold_blend_split", 0.0}, {"coast_crossing", 0.0}});
+    Params whole_weights = then;
+    whole_weights.set("gap_weight_power", 1.0);
+    const double whole = t.score("imm", whole_weights);
     const double tempered = t.score("imm", then);
     std::printf("[ imm ] %s: imm / best %.3f (gap_weight_power 1: %.3f)\n", t.label.c_str(), tempered / best,
                 whole / best);
