@@ -116,10 +116,7 @@ void GlitchGate::settle(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) 
 }
 
 void GlitchGate::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) {
-  if (z.size() != channels())
-    throw std::invalid_argument(name() + ": measurement has " + std::to_string(z.size()) +
-                                " entries, expected " + std::to_string(channels()));
-  advanceClock(t_s);
+  advanceClock(t_s, z);
   if (coasted_) settle(t_s, z);
   bool doubt = false;
   for (int c = 0; c < channels(); ++c) {

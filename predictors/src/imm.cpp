@@ -356,10 +356,7 @@ void ImmPredictor::mixInto(const std::array<Gaussian<3>, kMaxModes>& g, const st
 }
 
 void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) {
-  if (z.size() != channels())
-    throw std::invalid_argument(name() + ": measurement has " + std::to_string(z.size()) + " entries, expected " +
-                                std::to_string(channels()));
-  const double dt = advanceClock(t_s);
+  const double dt = advanceClock(t_s, z);
   const int m = modeCount();
   // The chain, each mode's F and Q over dt and the two forgetting factors: the same for every channel.
   const PeriodModels& fm = periodModels(dt);

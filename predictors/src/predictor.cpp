@@ -75,6 +75,13 @@ void Predictor::update(double t_s) {
   update(t_s, Eigen::VectorXd::Constant(channels_, std::numeric_limits<double>::quiet_NaN()));
 }
 
+double Predictor::advanceClock(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) {
+  if (z.size() != channels())
+    throw std::invalid_argument(name() + ": measurement has " + std::to_string(z.size()) + " entries, expected " +
+                                std::to_string(channels()));
+  return advanceClock(t_s);
+}
+
 double Predictor::advanceClock(double t_s) {
   if (!std::isfinite(t_s)) throw std::invalid_argument(name() + ": update time is not finite");
   if (std::isnan(t_last_)) {

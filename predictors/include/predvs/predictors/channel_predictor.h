@@ -711,10 +711,7 @@ class ChannelPredictor : public Predictor {
   }
 
   void update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) override {
-    if (z.size() != channels())
-      throw std::invalid_argument(name() + ": measurement has " + std::to_string(z.size()) +
-                                  " entries, expected " + std::to_string(channels()));
-    const double dt = advanceClock(t_s);
+    const double dt = advanceClock(t_s, z);
     const double blend_keep = blend_tau_s_ > 0.0 ? blendForgetting(dt) : 0.0;  // kept per frame period
     for (int c = 0; c < channels(); ++c) {
       ChannelState& s = state_[c];

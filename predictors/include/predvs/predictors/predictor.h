@@ -160,6 +160,9 @@ class Predictor {
   explicit Predictor(int channels);
   /// Checks that t_s is after the last update and records it; returns dt (0 on the first call).
   double advanceClock(double t_s);
+  /// The same for an update with measurements z: first checks that z has channels() entries
+  /// (std::invalid_argument "NAME: measurement has N entries, expected M").
+  double advanceClock(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z);
   void resetClock();
 
  private:
