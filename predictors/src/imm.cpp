@@ -135,6 +135,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       coast_stop_fraction_(coastStopFractionParam(params)),
       coast_fast_ratio_(coastFastRatioParam(params)),
       coast_lag_sigmas_(coastLagSigmasParam(params)),
+      coast_lag_share_(coastLagShareParam(params)),
       coast_shape_(coastShapeParam(params)),
       coast_crossing_(coastCrossingParam(params)),
       coast_cp_(params.get("coast_cp", kDefaultCoastCp, 0.0, 1.0)),
@@ -465,7 +466,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       if (blend_tau_s_ > 0.0) {
         if (started_gap) {
           const double var_v = combinedVelocityVariance(ch);
-          ch.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, coast_lag_sigmas_, var_v, R);
+          ch.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, coast_lag_sigmas_, coast_lag_share_, var_v, R);
           if (coast_crossing_) {  // the CA mode's acceleration (the others have none), on the combined velocity's crossing
             const double k = ch.blend.recent.gapAccelerationFactor(var_v);
             for (int j = 0; j < m; ++j) mixed[static_cast<size_t>(j)].x(2) *= k;

@@ -81,5 +81,55 @@ TEST(CoastLag, ASteadyRampIntoAGapIsLeftAlone) {
   }
 }
 
+TEST(CoastLag, TheShareIsTheSmallestMeanStepMadeOverTheNewestFrames) {
+  // GIVEN a channel at 10 px/s, 60 Hz (a one-frame step of 1/6 px), with its newest innovations
+  const double step = 10.0 * kDt;
+  const auto share = [&](std::initializer_list<double> eps_in_steps) {
+    CoastStop s;
+    int k = 0;
+    for (double e : eps_in_steps) s.remember(k++ * kDt, 0.0, 10.0, 1.0, Innovation{e * step, 1.0, true});
+    return s.lagVelocityShare();
+  };
+  // THEN measurements where the filter forecast them keep the whole step
+  EXPECT_DOUBLE_EQ(share({0.0, 0.0, 0.0, 0.0, 0.0, 0.0}), 1.0);
+  // ... each a quarter step short keeps three quarters
+  EXPECT_NEAR(share({-0.25, -0.25, -0.25, -0.25, -0.25, -0.25}), 0.75, 1e-12);
+  // ... a dead stop on the newest frame (a whole step short) keeps none, whatever came before
+  EXPECT_DOUBLE_EQ(share({0.0, 0.0, 0.0, 0.0, 0.0, -1.0}), 0.0);
+  // ... the smallest over the newest 1..5 frames: a half-step lag two frames back, none since
+  EXPECT_NEAR(share({0.0, 0.0, 0.0, -1.0, 0.0, 0.0}), 1.0 - 1.0 / 3.0, 1e-12);
+  // ... measurements ahead of the forecast keep the whole step (the share is at most 1)
+  EXPECT_DOUBLE_EQ(share({0.5, 0.5, 0.5, 0.5, 0.5, 0.5}), 1.0);
+  // ... and so does a channel with one frame, or at rest
+  EXPECT_DOUBLE_EQ(share({-1.0}), 1.0);
+  CoastStop rest;
+  for (int k = 0; k < 6; ++k) rest.remember(k * kDt, 0.0, 0.0, 1.0, Innovation{-1.0, 1.0, true});
+  EXPECT_DOUBLE_EQ(rest.lagVelocityShare(), 1.0);
+}
+
+TEST(CoastLag, TheCutGoesNoFurtherThanTheShare) {
+  // GIVEN a channel at 200 px/s, 60 Hz (a step of 3.33 px), whose last five measurements each fell
+  // 0.8 px short of the forecast, with S = 0.04 px^2 (a converged filter at 0.5 px): z_l = -4 sqrt 5,
+  // far beyond n_l = 2, while the target kept 76 % of its step
+  const double step = 200.0 * kDt;
+  HoldBlend b;
+  for (int k = 0; k < 6; ++k) b.recent.remember(k * kDt, 0.0, 200.0, 1.0, Innovation{-0.8, 0.04, true});
+  ASSERT_NEAR(b.recent.lagScore(), -20.0 / std::sqrt(5.0), 1e-12);
+  // WHEN a gap begins (the stop and speed rules off)
+  const double tau = kDefaultCoastTauS;
+  b.startGap(tau, 0.0, 0.0, kDefaultCoastLagSigmas, false, 1.0, 0.25);
+  const double by_significance = b.gap_tau_s;
+  b.startGap(tau, 0.0, 0.0, kDefaultCoastLagSigmas, true, 1.0, 0.25);
+  // THEN the significance alone cuts the coast to tau (2 / |z_l|)^2 = 0.05 tau; with the share, to
+  // 0.76 tau
+  EXPECT_NEAR(by_significance, tau * 4.0 / (400.0 / 5.0), 1e-12);
+  EXPECT_NEAR(b.gap_tau_s, tau * (1.0 - 0.8 / step), 1e-12);
+  // ... and a dead stop on the newest frame (a whole step short) is cut as before
+  b.recent.remember(6 * kDt, 0.0, 200.0, 1.0, Innovation{-step, 0.04, true});
+  b.startGap(tau, 0.0, 0.0, kDefaultCoastLagSigmas, true, 1.0, 0.25);
+  const double z_l = b.recent.lagScore();
+  EXPECT_NEAR(b.gap_tau_s, tau * std::pow(kDefaultCoastLagSigmas / z_l, 2.0), 1e-12);
+}
+
 }  // namespace
 }  // namespace predvs

@@ -348,6 +348,23 @@ TEST(DefaultsThatHold, LaggingMeasurementLossesOfC302e4bAreWins) {
   }
 }
 
+/// Smooth 60 Hz 0.5 px #804 (seeds 801-830, 15 s, 2 % drops), where the lag rule alone cut kf-ca's
+/// coast through a 0.28 s gap at the end to a third: its last measurements, 0.9 px short of a 3.4 px
+/// step as the Lissajous slowed down, were 3.5 standard deviations of its small S. With the cut
+/// bounded by the share of the step the measurements still made (channel_predictor.h,
+/// `coast_lag_share`) kf-ca and imm coast on with the target (docs/PERFORMANCE.md "The lag rule cuts
+/// no more than the lag shows").
+TEST(DefaultsThatHold, AGentleSlowdownBeforeAGapIsNotCutAsAStop) {
+  const ManeuverTrack t = maneuverTrackCell(ManeuverKind::Smooth, 60.0, 0.5, 15.0, 804, 0.02);
+  const double horizon = 2.0 / 60.0;
+  for (const char* name : {"kf-ca", "imm"}) {
+    auto with_share = makePredictor(name, 2);
+    auto without = makePredictor(name, 2, {{"coast_lag_share", 0.0}});
+    const double a = scoreOnTrack(t, *with_share, horizon).rmse_truth_px, b = scoreOnTrack(t, *without, horizon).rmse_truth_px;
+    EXPECT_LT(a, 0.9 * b) << name << ": " << a << " px with the share, " << b << " without";
+  }
+}
+
 /// Tracks of the three drop grids (seeds 501-530, 10 s, 5 %; 601-630, 12 s, 8 %; 701-730, 12 s, 10 %;
 /// docs/PERFORMANCE.md "Unusual speeds and the shape of the coast") on which some predictor lost to
 /// hold at 13b32f0: a burst that ends as an occlusion begins, the stop not yet in the data (up to 7

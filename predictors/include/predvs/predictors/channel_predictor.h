@@ -40,9 +40,17 @@
 // while the model fits. A gap that begins while z_l opposes the filter's velocity (the measurements
 // behind its forecasts: the target slows down more than the model thinks) by more than n_l =
 // coast_lag_sigmas coasts with
-//   tau_gap = min(tau_gap, tau (n_l / |z_l|)^kCoastLagPower).
-// It sees a stop earlier than the stop rule's fits at 3 px: a burst that stops two or three noisy
-// frames before its gap (docs/PERFORMANCE.md "Measurements falling behind before a gap").
+//   tau_gap = min(tau_gap, tau max((n_l / |z_l|)^kCoastLagPower, s)),
+// s the share of its one-frame step the filter's newest measurements still made
+// (CoastStop::lagVelocityShare(): 1 + mean(eps) / (v dt) over the newest j frames, the smallest of
+// j = 1..kCoastLagFrames, in [0, 1]; with `coast_lag_share` 1, the default, else s = 0). It sees a
+// stop earlier than the stop rule's fits at 3 px: a burst that stops two or three noisy frames before
+// its gap (docs/PERFORMANCE.md "Measurements falling behind before a gap"). The share bounds the cut
+// by what the lag says of the velocity: a significance alone is large wherever S is small (60 Hz,
+// 0.5 px), so a target that slows down gently, its measurements 0.9 px short of a 3.4 px step, had its
+// coast cut to a third as if it had stopped (a Lissajous at 200 px/s, make-track smooth 60 Hz 0.5 px
+// #804: kf-ca's coast 4 px through a 0.28 s gap, the target 50 px on); s = 0.65 there, and a dead
+// stop still gives s = 0 (docs/PERFORMANCE.md "The lag rule cuts no more than the lag shows").
 // A turn or a stop through zero (`coast_crossing`, default 1; 0 = off; issue 11 item 3,
 // docs/MODELS.md §15, with the blend only): a filter with an acceleration state lags a hard stop,
 // its velocity falls through zero a frame or two after the target came to rest, and a gap that
@@ -285,6 +293,11 @@ inline constexpr double kDefaultCoastLagSigmas = 2.0;
 inline constexpr int kCoastLagFrames = 5;
 /// The exponent of tau (n_l / |z_l|)^p (file comment).
 inline constexpr double kCoastLagPower = 2.0;
+/// Default `coast_lag_share` (0 | 1; file comment "Measurements falling behind before a gap"): the
+/// lag rule's cut is at most down to the share of its one-frame step the filter's last measurements
+/// still made. Measured with `predvs track-study` (docs/PERFORMANCE.md "The lag rule cuts no more
+/// than the lag shows").
+inline constexpr double kDefaultCoastLagShare = 1.0;
 /// Default `coast_crossing` (0 | 1; file comment "A turn or a stop through zero"). Measured with
 /// `predvs track-study --draws 5` (docs/PERFORMANCE.md "Losses are draws, not motions").
 inline constexpr double kDefaultCoastCrossing = 1.0;
@@ -327,6 +340,25 @@ struct CoastStop {
       sum += S[j] > 0.0 ? eps[j] / std::sqrt(S[j]) : 0.0;
     }
     return sum / std::sqrt(static_cast<double>(kCoastLagFrames));
+  }
+  /// The share of the filter's one-frame step that its last measurements still made: 1 + mean(eps) /
+  /// (v dt) over the newest j frames, the smallest of j = 1 .. kCoastLagFrames, clamped to [0, 1];
+  /// v the last velocity, dt the mean interval of those frames, eps their innovations (a frame without
+  /// one counts as 0, as in lagScore()). 1 for a target that went on as the filter forecast, 0 for one
+  /// that stopped dead (a measurement a whole step short); 1 before two frames or at v = 0 (file
+  /// comment, "Measurements falling behind before a gap").
+  double lagVelocityShare() const {
+    const int k = std::min(kCoastLagFrames, n), intervals = std::min(k, n - 1);
+    if (intervals < 1) return 1.0;
+    const double span = t[static_cast<size_t>(head)] - t[static_cast<size_t>((head - intervals + kFrames) % kFrames)];
+    const double step = v[static_cast<size_t>(head)] * span / intervals;  // the filter's step over a mean frame
+    if (!(std::abs(step) > 0.0)) return 1.0;
+    double sum = 0.0, share = 1.0;
+    for (int j = 1; j <= k; ++j) {
+      sum += eps[static_cast<size_t>((head - j + 1 + kFrames) % kFrames)];
+      share = std::min(share, 1.0 + sum / j / step);
+    }
+    return std::max(share, 0.0);
   }
   /// The filter's velocity after the last measured frame (px/s; 0 before any).
   double lastVelocity() const { return n > 0 ? v[static_cast<size_t>(head)] : 0.0; }
@@ -630,16 +662,20 @@ struct HoldBlend : BlendWeight {
   CoastStop recent;     ///< the last measured frames, for the coasting time of a gap
   double gap_tau_s = 0.0;  ///< coasting time of the current gap (s; file comment)
   /// Chooses gap_tau_s on a gap's first frame: min(tau_s, fraction t_stop, tau_s (rho_0 / rho)^p,
-  /// tau_s (n_l / |z_l|)^2 when z_l opposes the velocity) (file comment; fast_ratio = rho_0,
-  /// lag_sigmas = n_l, 0 = off).
-  void startGap(double tau_s, double fraction, double fast_ratio, double lag_sigmas, double var_v, double r) {
+  /// tau_s max((n_l / |z_l|)^2, share) when |z_l| > n_l opposes the velocity) (file comment;
+  /// fast_ratio = rho_0, lag_sigmas = n_l, 0 = off; share = CoastStop::lagVelocityShare() when
+  /// lag_share, else 0).
+  void startGap(double tau_s, double fraction, double fast_ratio, double lag_sigmas, bool lag_share, double var_v, double r) {
     gap_tau_s = fraction > 0.0 ? std::min(tau_s, fraction * recent.stopTime(var_v, r)) : tau_s;
     const double rho = fast_ratio > 0.0 ? recent.speedRatio() : 0.0;
     if (rho > fast_ratio) gap_tau_s = std::min(gap_tau_s, tau_s * std::pow(fast_ratio / rho, kCoastFastPower));
     if (lag_sigmas > 0.0) {
       const double z_l = recent.lagScore();
-      if (z_l * recent.lastVelocity() < 0.0 && std::abs(z_l) > lag_sigmas)
-        gap_tau_s = std::min(gap_tau_s, tau_s * std::pow(lag_sigmas / std::abs(z_l), kCoastLagPower));
+      if (z_l * recent.lastVelocity() < 0.0 && std::abs(z_l) > lag_sigmas) {
+        double k = std::pow(lag_sigmas / std::abs(z_l), kCoastLagPower);
+        if (lag_share) k = std::max(k, recent.lagVelocityShare());
+        gap_tau_s = std::min(gap_tau_s, tau_s * k);
+      }
     }
     gap_tau_s = std::max(gap_tau_s, 1e-6);  // coast() divides by it
   }
@@ -668,6 +704,10 @@ inline double coastFastRatioParam(const Params& params) {
 /// The `coast_lag_sigmas` parameter (>= 0, default kDefaultCoastLagSigmas; 0 = off; file comment).
 inline double coastLagSigmasParam(const Params& params) {
   return params.get("coast_lag_sigmas", kDefaultCoastLagSigmas, 0.0, 1e3);
+}
+/// The `coast_lag_share` parameter (0 | 1, default kDefaultCoastLagShare; file comment).
+inline bool coastLagShareParam(const Params& params) {
+  return params.get("coast_lag_share", kDefaultCoastLagShare, 0.0, 1.0) != 0.0;
 }
 /// The `coast_shape` parameter (1..10, default kDefaultCoastShape; 1 = exponential; file comment).
 inline double coastShapeParam(const Params& params) { return params.get("coast_shape", kDefaultCoastShape, 1.0, 10.0); }
@@ -733,7 +773,7 @@ class ChannelPredictor : public Predictor {
       if (coast_tau_s_ > 0.0 && !isMeasured(z(c))) {
         if (blend_tau_s_ > 0.0) {  // the blend's coasting: a gap after a stop coasts shorter (file comment)
           if (s.run > 0) {
-            s.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, coast_lag_sigmas_, s.g.P(1, 1),
+            s.blend.startGap(coast_tau_s_, coast_stop_fraction_, coast_fast_ratio_, coast_lag_sigmas_, coast_lag_share_, s.g.P(1, 1),
                              measurementNoise(c));
             if constexpr (N == 3) {
               if (coast_crossing_) s.g.x(2) *= s.blend.recent.gapAccelerationFactor(s.g.P(1, 1));
@@ -903,6 +943,7 @@ class ChannelPredictor : public Predictor {
     coast_stop_fraction_ = coastStopFractionParam(params);
     coast_fast_ratio_ = coastFastRatioParam(params);
     coast_lag_sigmas_ = coastLagSigmasParam(params);
+    coast_lag_share_ = coastLagShareParam(params);
     coast_shape_ = coastShapeParam(params);
     coast_crossing_ = coastCrossingParam(params);
   }
@@ -1014,6 +1055,7 @@ class ChannelPredictor : public Predictor {
   double coast_stop_fraction_ = 0.0;  ///< coast_stop_fraction (with the blend only)
   double coast_fast_ratio_ = 0.0;     ///< coast_fast_ratio (with the blend only)
   double coast_lag_sigmas_ = 0.0;     ///< coast_lag_sigmas (with the blend only)
+  bool coast_lag_share_ = false;      ///< coast_lag_share (with the blend only)
   double coast_shape_ = 1.0;          ///< coast_shape (with the blend only)
   bool coast_crossing_ = false;       ///< coast_crossing (with the blend only, on a state with an acceleration)
   bool adapt_after_gap_ = true;       ///< adapt_after_gap; true until readAdaptAfterGapParam()

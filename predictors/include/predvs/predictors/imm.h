@@ -189,7 +189,9 @@
 // a gap that begins while the mu-combined velocity falls coasts with a shorter time constant
 // (channel_predictor.h, "A stop before the gap"), and coast_lag_sigmas (default 2; 0 = off): one
 // that begins while the moment-matched innovations of the last 5 measured frames oppose that
-// velocity by more than 2 sigma too (channel_predictor.h, "Measurements falling behind"), and coast_crossing (default 1; 0 = off):
+// velocity by more than 2 sigma too, cut no further than the share of its step the combined velocity
+// still made (coast_lag_share, default 1; channel_predictor.h, "Measurements falling behind"), and
+// coast_crossing (default 1; 0 = off):
 // one that begins just after the combined velocity fell through zero carries the CA mode's
 // acceleration times the share of the channel's earlier crossings that turned (channel_predictor.h,
 // "A turn or a stop through zero"; the crossings are watched on the combined velocity). The initial
@@ -350,6 +352,7 @@ class ImmPredictor : public Predictor {
   double coast_stop_fraction_;  ///< coast_stop_fraction (channel_predictor.h), with the blend only
   double coast_fast_ratio_;  ///< coast_fast_ratio (channel_predictor.h), with the blend only
   double coast_lag_sigmas_;  ///< coast_lag_sigmas (channel_predictor.h), with the blend only
+  bool coast_lag_share_;     ///< coast_lag_share (channel_predictor.h), with the blend only
   double coast_shape_;       ///< coast_shape (channel_predictor.h), with the blend only
   bool coast_crossing_;      ///< coast_crossing (channel_predictor.h): the CA mode's acceleration at a gap after a crossing
   double coast_cp_;  ///< coast_cp: factor on the CP mode's forecast weight on an unmeasured frame while coasting
