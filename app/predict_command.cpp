@@ -8,6 +8,7 @@
 #include "large_buffer.h"
 #include "output_dir.h"
 #include "plots.h"
+#include "streaming_file.h"
 
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/sampled_signal.h"
@@ -562,12 +563,12 @@ char* writeCsvRows(char* p, const FeatureTrack& track, const PredictionReport& r
 class CsvWriter : public BlockConsumer {
  public:
   CsvWriter(const std::string& path, const FeatureTrack& track, const PredictionReport& report)
-      : path_(path), track_(track), report_(report), file_(path, std::ios::binary) {
+      : track_(track), report_(report), file_(path) {
     std::string header = track.points() == 1 ? "t,u,v,t_target" : "t,point,u,v,t_target";
     for (const auto& run : report.runs)
       header += "," + run.spec.shownName() + ".u_pred," + run.spec.shownName() + ".v_pred";
     header += '\n';
-    file_.write(header.data(), static_cast<std::streamsize>(header.size()));
+    file_.write(header.data(), header.size());
     chunk_bytes_ = kCsvChunkRows * static_cast<size_t>(track.points()) * csvRowBound(track, report);
   }
   size_t items(const PredictionBlock& blk) const override { return chunks(blk.i1 - blk.i0); }
@@ -600,8 +601,15 @@ class CsvWriter : public BlockConsumer {
     }
     // Written without the lock: only the thread whose turn it is touches the file (the turn passes
     // on below, under the lock, after the write), and the other threads meanwhile take a spare
-    // buffer and format their next chunk instead of waiting for the kernel's copy to end.
-    file_.write(text.get(), static_cast<std::streamsize>(size));
+    // buffer and format their next chunk instead of waiting for the write to end.
+    try {
+      file_.write(text.get(), size);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      failed_ = true;
+      turn_changed_.notify_all();
+      throw;
+    }
     std::lock_guard<std::mutex> lock(mutex_);
     ++next_to_write_;
     // Text buffers handed from chunk to chunk (at most one per thread is in use): a fresh buffer
@@ -610,18 +618,15 @@ class CsvWriter : public BlockConsumer {
     spare_.push_back(std::move(text));
     turn_changed_.notify_all();
   }
-  /// After the last block: throws std::runtime_error naming the file if a write failed.
-  void finish() {
-    file_.flush();
-    if (!file_) throw std::runtime_error(path_ + ": write failed");
-  }
+  /// After the last block: writes the rest and closes the file; throws std::runtime_error naming
+  /// it if a write failed.
+  void finish() { file_.close(); }
 
  private:
   static size_t chunks(size_t rows) { return (rows + kCsvChunkRows - 1) / kCsvChunkRows; }
-  std::string path_;
   const FeatureTrack& track_;
   const PredictionReport& report_;
-  std::ofstream file_;
+  StreamingFile file_;  ///< past the page cache where the filesystem allows (streaming_file.h)
   size_t chunk_bytes_ = 0;
   std::mutex mutex_;
   std::condition_variable turn_changed_;
