@@ -15,7 +15,7 @@ import math
 import os
 import sys
 
-from script_test import arguments, run, script
+from script_test import arguments, refused_in_one_line, run, script
 
 SCRIPT = script("coast-regression.py")
 RATE_HZ = 60.0
@@ -71,7 +71,7 @@ def main():
         failures.append(f"lag {2 * HALF_PERIOD}: zigzag factor {rows[2 * HALF_PERIOD][4]} over a full period, expected 0")
     for bad in (["--predictor", "kf-ca"], ["--predictor", "cv", "--lags", "0"]):
         r = run([sys.executable, SCRIPT, track, pred] + bad)
-        if r.returncode == 0 or len(r.stderr.strip().split("\n")) != 1:
+        if not refused_in_one_line(r):
             failures.append(f"{' '.join(bad)} not refused in one line: exit {r.returncode}, {r.stderr!r}")
     if failures:
         sys.exit("\n".join(failures))

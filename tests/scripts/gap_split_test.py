@@ -13,7 +13,7 @@ import math
 import os
 import sys
 
-from script_test import arguments, checked, run, script
+from script_test import arguments, checked, refused_in_one_line, run, script
 
 SCRIPT = script("gap-split.py")
 
@@ -45,7 +45,7 @@ def main():
     other = os.path.join(work, "short.csv")
     run([predvs, "make-track", "--kind", "bursts", "--rate-hz", "60", "--duration-s", "5", "--out", other])
     r = run([sys.executable, SCRIPT, other, os.path.join(out, "predictions.csv")])
-    if r.returncode == 0 or len(r.stderr.strip().split("\n")) != 1 or "rows" not in r.stderr:
+    if not refused_in_one_line(r, "rows"):
         failures.append(f"a mismatched track was not refused in one line: exit {r.returncode}, {r.stderr!r}")
     if failures:
         sys.exit("\n".join(failures))

@@ -25,6 +25,11 @@ def checked(cmd):
     return r
 
 
+def refused_in_one_line(r, word=""):
+    """True when the run r failed with a one-line error that contains word."""
+    return r.returncode != 0 and len(r.stderr.strip().split("\n")) == 1 and word in r.stderr
+
+
 def arguments():
     """PREDVS and WORKDIR from the command line; WORKDIR is made."""
     if len(sys.argv) != 3:
