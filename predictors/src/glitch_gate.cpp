@@ -1,15 +1,12 @@
 #include "predvs/predictors/glitch_gate.h"
 
+#include "predvs/predictors/kalman_math.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace predvs {
-namespace {
-
-bool measured(double z) { return !std::isnan(z); }
-
-}  // namespace
 
 double glitchSigmasParam(const Params& params) {
   return params.get("glitch_sigmas", kDefaultGlitchSigmas, 0.0, 1e6);
@@ -87,7 +84,7 @@ void GlitchGate::settle(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) 
   double err_a = 0.0, err_b = 0.0;
   bool any = false;
   for (int c = 0; c < channels(); ++c) {
-    if (!lines_[static_cast<size_t>(c)].doubt || !measured(z(c))) continue;
+    if (!lines_[static_cast<size_t>(c)].doubt || !isMeasured(z(c))) continue;
     const double ea = z(c) - inner_->predictPosition(c, t_s),
                  eb = z(c) - coasted_->predictPosition(c, t_s);
     err_a += ea * ea;
@@ -121,7 +118,7 @@ void GlitchGate::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) 
   bool doubt = false;
   for (int c = 0; c < channels(); ++c) {
     Line& l = lines_[static_cast<size_t>(c)];
-    if (!measured(z(c))) {
+    if (!isMeasured(z(c))) {
       l.kept = 0;  // the next test needs two measured frames in a row again
       continue;
     }
