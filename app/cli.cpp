@@ -4,6 +4,7 @@
 #include "campaign.h"
 #include "compare_command.h"
 #include "fit_command.h"
+#include "number_text.h"
 #include "scenario_file.h"
 #include "scenario_inputs.h"
 #include "scenario_override.h"
@@ -80,11 +81,7 @@ void paramsFileOverrides(const std::string& file, std::vector<ScenarioOverride>&
 struct TrackArgs {
   std::string images, source = "dots", predictor = "all", delay_frames = "2", fps = "30", out_dir = "out/track";
   std::string strip_frames = "4", max_frames;
-  std::string glitch_sigmas = [] {  ///< --glitch-sigmas G, default kTrackerGlitchSigmas
-    std::ostringstream g;
-    g << kTrackerGlitchSigmas;
-    return g.str();
-  }();
+  std::string glitch_sigmas = csvNumber(kTrackerGlitchSigmas);  ///< --glitch-sigmas G
   std::vector<std::string> sets;
   bool no_plots = false;
 };

@@ -81,6 +81,12 @@ nlohmann::json paramsJson(const Params& params) {
   return j;
 }
 
+nlohmann::json namedValuesJson(const NamedValues& values) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& kv : values) j[kv.first] = kv.second;
+  return j;
+}
+
 void writeTextFile(const StagedOutputDir& dir, const std::string& name, const std::string& text) {
   std::ofstream f(dir.file(name));
   f << text;

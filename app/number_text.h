@@ -46,6 +46,8 @@ std::string fileSafe(const std::string& s);
 
 /// {key: value} of a predictor's parameters.
 nlohmann::json paramsJson(const Params& params);
+/// {name: value} of named values (Predictor::tallies(), summed over a run's instances).
+nlohmann::json namedValuesJson(const NamedValues& values);
 
 /// Writes `text` to `name` in the staging directory (std::runtime_error naming the file if it fails).
 void writeTextFile(const StagedOutputDir& dir, const std::string& name, const std::string& text);

@@ -589,9 +589,7 @@ class CsvWriter : public BlockConsumer {
       size = static_cast<size_t>(writeCsvRows(text.get(), track_, report_, blk, i0, std::min(blk.i1, i0 + kCsvChunkRows)) -
                                  text.get());
     } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      failed_ = true;  // the chunks after this one must not wait for it
-      turn_changed_.notify_all();
+      markFailed();
       throw;
     }
     {
@@ -605,9 +603,7 @@ class CsvWriter : public BlockConsumer {
     try {
       file_.write(text.get(), size);
     } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      failed_ = true;
-      turn_changed_.notify_all();
+      markFailed();
       throw;
     }
     std::lock_guard<std::mutex> lock(mutex_);
@@ -624,6 +620,12 @@ class CsvWriter : public BlockConsumer {
 
  private:
   static size_t chunks(size_t rows) { return (rows + kCsvChunkRows - 1) / kCsvChunkRows; }
+  /// A chunk failed (formatting or writing): the chunks after it must not wait for their turn.
+  void markFailed() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    failed_ = true;
+    turn_changed_.notify_all();
+  }
   const FeatureTrack& track_;
   const PredictionReport& report_;
   StreamingFile file_;  ///< past the page cache where the filesystem allows (streaming_file.h)
@@ -716,10 +718,7 @@ void writeSummaryJson(const FeatureTrack& track, const PredictionReport& report,
     for (const auto& kv : run.spec.params.values()) p["params"][kv.first] = kv.second;
     p["vs_measurement"] = errorsJson(run.vs_measurement);
     p["vs_truth"] = track.hasTruth() ? errorsJson(run.vs_truth) : nlohmann::json(nullptr);
-    if (!run.tallies.empty()) {
-      p["tallies"] = nlohmann::json::object();
-      for (const auto& kv : run.tallies) p["tallies"][kv.first] = kv.second;
-    }
+    if (!run.tallies.empty()) p["tallies"] = namedValuesJson(run.tallies);
     p["per_point"] = nlohmann::json::array();
     for (int k = 0; k < n; ++k) {
       const PointPrediction& pt = run.points[static_cast<size_t>(k)];

@@ -304,10 +304,7 @@ nlohmann::json predictorsJson(const TrackResult& r) {
     if (!pr.spec.label.empty()) j["type"] = pr.spec.name;  // a labelled entry: its registry name
     j["params"] = paramsJson(pr.spec.params);
     j["all"] = statsJson(pr.pooled);
-    if (!pr.tallies.empty()) {
-      j["tallies"] = nlohmann::json::object();
-      for (const auto& kv : pr.tallies) j["tallies"][kv.first] = kv.second;
-    }
+    if (!pr.tallies.empty()) j["tallies"] = namedValuesJson(pr.tallies);
     j["per_point"] = nlohmann::json::array();
     for (size_t p = 0; p < pr.per_point.size(); ++p) {
       nlohmann::json q = statsJson(pr.per_point[p]);
