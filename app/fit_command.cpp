@@ -1,5 +1,6 @@
 #include "fit_command.h"
 
+#include "number_text.h"
 #include "output_dir.h"
 #include "track_csv.h"
 
@@ -193,9 +194,7 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
                            {"ci95", std::isfinite(v.std_log) ? nlohmann::json({v.lo95, v.hi95}) : nlohmann::json(nullptr)},
                            {"at_bound", v.at_bound},
                            {"held", v.held}});
-  j["params"] = nlohmann::json::object();
-  for (const auto& kv : fit.params.values()) j["params"][kv.first] = kv.second;
-  for (const auto& kv : fit.params.texts()) j["params"][kv.first] = kv.second;
+  j["params"] = paramsJson(fit.params);
   j["variant"] = fit.variant;
   j["variants"] = nlohmann::json::array();
   for (const auto& v : fit.variants)

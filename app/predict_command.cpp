@@ -714,8 +714,7 @@ void writeSummaryJson(const FeatureTrack& track, const PredictionReport& report,
     nlohmann::json p;
     p["name"] = run.spec.shownName();
     if (!run.spec.label.empty()) p["type"] = run.spec.name;  // a labelled entry: its registry name
-    p["params"] = nlohmann::json::object();
-    for (const auto& kv : run.spec.params.values()) p["params"][kv.first] = kv.second;
+    p["params"] = paramsJson(run.spec.params);  // numbers and words (model: ca)
     p["vs_measurement"] = errorsJson(run.vs_measurement);
     p["vs_truth"] = track.hasTruth() ? errorsJson(run.vs_truth) : nlohmann::json(nullptr);
     if (!run.tallies.empty()) p["tallies"] = namedValuesJson(run.tallies);

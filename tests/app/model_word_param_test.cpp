@@ -66,6 +66,11 @@ TEST_F(ModelWordParam, PredictFitNoiseParamFilesAndServoTakeTheModelWord) {
   // THEN the file and the option give the same (CA) filter, another than the default
   EXPECT_EQ(slurp(path("ca") + "/predictions.csv"), slurp(path("ca_file") + "/predictions.csv"));
   EXPECT_NE(slurp(path("cv") + "/predictions.csv"), slurp(path("ca") + "/predictions.csv"));
+  // AND summary.json records the word with the numbers, as track's and servo's do
+  for (const char* out : {"ca", "ca_file"}) {
+    const std::string summary = slurp(path(out) + "/summary.json");
+    EXPECT_NE(summary.find("\"model\": \"ca\""), std::string::npos) << out << ": " << summary;
+  }
   expectError(predict({"--param", "model=singer"}, path("bad")), "'model'", path("bad"));
   const std::string bad_file = write("bad.yaml", "predictors:\n  - {name: fakf-classic, params: {model: jerk}}\n");
   expectError(predict({"--params", bad_file}, path("bad")), "bad.yaml:2: ", path("bad"));
