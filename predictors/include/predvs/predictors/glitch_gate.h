@@ -12,7 +12,9 @@
 // Detection, per channel: the distance d of a measurement from the straight
 // line through the two measured frames before it, tested only when the three
 // frames are consecutive at a steady period (their two intervals within a
-// factor kGlitchPeriodRatio of each other), against s, the mean of d^2 with
+// factor kGlitchPeriodRatio of each other; so the first two frames after a
+// gap are never tested: a point re-acquired elsewhere goes straight in, and
+// so would a glitch on one of them), against s, the mean of d^2 with
 // forgetting (time constant kGlitchScaleTauS; each sample clipped at
 // kGlitchClip^2 s so that one jump does not inflate it). There is no test over
 // the first kGlitchWarmup samples; s then starts at the mean of all but their
