@@ -18,6 +18,7 @@
 // predict` beyond 20,000 rows, with 1200 slices for its 1200-pixel-wide PNG.)
 #pragma once
 
+#include "cache_line.h"
 #include "output_dir.h"
 
 #include <string>
@@ -83,7 +84,7 @@ std::vector<double> plotEnvelope(const std::vector<double>& x, const std::vector
 /// streams its predictions in blocks of rows): add() the rows in order, then table() gives what
 /// plotEnvelope() gives on the whole table, bit for bit (tests/app/plot_envelope_test.cpp). Needs
 /// the first and last x up front (they fix the slices); keeps one slice's extremes and first two rows.
-class EnvelopeBuilder {
+class alignas(kCacheLineBytes) EnvelopeBuilder {  // its state on lines of its own (cache_line.h)
  public:
   /// is_x[c]: column c is a time column (EnvelopeColumn::is_x); x_first, x_last as in plotEnvelope().
   EnvelopeBuilder(std::vector<bool> is_x, double x_first, double x_last, size_t slices);
@@ -99,9 +100,9 @@ class EnvelopeBuilder {
   double x0_ = 0.0, scale_ = 0.0;
   size_t slices_ = 1;
   size_t slice_ = 0, count_ = 0;  ///< the slice in progress and its rows so far (0: none yet)
-  std::vector<double> first_two_, last_;  ///< its first two rows; its last row
-  std::vector<double> lo_, hi_;           ///< per column: min and max so far (NaN cells skipped)
-  std::vector<size_t> lo_at_, hi_at_;     ///< the row (in the slice) where each was first reached
+  CacheLineVector<double> first_two_, last_;  ///< its first two rows; its last row
+  CacheLineVector<double> lo_, hi_;           ///< per column: min and max so far (NaN cells skipped)
+  CacheLineVector<size_t> lo_at_, hi_at_;     ///< the row (in the slice) where each was first reached
   std::vector<double> out_;
 };
 

@@ -3,6 +3,7 @@
 #include "predictor_choice.h"
 #include "number_text.h"
 
+#include "cache_line.h"
 #include "general_number.h"
 #include "gnuplot.h"
 #include "large_buffer.h"
@@ -640,7 +641,7 @@ class CsvWriter : public BlockConsumer {
 /// The table predictions.png is drawn from (a BlockConsumer, one item per block): the first point's
 /// columns t_s u_px v_px t_target_s u_true_px v_true_px, then u_pred v_pred per predictor; every row
 /// up to kMaxPlotRows rows, else their envelope of kPlotSlices time slices (EnvelopeBuilder, plots.h).
-class PlotTable : public BlockConsumer {
+class alignas(kCacheLineBytes) PlotTable : public BlockConsumer {  // written on every row: lines of its own
  public:
   PlotTable(const FeatureTrack& track, const PredictionReport& report)
       : track_(track), report_(report), width_(6 + 2 * report.runs.size()), row_(width_) {
@@ -681,7 +682,8 @@ class PlotTable : public BlockConsumer {
   const FeatureTrack& track_;
   const PredictionReport& report_;
   size_t width_;
-  std::vector<double> row_, rows_;
+  CacheLineVector<double> row_;
+  std::vector<double> rows_;  // up to kMaxPlotRows rows (no envelope): its header is in this object's lines
   std::unique_ptr<EnvelopeBuilder> builder_;
 };
 
