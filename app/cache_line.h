@@ -1,7 +1,7 @@
 // predvs app — memory of its own cache lines, for state that one thread writes row after row while
 // the other thread runs predictors: a cache line shared with a neighbour's state (false sharing)
-// passes from core to core on every write (docs/PERFORMANCE.md, "The plot's state on lines of its
-// own").
+// passes from core to core on every write (docs/PERFORMANCE.md, "Thirteenth pass: the plot's state
+// on lines of its own").
 #pragma once
 
 #include <cstddef>
