@@ -13,7 +13,7 @@ import os
 import re
 import sys
 
-from script_test import arguments, checked, refused_in_one_line, run, script
+from script_test import arguments, checked, finish, refused_in_one_line, run, script
 
 SCRIPT = script("blend-oracle.py")
 
@@ -23,9 +23,7 @@ def main():
     track = os.path.join(work, "t.csv")
     checked([predvs, "make-track", "--kind", "zigzag", "--rate-hz", "10", "--noise-px", "3", "--duration-s", "15",
              "--seed", "2", "--out", track])
-    r = run([sys.executable, SCRIPT, predvs, track, "--work", os.path.join(work, "o")])
-    if r.returncode != 0:
-        sys.exit(f"blend-oracle failed: {r.stderr.strip()}")
+    r = checked([sys.executable, SCRIPT, predvs, track, "--work", os.path.join(work, "o")])
     ratios = [float(m) for m in re.findall(r"^\s+.*?\s(\d+\.\d+)(?:\s|$)", r.stdout, re.M)]
     failures = []
     if len(ratios) != 3:
@@ -47,8 +45,7 @@ def main():
     r = run([sys.executable, SCRIPT, predvs, os.path.join(work, "missing.csv")])
     if not refused_in_one_line(r, "missing.csv"):
         failures.append(f"a missing track was not refused in one line: exit {r.returncode}, {r.stderr!r}")
-    if failures:
-        sys.exit("\n".join(failures))
+    finish(failures)
 
 
 if __name__ == "__main__":

@@ -15,7 +15,7 @@ import math
 import os
 import sys
 
-from script_test import arguments, refused_in_one_line, run, script
+from script_test import arguments, checked, finish, refused_in_one_line, run, script
 
 SCRIPT = script("coast-regression.py")
 RATE_HZ = 60.0
@@ -56,9 +56,7 @@ def main():
     _, work = arguments()
     track, pred = write_files(work)
     lags = (6, 12, 2 * HALF_PERIOD)
-    r = run([sys.executable, SCRIPT, track, pred, "--predictor", "cv", "--lags", ",".join(map(str, lags))])
-    if r.returncode != 0:
-        sys.exit(f"coast-regression failed: {r.stderr.strip()}")
+    r = checked([sys.executable, SCRIPT, track, pred, "--predictor", "cv", "--lags", ",".join(map(str, lags))])
     rows = {int(f[0]): [float(x) for x in f[1:]] for f in (l.split() for l in r.stdout.strip().split("\n")[2:])}
     failures = []
     for m in lags:
@@ -73,9 +71,7 @@ def main():
         r = run([sys.executable, SCRIPT, track, pred] + bad)
         if not refused_in_one_line(r):
             failures.append(f"{' '.join(bad)} not refused in one line: exit {r.returncode}, {r.stderr!r}")
-    if failures:
-        sys.exit("\n".join(failures))
-    print("coast-regression: " + "; ".join(f"lag {m}: {rows[m][3]:.3f} / {rows[m][4]:.3f}" for m in lags))
+    finish(failures, "coast-regression: " + "; ".join(f"lag {m}: {rows[m][3]:.3f} / {rows[m][4]:.3f}" for m in lags))
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@ import csv
 import os
 import sys
 
-from script_test import arguments, checked, run, script
+from script_test import arguments, checked, finish, run, script
 
 SCRIPT = script("foreign-tracks.py")
 CELL = ["--kinds", "dash", "--rates", "10", "--noise", "1", "--seed", "2", "--seeds", "1"]
@@ -59,9 +59,7 @@ def main():
     lines = r.stderr.strip().splitlines()
     if r.returncode != 2 or "--draw" not in (lines[-1] if lines else "") or os.path.exists(bad):
         failures.append(f"--draw -1: exit {r.returncode}, stderr {r.stderr.strip()!r}, output written: {os.path.exists(bad)}")
-    if failures:
-        sys.exit("\n".join(failures))
-    print("foreign-tracks --draw: draw 0 is the track as before; draw 1 keeps the motion, redraws the rest")
+    finish(failures, "foreign-tracks --draw: draw 0 is the track as before; draw 1 keeps the motion, redraws the rest")
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@ import math
 import os
 import sys
 
-from script_test import arguments, checked, refused_in_one_line, run, script
+from script_test import arguments, checked, finish, refused_in_one_line, run, script
 
 SCRIPT = script("gap-split.py")
 
@@ -26,9 +26,7 @@ def main():
              "--drop", "0.08", "--seed", "3", "--out", track])
     checked([predvs, "predict", "--input", track, "--predictor", "hold,kf-cv", "--delay-frames", "2", "--no-plots",
              "--out", out])
-    r = run([sys.executable, SCRIPT, track, os.path.join(out, "predictions.csv")])
-    if r.returncode != 0:
-        sys.exit(f"gap-split failed: {r.stderr.strip()}")
+    r = checked([sys.executable, SCRIPT, track, os.path.join(out, "predictions.csv")])
     lines = r.stdout.strip().split("\n")
     rows = {f[0]: tuple(float(x) for x in f[1:]) for f in (l.split() for l in lines[2:])}
     with open(os.path.join(out, "summary.json")) as f:
@@ -47,9 +45,7 @@ def main():
     r = run([sys.executable, SCRIPT, other, os.path.join(out, "predictions.csv")])
     if not refused_in_one_line(r, "rows"):
         failures.append(f"a mismatched track was not refused in one line: exit {r.returncode}, {r.stderr!r}")
-    if failures:
-        sys.exit("\n".join(failures))
-    print("gap-split: " + "; ".join(f"{n} {rows[n][0]:.3f} = ({rows[n][1]:.3f}, {rows[n][2]:.3f})" for n in rows))
+    finish(failures, "gap-split: " + "; ".join(f"{n} {rows[n][0]:.3f} = ({rows[n][1]:.3f}, {rows[n][2]:.3f})" for n in rows))
 
 
 if __name__ == "__main__":

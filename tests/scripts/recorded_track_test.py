@@ -15,7 +15,7 @@ import math
 import os
 import sys
 
-from script_test import arguments, run, script
+from script_test import arguments, finish, run, script
 
 SCRIPT = script("recorded-track.py")
 
@@ -70,9 +70,7 @@ def main():
     r = run([sys.executable, SCRIPT, predvs, "--track", track, "--predictors", "kf-cv", "--out", os.path.join(work, "nohold")])
     if r.returncode != 2 or "has no hold" not in r.stderr or os.path.exists(os.path.join(work, "nohold")):
         failures.append(f"a predictor list without hold: exit {r.returncode}, stderr {r.stderr!r}")
-    if failures:
-        sys.exit("\n".join(failures))
-    print(f"recorded-track: kf-ca / hold {capped:.3f} with the cap, {free:.3f} without")
+    finish(failures, f"recorded-track: kf-ca / hold {capped:.3f} with the cap, {free:.3f} without")
 
 
 if __name__ == "__main__":

@@ -30,6 +30,14 @@ def refused_in_one_line(r, word=""):
     return r.returncode != 0 and len(r.stderr.strip().split("\n")) == 1 and word in r.stderr
 
 
+def finish(failures, summary=None):
+    """Exits with the failures, one per line, when there are any; else prints summary (if given)."""
+    if failures:
+        sys.exit("\n".join(failures))
+    if summary is not None:
+        print(summary)
+
+
 def arguments():
     """PREDVS and WORKDIR from the command line; WORKDIR is made."""
     if len(sys.argv) != 3:
