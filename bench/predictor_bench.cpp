@@ -8,6 +8,10 @@
 //   * OpenCV's cv::KalmanFilter (CV model, 4 states, 2 measurements, CV_64F): predict() + correct(),
 //     then the 2-frame state and covariance from statePost / errorCovPost.
 // Same frame period, same noise densities and the same pre-generated measurement sequence for all.
+// The references are plain CV Kalman filters with fixed noise; so is BM_PredictorPlain/kf-cv (kf-cv
+// with q and r fixed, no blend with hold: plainKfCvParams(), as the scenario files pin it), the like-for-
+// like row. BM_Predictor/kf-cv runs the defaults, which add issue 11's layers (the start-up R
+// estimate, the raise of q, the blend with hold on two horizons: channel_predictor.h).
 // Run: predvs_bench --benchmark_filter=Predictor
 #include "predvs/predictors/predictor.h"
 
@@ -26,7 +30,7 @@ using namespace predvs;
 
 constexpr double kFramePeriod_s = 1.0 / 30.0;
 constexpr int kHorizonFrames = 2;
-constexpr double kQ = 100.0;  // white-acceleration density (px^2/s^3), kf-cv's default
+constexpr double kQ = 100.0;  // white-acceleration density (px^2/s^3), as the scenario files pin kf-cv's q
 constexpr double kR = 1.0;    // measurement variance (px^2)
 
 /// 4096 frames of a feature point on a circle with 1 px noise, cycled through by every benchmark.
@@ -44,8 +48,20 @@ const std::vector<Eigen::Vector2d>& measurements() {
   return z;
 }
 
-void predvsPredictor(benchmark::State& state, const std::string& name) {
-  auto p = makePredictor(name, 2);
+/// kf-cv as a plain CV Kalman filter (the references' work): the values the scenario files pin
+/// (data/scenarios/ibvs-moving-target.yaml), and no coasting (this sequence has no gap anyway).
+Params plainKfCvParams() {
+  Params p;
+  p.set("q", kQ);
+  p.set("r", kR);
+  p.set("shrink_sigmas", 0.0);
+  p.set("hold_blend_tau_s", 0.0);
+  p.set("coast_tau_s", 0.0);
+  return p;
+}
+
+void predvsPredictor(benchmark::State& state, const std::string& name, const Params& params = {}) {
+  auto p = makePredictor(name, 2, params);
   const auto& zs = measurements();
   Eigen::VectorXd z(2);
   double t = 0.0;
@@ -123,6 +139,8 @@ const bool kRegistered = [] {
     benchmark::RegisterBenchmark(("BM_Predictor/" + name).c_str(),
                                  [name](benchmark::State& s) { predvsPredictor(s, name); });
   }
+  benchmark::RegisterBenchmark("BM_PredictorPlain/kf-cv",
+                               [](benchmark::State& s) { predvsPredictor(s, "kf-cv", plainKfCvParams()); });
   return true;
 }();
 

@@ -158,6 +158,13 @@ double GlitchGate::predictPosition(int channel, double t_s) const {
   return p * coasted_->predictPosition(channel, t_s) + (1.0 - p) * fa;
 }
 
+double GlitchGate::predictVelocity(int channel, double t_s) const {
+  const double va = inner_->predictVelocity(channel, t_s);
+  if (!coasted_ || !lines_[static_cast<size_t>(channel)].doubt) return va;
+  const double p = glitchShare();
+  return p * coasted_->predictVelocity(channel, t_s) + (1.0 - p) * va;
+}
+
 NamedValues GlitchGate::tallies() const {
   NamedValues out = inner_->tallies();
   out.emplace_back("glitches", n_glitch_);

@@ -115,7 +115,7 @@ void Predictor::predictPositions(double t_s, Eigen::Ref<Eigen::VectorXd> out) co
 
 Eigen::VectorXd Predictor::predictVelocities(double t_s) const {
   Eigen::VectorXd out(channels_);
-  for (int c = 0; c < channels_; ++c) out(c) = predict(c, t_s).velocity();
+  for (int c = 0; c < channels_; ++c) out(c) = predictVelocity(c, t_s);
   return out;
 }
 

@@ -146,6 +146,30 @@ TEST(GlitchGate, AStepIsSettledAsAStepAndLeavesThePredictorAsWithoutTheGate) {
   }
 }
 
+TEST(GlitchGate, InDoubtTheCovarianceFreeFormsArePredictsBitForBit) {
+  // GIVEN the track that jumps 40 px at frame 200, fed up to that frame: the gate is in doubt, its
+  // forecast a mixture of the two hypotheses
+  Track stepped = makeTrack(0.5, 7);
+  for (size_t k = 200; k < stepped.t.size(); ++k) stepped.u[k] += 40.0;
+  for (const auto& name : extrapolatingPredictors()) {
+    auto gated = gatedPredictor(name), plain = makePredictor(name, 2);
+    Eigen::Vector2d z;
+    for (size_t k = 0; k <= 200; ++k) {
+      z << stepped.u[k], stepped.v[k];
+      gated->update(stepped.t[k], z);
+      plain->update(stepped.t[k], z);
+    }
+    const double t = stepped.t[200] + 2.0 / kRateHz;
+    ASSERT_FALSE(same(gated->predictPosition(0, t), plain->predictPosition(0, t))) << name << ": not in doubt";
+    // THEN predictPosition and predictVelocity give predict()'s position and velocity
+    for (int c = 0; c < 2; ++c) {
+      const ChannelEstimate e = gated->predict(c, t);
+      EXPECT_TRUE(same(gated->predictPosition(c, t), e.position())) << name << " channel " << c;
+      EXPECT_TRUE(same(gated->predictVelocity(c, t), e.velocity())) << name << " channel " << c;
+    }
+  }
+}
+
 TEST(GlitchGate, APointReacquiredAfterAGapIsNotDoubted) {
   // GIVEN a track with frames 190-199 not measured, after which the tracker
   // finds the point 40 px further on u than the motion explains (re-acquired

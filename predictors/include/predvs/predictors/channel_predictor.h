@@ -804,16 +804,23 @@ class ChannelPredictor : public Predictor {
     if (!(dt > 0.0)) return toEstimate(s.g);
     Gaussian<N> g = forecastWeightingOn() ? weightedForecastStart(channel) : s.g;
     timeUpdate(g, transition(channel, dt), processNoise(channel, dt));
-    if (blend_tau_s_ > 0.0) {
-      if (splitsBlend(s)) {
-        const double p0 = s.x_start[static_cast<size_t>(s.head)](0);
-        s.rates.capState(extrapolation_cap_, p0, g.x, dt);
-        s.blend.blendStateSplit(s.blend.z_hold, p0, g.x);
-      } else {
-        s.blend.blendState(s.blend.z_hold, g.x);
-      }
-    }
+    blendForecast(s, dt, g.x);
     return toEstimate(g);
+  }
+
+  /// predict(channel, t_s).velocity() without the covariance: x(1) of the same F x, capped and
+  /// blended the same way.
+  double predictVelocity(int channel, double t_s) const override {
+    const ChannelState& s = state_.at(channel);
+    if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
+    const double dt = t_s - time();
+    if (!(dt > 0.0)) return s.g.x(1);
+    Vec<N> x;
+    if (forecastWeightingOn()) weightedForecastMean(channel, x);
+    else x = s.g.x;
+    x = predictedMean(x, transition(channel, dt));
+    blendForecast(s, dt, x);
+    return x(1);
   }
 
   /// predict(channel, t_s).position() without the covariance: x(0) of the same F x product.
@@ -865,6 +872,18 @@ class ChannelPredictor : public Predictor {
     ExtrapolationRates rates;  ///< the cap's (file comment, "Extrapolations the track has not shown")
   };
 
+  /// The blend with hold (and the cap) of a forecast mean x over dt of channel state s, when the
+  /// blend is on: what predict() and predictVelocity() hand out.
+  void blendForecast(const ChannelState& s, double dt, Vec<N>& x) const {
+    if (!(blend_tau_s_ > 0.0)) return;
+    if (splitsBlend(s)) {
+      const double p0 = s.x_start[static_cast<size_t>(s.head)](0);
+      s.rates.capState(extrapolation_cap_, p0, x, dt);
+      s.blend.blendStateSplit(s.blend.z_hold, p0, x);
+    } else {
+      s.blend.blendState(s.blend.z_hold, x);
+    }
+  }
   /// True when a forecast of channel s now is blended with the two weights (file comment, "Two
   /// weights"): the split is on and the last update was measured, so x_start[head] is its start.
   bool splitsBlend(const ChannelState& s) const { return blend_split_ && !s.unmeasured_last; }

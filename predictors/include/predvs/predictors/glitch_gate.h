@@ -99,6 +99,7 @@ class GlitchGate : public Predictor {
   using Predictor::update;
   ChannelEstimate predict(int channel, double t_s) const override;
   double predictPosition(int channel, double t_s) const override;
+  double predictVelocity(int channel, double t_s) const override;
   Innovation innovation(int channel) const override { return inner_->innovation(channel); }
   bool extrapolates() const override { return inner_->extrapolates(); }
   int monitorAlarms() const override { return inner_->monitorAlarms(); }

@@ -14,6 +14,17 @@
 
 namespace predvs {
 
+/// The Kalman updates below are inlined into every caller. GCC stopped inlining them once
+/// ChannelPredictor::predict() and step() grew (the blend with hold, the coasting): each call then
+/// passed the Gaussian through memory and read it back at once, which cost kf-cv a third of its
+/// time per frame (docs/PERFORMANCE.md, "Predictor cost per frame"). Inlining changes no bit (no
+/// FMA contraction without -march).
+#if defined(__GNUC__) || defined(__clang__)
+#define PREDVS_KALMAN_INLINE __attribute__((always_inline)) inline
+#else
+#define PREDVS_KALMAN_INLINE inline
+#endif
+
 template <int N>
 using Vec = Eigen::Matrix<double, N, 1>;
 template <int N>
@@ -46,9 +57,21 @@ inline double significanceWeight(double m, double var, double n_sigmas) {
 }
 
 /// Time update: x <- F x, P <- F P F' + Q (kept symmetric).
+/// The mean of a time update, F x: the arithmetic timeUpdate() uses for it (the same bits), for a
+/// forecast without its covariance.
+template <int N>
+inline Vec<N> predictedMean(const Vec<N>& x, const Mat<N>& F) {
+  return (F * x).eval();
+}
+/// The 2-state one written out, as timeUpdate<2> below computes it.
+template <>
+PREDVS_KALMAN_INLINE Vec<2> predictedMean<2>(const Vec<2>& x, const Mat<2>& F) {
+  return Vec<2>(F(0, 0) * x(0) + F(0, 1) * x(1), F(1, 0) * x(0) + F(1, 1) * x(1));
+}
+
 template <int N>
 inline void timeUpdate(Gaussian<N>& g, const Mat<N>& F, const Mat<N>& Q) {
-  g.x = (F * g.x).eval();
+  g.x = predictedMean(g.x, F);
   const Mat<N> FP = F * g.P;
   g.P.noalias() = FP * F.transpose();
   g.P += Q;
@@ -96,12 +119,10 @@ inline Innovation measurementUpdate(Gaussian<N>& g, double z, double R) {
 /// symmetric P. Eigen's 2x2 products spend most of their time shuffling lanes; these run about
 /// twice as fast, and the 2-state filters (kf-cv, fakf-classic, stkf) are the per-frame hot path.
 template <>
-inline void timeUpdate<2>(Gaussian<2>& g, const Mat<2>& F, const Mat<2>& Q) {
+PREDVS_KALMAN_INLINE void timeUpdate<2>(Gaussian<2>& g, const Mat<2>& F, const Mat<2>& Q) {
   const double a = F(0, 0), b = F(0, 1), c = F(1, 0), d = F(1, 1);
   const double p00 = g.P(0, 0), p01 = 0.5 * (g.P(0, 1) + g.P(1, 0)), p11 = g.P(1, 1);
-  const double x0 = g.x(0), x1 = g.x(1);
-  g.x(0) = a * x0 + b * x1;
-  g.x(1) = c * x0 + d * x1;
+  g.x = predictedMean(g.x, F);
   const double fp00 = a * p00 + b * p01, fp01 = a * p01 + b * p11;  // row 0 of F P
   const double fp10 = c * p00 + d * p01, fp11 = c * p01 + d * p11;  // row 1 of F P
   const double q01 = 0.5 * (Q(0, 1) + Q(1, 0));
@@ -111,7 +132,7 @@ inline void timeUpdate<2>(Gaussian<2>& g, const Mat<2>& F, const Mat<2>& Q) {
 }
 
 template <>
-inline Innovation measurementUpdate<2>(Gaussian<2>& g, double z, double R) {
+PREDVS_KALMAN_INLINE Innovation measurementUpdate<2>(Gaussian<2>& g, double z, double R) {
   Innovation in;
   const double p00 = g.P(0, 0), p01 = 0.5 * (g.P(0, 1) + g.P(1, 0)), p11 = g.P(1, 1);
   in.eps = z - g.x(0);

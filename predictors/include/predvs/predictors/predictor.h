@@ -103,6 +103,9 @@ class Predictor {
   /// Just the position of predict(channel, t_s), the same number (bit for bit). A filter may
   /// override it to skip the covariance (the per-channel Kalman filters do); the default asks predict().
   virtual double predictPosition(int channel, double t_s) const { return predict(channel, t_s).position(); }
+  /// Just the velocity of predict(channel, t_s), the same number (bit for bit); the same as
+  /// predictPosition() otherwise (the per-channel filters and the glitch gate skip the covariance).
+  virtual double predictVelocity(int channel, double t_s) const { return predict(channel, t_s).velocity(); }
   /// Innovation of the last update on `channel`.
   virtual Innovation innovation(int channel) const = 0;
   /// A copy in the current state, fed the same measurements from here on it gives the same bits
@@ -153,7 +156,7 @@ class Predictor {
   Eigen::VectorXd predictPositions(double t_s) const;
   /// The same into `out` (size channels()), without allocating: the per-frame form for long tracks.
   void predictPositions(double t_s, Eigen::Ref<Eigen::VectorXd> out) const;
-  /// Predicted velocities of every channel at t_s.
+  /// Predicted velocities of every channel at t_s (convenience over predictVelocity()).
   Eigen::VectorXd predictVelocities(double t_s) const;
 
  protected:
