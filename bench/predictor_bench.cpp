@@ -20,8 +20,10 @@
 #include <visp3/core/vpLinearKalmanFilterInstantiation.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -51,13 +53,7 @@ const std::vector<Eigen::Vector2d>& measurements() {
 /// kf-cv as a plain CV Kalman filter (the references' work): the values the scenario files pin
 /// (data/scenarios/ibvs-moving-target.yaml), and no coasting (this sequence has no gap anyway).
 Params plainKfCvParams() {
-  Params p;
-  p.set("q", kQ);
-  p.set("r", kR);
-  p.set("shrink_sigmas", 0.0);
-  p.set("hold_blend_tau_s", 0.0);
-  p.set("coast_tau_s", 0.0);
-  return p;
+  return Params{{"q", kQ}, {"r", kR}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}, {"coast_tau_s", 0.0}};
 }
 
 void predvsPredictor(benchmark::State& state, const std::string& name, const Params& params = {}) {
@@ -141,6 +137,17 @@ const bool kRegistered = [] {
   }
   benchmark::RegisterBenchmark("BM_PredictorPlain/kf-cv",
                                [](benchmark::State& s) { predvsPredictor(s, "kf-cv", plainKfCvParams()); });
+  // What each of kf-cv's default layers costs: the defaults with one key changed (channel_predictor.h,
+  // kalman_baselines.h): no blend with hold; the blend on one horizon; one blend weight instead of
+  // two; r fixed (no start-up estimate); q fixed (no raise).
+  const std::vector<std::pair<const char*, double>> layers = {
+      {"hold_blend_tau_s", 0.0}, {"hold_blend_frames", 1.0}, {"hold_blend_split", 0.0}, {"r", kR}, {"q", 1e4}};
+  for (const auto& [key, value] : layers) {
+    const Params p{{key, value}};
+    char label[96];
+    std::snprintf(label, sizeof label, "BM_PredictorLayer/kf-cv/%s=%g", key, value);
+    benchmark::RegisterBenchmark(label, [p](benchmark::State& s) { predvsPredictor(s, "kf-cv", p); });
+  }
   return true;
 }();
 

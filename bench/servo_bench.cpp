@@ -41,12 +41,7 @@ void runPredvs(benchmark::State& state, const char* predictor_name, const Params
 void BM_ServoLoopKfCv(benchmark::State& state) { runPredvs(state, "kf-cv"); }
 /// kf-cv as data/scenarios/ibvs-moving-target.yaml pins it (the figures of the scenario files).
 void BM_ServoLoopKfCvPlain(benchmark::State& state) {
-  Params p;
-  p.set("q", 100.0);
-  p.set("r", 1.0);
-  p.set("shrink_sigmas", 0.0);
-  p.set("hold_blend_tau_s", 0.0);
-  runPredvs(state, "kf-cv", p);
+  runPredvs(state, "kf-cv", {{"q", 100.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}});
 }
 void BM_ServoLoopHold(benchmark::State& state) { runPredvs(state, "hold"); }
 
