@@ -348,7 +348,8 @@ NoiseFitResult fitOneStructure(const std::string& predictor, const Params& base,
   for (size_t i = 0; i < track.t_s.size(); ++i) measured += std::isfinite(track.channels.front()[i]) ? 1 : 0;
   if (measured < 4 * std::max(options.burn_in_frames, 5))
     throw std::invalid_argument("noise fit: the track has " + std::to_string(measured) + " measured rows, need at least " +
-                                std::to_string(4 * std::max(options.burn_in_frames, 5)));
+                                std::to_string(4 * std::max(options.burn_in_frames, 5)) + " (4 x the burn-in of " +
+                                std::to_string(std::max(options.burn_in_frames, 5)) + " rows)");
 
   // Fixed keys: everything in base except the fitted ones.
   for (const auto& kv : base.values()) m.base.set(kv.first, kv.second);

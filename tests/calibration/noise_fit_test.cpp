@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <tuple>
 
 namespace predvs {
@@ -167,6 +169,17 @@ TEST(NoiseFit, KeepsFixedKeysAndRejectsHold) {
   EXPECT_THROW(fitNoise("hold", {}, t), std::invalid_argument);
   FitTrack tiny{{0.0, 0.1}, {{1.0, 2.0}, {1.0, 2.0}}};
   EXPECT_THROW(fitNoise("kf-cv", {}, tiny), std::invalid_argument);
+  // a burn-in that leaves too few rows: the message says how many rows it takes, and why
+  NoiseFitOptions o;
+  o.burn_in_frames = 100;
+  try {
+    fitNoise("kf-cv", {}, t, o);
+    ADD_FAILURE() << "a 300-row track with a burn-in of 100 was fitted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("300 measured rows, need at least 400 (4 x the burn-in of 100 rows)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(NoiseFit, EveryFittablePredictorFitsWithoutLosingLikelihood) {
