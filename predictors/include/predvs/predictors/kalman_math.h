@@ -14,11 +14,12 @@
 
 namespace predvs {
 
-/// The Kalman updates below are inlined into every caller. GCC stopped inlining them once
-/// ChannelPredictor::predict() and step() grew (the blend with hold, the coasting): each call then
-/// passed the Gaussian through memory and read it back at once, which cost kf-cv a third of its
-/// time per frame (docs/PERFORMANCE.md, "Predictor cost per frame"). Inlining changes no bit (no
-/// FMA contraction without -march).
+/// The 2-state Kalman updates below (and predictedMean<2>) are inlined into every caller. GCC
+/// stopped inlining them once ChannelPredictor::predict() and step() grew (the blend with hold, the
+/// coasting): each call then passed the Gaussian through memory and read it back at once, which
+/// cost the plain kf-cv a third of its time per frame (docs/PERFORMANCE.md, "Predictor cost per
+/// frame"). Inlining changes no bit (no FMA contraction without -march). The generic (3-state)
+/// ones are left to the compiler: forced inline, kf-ca, the CS filters and stkf ran 10-20 % slower.
 #if defined(__GNUC__) || defined(__clang__)
 #define PREDVS_KALMAN_INLINE __attribute__((always_inline)) inline
 #else
