@@ -57,7 +57,6 @@ inline double significanceWeight(double m, double var, double n_sigmas) {
   return d > 0.0 ? m2 / d : 0.0;
 }
 
-/// Time update: x <- F x, P <- F P F' + Q (kept symmetric).
 /// The mean of a time update, F x: the arithmetic timeUpdate() uses for it (the same bits), for a
 /// forecast without its covariance.
 template <int N>
@@ -70,6 +69,7 @@ PREDVS_KALMAN_INLINE Vec<2> predictedMean<2>(const Vec<2>& x, const Mat<2>& F) {
   return Vec<2>(F(0, 0) * x(0) + F(0, 1) * x(1), F(1, 0) * x(0) + F(1, 1) * x(1));
 }
 
+/// Time update: x <- F x, P <- F P F' + Q (kept symmetric).
 template <int N>
 inline void timeUpdate(Gaussian<N>& g, const Mat<N>& F, const Mat<N>& Q) {
   g.x = predictedMean(g.x, F);

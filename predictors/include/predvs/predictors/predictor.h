@@ -103,8 +103,9 @@ class Predictor {
   /// Just the position of predict(channel, t_s), the same number (bit for bit). A filter may
   /// override it to skip the covariance (the per-channel Kalman filters do); the default asks predict().
   virtual double predictPosition(int channel, double t_s) const { return predict(channel, t_s).position(); }
-  /// Just the velocity of predict(channel, t_s), the same number (bit for bit); the same as
-  /// predictPosition() otherwise (the per-channel filters and the glitch gate skip the covariance).
+  /// Just the velocity of predict(channel, t_s), the same number (bit for bit). As for
+  /// predictPosition(), a filter may override it to skip the covariance (the per-channel Kalman
+  /// filters and the glitch gate do).
   virtual double predictVelocity(int channel, double t_s) const { return predict(channel, t_s).velocity(); }
   /// Innovation of the last update on `channel`.
   virtual Innovation innovation(int channel) const = 0;
