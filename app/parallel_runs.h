@@ -16,6 +16,9 @@ namespace predvs {
 struct ParallelOptions {
   int workers = 1;              ///< threads (>= 1)
   bool progress_bar = false;    ///< redraw a bar on `err` (a terminal); else a line at every quarter
+  /// Without the bar, also a line when this long has passed since the last one and runs have ended
+  /// since (a log of a long campaign is never silent for minutes).
+  double progress_interval_s = 30.0;
   const char* label = "compare";  ///< names the command in the progress lines
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();  ///< elapsed time origin
 };
