@@ -9,10 +9,11 @@
 //     then the 2-frame state and covariance from statePost / errorCovPost.
 // Same frame period, same noise densities and the same pre-generated measurement sequence for all.
 // The references are plain CV Kalman filters with fixed noise; so is BM_PredictorPlain/kf-cv (kf-cv
-// with q and r fixed, no blend with hold: plainKfCvParams(), as the scenario files pin it), the like-for-
+// with q and r fixed, no blend with hold: plain_kf_cv.h, as the scenario files pin it), the like-for-
 // like row. BM_Predictor/kf-cv runs the defaults, which add issue 11's layers (the start-up R
 // estimate, the raise of q, the blend with hold on two horizons: channel_predictor.h).
 // Run: predvs_bench --benchmark_filter=Predictor
+#include "plain_kf_cv.h"
 #include "predvs/predictors/predictor.h"
 
 #include <benchmark/benchmark.h>
@@ -32,8 +33,8 @@ using namespace predvs;
 
 constexpr double kFramePeriod_s = 1.0 / 30.0;
 constexpr int kHorizonFrames = 2;
-constexpr double kQ = 100.0;  // white-acceleration density (px^2/s^3), as the scenario files pin kf-cv's q
-constexpr double kR = 1.0;    // measurement variance (px^2)
+constexpr double kQ = kPlainKfCvQ;  // white-acceleration density (px^2/s^3), as the scenario files pin kf-cv's q
+constexpr double kR = kPlainKfCvR;  // measurement variance (px^2)
 
 /// 4096 frames of a feature point on a circle with 1 px noise, cycled through by every benchmark.
 const std::vector<Eigen::Vector2d>& measurements() {
@@ -48,12 +49,6 @@ const std::vector<Eigen::Vector2d>& measurements() {
     return out;
   }();
   return z;
-}
-
-/// kf-cv as a plain CV Kalman filter (the references' work): the values the scenario files pin
-/// (data/scenarios/ibvs-moving-target.yaml), and no coasting (this sequence has no gap anyway).
-Params plainKfCvParams() {
-  return Params{{"q", kQ}, {"r", kR}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}, {"coast_tau_s", 0.0}};
 }
 
 void predvsPredictor(benchmark::State& state, const std::string& name, const Params& params = {}) {

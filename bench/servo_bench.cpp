@@ -4,6 +4,7 @@
 // ServoConfig: 4 points, 80 ms latency, 0.5 px noise, circle target), to measure the predictor's
 // overhead (target <= 10 %). Each iteration is one full run (25 s of simulated time, 626 ticks);
 // the `steps_per_s` counter is the figure to compare.
+#include "plain_kf_cv.h"
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/noise.h"
 #include "predvs/servo/servo_loop.h"
@@ -41,7 +42,7 @@ void runPredvs(benchmark::State& state, const char* predictor_name, const Params
 void BM_ServoLoopKfCv(benchmark::State& state) { runPredvs(state, "kf-cv"); }
 /// kf-cv as data/scenarios/ibvs-moving-target.yaml pins it (the figures of the scenario files).
 void BM_ServoLoopKfCvPlain(benchmark::State& state) {
-  runPredvs(state, "kf-cv", {{"q", 100.0}, {"r", 1.0}, {"shrink_sigmas", 0.0}, {"hold_blend_tau_s", 0.0}});
+  runPredvs(state, "kf-cv", plainKfCvParams());
 }
 void BM_ServoLoopHold(benchmark::State& state) { runPredvs(state, "hold"); }
 
