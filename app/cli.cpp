@@ -93,6 +93,7 @@ int runTrack(const TrackArgs& a, const std::string& command_line, std::ostream& 
   o.predictors = predictorSpecs(a.predictor);
   setGlitchSigmas(o.predictors, parseNumberArg("--glitch-sigmas", a.glitch_sigmas));
   o.delay_frames = static_cast<int>(parseIntegerArg("--delay-frames", a.delay_frames, 0, 100000));
+  setHorizonFrames(o.predictors, o.delay_frames);
   o.fps = parseNumberArg("--fps", a.fps);
   if (!(o.fps > 0.0)) throw std::invalid_argument("--fps: expected a number > 0, got '" + a.fps + "'");
   o.strip_frames = static_cast<int>(parseIntegerArg("--strip-frames", a.strip_frames, 0, 50));

@@ -474,6 +474,11 @@ void setGlitchSigmas(std::vector<PredictorSpec>& specs, double g) {
     if (!s.params.has("glitch_sigmas")) s.params.set("glitch_sigmas", g);
 }
 
+void setHorizonFrames(std::vector<PredictorSpec>& specs, double frames) {
+  for (PredictorSpec& s : specs)
+    if (!s.params.has("horizon_frames")) s.params.set("horizon_frames", frames);
+}
+
 std::vector<PredictorSpec> parsePredictorSpecs(const std::string& option, const std::vector<std::string>& items) {
   std::vector<PredictorSpec> specs;
   if (items.size() == 1 && items[0] == "all") {

@@ -59,6 +59,10 @@ std::vector<PredictorSpec> parsePredictorSpecs(const std::string& option, const 
 /// gate, glitch_gate.h) on every spec that does not set it itself. Throws std::invalid_argument
 /// "--glitch-sigmas: ..." unless G >= 0.
 void setGlitchSigmas(std::vector<PredictorSpec>& specs, double g);
+/// The command's horizon in frames (`--delay-frames`, or `--horizon-s` over the frame period) as the
+/// key horizon_frames (predictor.h horizonFramesParam) on every spec that does not set it itself: the
+/// predictors whose forecast learns on several horizons learn on the ones they will be asked for.
+void setHorizonFrames(std::vector<PredictorSpec>& specs, double frames);
 
 /// RMSE of predictions against a reference (see file comment). NaN when n == 0.
 struct PredictionErrors {

@@ -143,6 +143,9 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
       throw std::invalid_argument(fileLocation(a.input, 0, "--delay-frames needs at least two data rows to measure the frame period"));
     period_s = medianPeriod(track.t_s);
     horizon_s = delay_frames * period_s;
+    setHorizonFrames(specs, delay_frames);
+  } else if (horizon_s > 0.0 && track.size() >= 2) {
+    setHorizonFrames(specs, horizon_s / medianPeriod(track.t_s));
   }
   // --fit: each predictor's noise fitted on the first fit_split of the rows (all rows without
   // --fit-split), then run on the whole track; with --fit-split only the rest is scored.
@@ -251,7 +254,8 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
       ->type_name("NAME[,NAME...]");
   auto* h = predict->add_option("--horizon-s", pa.horizon_s, "prediction horizon in seconds (>= 0)")->type_name("S");
   auto* d = predict->add_option("--delay-frames", pa.delay_frames,
-                                "prediction horizon in frames: H times the median frame period of the input")
+                                "prediction horizon in frames: H times the median frame period of the input (the predictors "
+                                "are told it as horizon_frames, and learn their blend with hold on the horizons up to it)")
                 ->type_name("H");
   h->excludes(d);
   predict->add_option("--out", pa.out_dir, "output directory (replaced only when the run succeeds)")
@@ -370,7 +374,7 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
   track_study->add_option("--glitch", tsa.glitch_prob, "probability that a measured frame is a tracker glitch (make-track --glitch)")->capture_default_str()->type_name("P");
   track_study->add_option("--glitch-px", tsa.glitch_px, "size of a glitch, px")->capture_default_str()->type_name("PX");
   track_study->add_option("--glitch-sigmas", tsa.glitch_sigmas, "the glitch gate on every predictor that does not set glitch_sigmas itself (predict --glitch-sigmas; 0 = off)")->capture_default_str()->type_name("G");
-  track_study->add_option("--delay-frames", tsa.delay_frames, "prediction horizon in frames")->capture_default_str()->type_name("H");
+  track_study->add_option("--delay-frames", tsa.delay_frames, "prediction horizon in frames (told to the predictors as horizon_frames)")->capture_default_str()->type_name("H");
   track_study->add_option("--predictors", ts_predictors, "comma list of predictors or 'all'; an element may be [LABEL=]NAME[:KEY=VALUE...] as in compare")->capture_default_str()->type_name("A,B|all");
   track_study->add_option("--param", tsa.params, "parameter of one predictor (repeatable)")->type_name("PREDICTOR.KEY=VALUE");
   track_study->add_flag("--fit", tsa.fit,

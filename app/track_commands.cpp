@@ -162,6 +162,9 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
       throw std::invalid_argument(std::string("--param: ") + e.what());
     }
   }
+  // The horizon asked for (predict_command.h setHorizonFrames), on every entry.
+  for (const auto& name : names)
+    if (!fixed[name].has("horizon_frames")) fixed[name].set("horizon_frames", a.delay_frames);
   if (a.fit && !(a.fit_split > 0.0 && a.fit_split <= 1.0))
     throw std::invalid_argument("--fit-split: expected a fraction in (0, 1] (1 = fit and score the whole track)");
   // --fit-split 1: each predictor fitted on every row of the track and scored on every row, as

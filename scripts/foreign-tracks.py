@@ -9,12 +9,12 @@ saw-tooth zigzags, an Ornstein-Uhlenbeck hand with tremor, sums of sines), sampl
 frame rate with optional timestamp jitter, adds Gaussian pixel noise, and loses frames either as
 missing rows or as empty cells (single frames at random plus occlusions of 3-10 frames). Each
 track is written as a wide CSV (t,u,v,u_true,v_true) and run through `predvs predict --predictor
-all --delay-frames 2 --no-plots`; the RMSE against the truth of every predictor is compared with
-hold's.
+all --delay-frames 2 --no-plots` (--delay-frames H for another horizon); the RMSE against the
+truth of every predictor is compared with hold's.
 
     scripts/foreign-tracks.py BIN [--out DIR] [--seed S] [--seeds N] [--rates 10,15,...]
                               [--noise 0.5,1,...] [--duration-s T] [--drop P] [--jitter F]
-                              [--kinds a,b,...] [--draw D] [--predictors LIST]
+                              [--kinds a,b,...] [--draw D] [--predictors LIST] [--delay-frames H]
                               [--predict-args '...'] [--jobs J] [--check]
 
 Writes DIR/results.csv (one row per track and predictor: kind, rate, noise, seed, predictor,
@@ -208,9 +208,9 @@ def run_one(args, kind, rate, noise, seed, work):
 
 
 def predict_rmse(args, track, out):
-    """Runs `predict --predictor args.predictors --delay-frames 2` on track (with truth) into out;
-    returns {predictor: RMSE vs truth, px}."""
-    cmd = [args.bin, "predict", "--input", track, "--predictor", args.predictors, "--delay-frames", "2",
+    """Runs `predict --predictor args.predictors --delay-frames args.delay_frames` on track (with
+    truth) into out; returns {predictor: RMSE vs truth, px}."""
+    cmd = [args.bin, "predict", "--input", track, "--predictor", args.predictors, "--delay-frames", str(args.delay_frames),
            "--no-plots", "--jobs", "1", "--out", out] + args.predict_args.split()
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
@@ -250,8 +250,9 @@ def print_within_best(results, names, kinds):
 
 
 def add_predict_arguments(ap, unit):
-    """The arguments both study scripts take: --predictors, --predict-args, --check and --jobs (unit
-    names what one run is, "track" or "replay")."""
+    """The arguments both study scripts take: --predictors, --delay-frames, --predict-args, --check
+    and --jobs (unit names what one run is, "track" or "replay")."""
+    ap.add_argument("--delay-frames", type=int, default=2, help="predict's --delay-frames, the horizon in frames (default 2)")
     ap.add_argument("--predictors", default="all", help="predict's --predictor list ([LABEL=]NAME[:KEY=VALUE...]); must include hold")
     ap.add_argument("--predict-args", default="", help="further arguments of predict, e.g. '--fit --fit-split 0.5'")
     ap.add_argument("--check", action="store_true", help=f"exit 1 when some predictor does not beat hold on some {unit}")
@@ -268,8 +269,8 @@ def rates_and_noise(ap, args):
         noises = [float(x) for x in args.noise.split(",")]
     except ValueError as e:
         ap.error(f"--rates/--noise: {e}")
-    if args.seeds < 1 or args.jobs < 1 or any(r <= 0 for r in rates) or any(n < 0 for n in noises):
-        ap.error("need --seeds >= 1, --jobs >= 1, positive --rates and --noise not negative")
+    if args.seeds < 1 or args.jobs < 1 or args.delay_frames < 0 or any(r <= 0 for r in rates) or any(n < 0 for n in noises):
+        ap.error("need --seeds >= 1, --jobs >= 1, --delay-frames >= 0, positive --rates and --noise not negative")
     return rates, noises
 
 
@@ -310,7 +311,7 @@ def main():
     except RuntimeError as e:
         print(f"foreign-tracks: error: {e}", file=sys.stderr)
         return 2
-    return report(results, args.out, kinds, args.check)
+    return report(results, args.out, kinds, args.check, args.delay_frames)
 
 
 def run_cells(prefix, fn, cells, jobs, unit="tracks"):
@@ -331,10 +332,10 @@ def run_cells(prefix, fn, cells, jobs, unit="tracks"):
     return results
 
 
-def report(results, out, kinds, check):
+def report(results, out, kinds, check, delay_frames=2):
     """Writes out/results.csv from results [(kind, rate, noise, seed, {predictor: RMSE vs truth})]
-    and prints, per predictor, the tracks where it beats hold, the geometric mean and worst ratio,
-    and the comparison with the best fixed KF (print_within_best). Returns the exit status: 1 when
+    and prints, per predictor, the tracks where it beats hold, the geometric mean and worst ratio
+    (delay_frames ahead, as run), and the comparison with the best fixed KF (print_within_best). Returns the exit status: 1 when
     check and some predictor does not beat hold on some track (one line each on stderr), else 0."""
     results.sort()
     os.makedirs(out, exist_ok=True)
@@ -358,7 +359,7 @@ def report(results, out, kinds, check):
                 if ratio > st[2]:
                     st[2], st[3] = ratio, f"{kind} {rate:g} Hz {noise:g} px #{seed}"
     os.replace(tmp, os.path.join(out, "results.csv"))
-    print(f"{'predictor':16s} {'beats hold':>12s} {'mean ratio':>10s}  worst   (ratio: RMSE vs truth / hold's, 2 frames ahead; geometric mean)")
+    print(f"{'predictor':16s} {'beats hold':>12s} {'mean ratio':>10s}  worst   (ratio: RMSE vs truth / hold's, {delay_frames} frames ahead; geometric mean)")
     for n in names:
         st = stats[n]
         print(f"{n:16s} {st[0]:5d}/{len(results):<6d} {math.exp(st[1] / len(results)):10.3f}  {st[2]:.3f} ({st[3]})")

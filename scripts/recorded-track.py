@@ -10,11 +10,12 @@ file (`--track`, columns t,u0,v0,u1,v1,... as `predvs track` writes tracks_wide.
 stamped t = k / RATE for each rate (the same images seen at that frame rate: the motion in px per
 frame is the recording's, in px/s it scales with the rate), and Gaussian noise of each level is
 added to the measured cells (a cell without a measurement stays empty). The recorded positions are
-the truth columns, so every predictor's RMSE against them, 2 frames ahead, is compared with hold's.
+the truth columns, so every predictor's RMSE against them, 2 frames ahead (--delay-frames H), is
+compared with hold's.
 
     scripts/recorded-track.py BIN (--images PATTERN [--source dots] | --track WIDE.csv)
                               [--rates 10,15,20,30,60] [--noise 0,0.5,1,2,3] [--seed S] [--seeds N]
-                              [--predictors LIST] [--predict-args '...'] [--jobs J] [--out DIR]
+                              [--predictors LIST] [--delay-frames H] [--predict-args '...'] [--jobs J] [--out DIR]
                               [--check]
 
 Writes DIR/results.csv (one row per replay and predictor: kind = the recording's name, rate, noise,
@@ -117,7 +118,7 @@ def main():
         print(f"recorded-track: error: {e.filename}: {e.strerror}", file=sys.stderr)
         return 2
     print(f"{name}: {len(rows)} frames, {(len(header) - 1) // 2} points; {len(cells)} replays")
-    return foreign_tracks.report(results, args.out, [name], args.check)
+    return foreign_tracks.report(results, args.out, [name], args.check, args.delay_frames)
 
 
 if __name__ == "__main__":

@@ -35,7 +35,8 @@ print(p.innovation(0))
 
 # %% Scoring predictors two frames ahead against the truth (the rule of `predvs predict`)
 def rmse_ahead(name, params=None, horizon_frames=2):
-    p = predvs.make(name, 2, params)
+    # horizon_frames: the horizon the predictor will be asked for, as predict passes it
+    p = predvs.make(name, 2, {"horizon_frames": horizon_frames, **(params or {})})
     err = []
     for k, (tk, zk) in enumerate(zip(t, z)):
         p.update(tk) if np.isnan(zk).all() else p.update(tk, zk)

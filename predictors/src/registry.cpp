@@ -61,10 +61,13 @@ bool isPredictor(const std::string& name) {
   return false;
 }
 
+double horizonFramesParam(const Params& params) { return params.get("horizon_frames", 0.0, 0.0, 1e6); }
+
 std::unique_ptr<Predictor> makePredictor(const std::string& name, int channels, const Params& params) {
   for (const auto& e : entries()) {
     if (e.info.name != name) continue;
     auto p = withGlitchGate(e.make(channels, params), glitchSigmasParam(params));
+    horizonFramesParam(params);  // a fact about the queries: every predictor takes it (predictor.h)
     params.requireAllUsed("predictor '" + name + "'");
     return p;
   }

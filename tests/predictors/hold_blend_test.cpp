@@ -13,6 +13,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -417,6 +418,59 @@ TEST(HoldBlend, OnlyHoldBlendTauZeroTurnsTheBlendOffNotShrinkSigmasZero) {
       differs = differs || alone->predictPosition(0, t + kH) != off->predictPosition(0, t + kH);
     }
     EXPECT_TRUE(differs);
+  }
+}
+
+TEST(HoldBlend, TheHorizonAskedForSetsTheBlendHorizonsUnlessTheyAreGiven) {
+  // GIVEN every predictor: each takes horizon_frames, the caller's key (predictor.h), and refuses a
+  // negative one naming it
+  for (const auto& info : predictorRegistry()) {
+    EXPECT_NO_THROW(makePredictor(info.name, 1, {{"horizon_frames", 5.0}})) << info.name;
+    try {
+      makePredictor(info.name, 1, {{"horizon_frames", -1.0}});
+      ADD_FAILURE() << info.name << ": a negative horizon_frames was taken";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("horizon_frames"), std::string::npos) << e.what();
+    }
+  }
+  // AND, for a per-channel filter and imm, configurations that must forecast alike: a horizon of h
+  // frames asked for and the blend on ceil(h) horizons (2 at the least, 8 at the most); an explicit
+  // hold_blend_frames wins over the horizon
+  struct Same {
+    Params told, given;
+  };
+  const std::vector<Same> same = {
+      {{{"horizon_frames", 5.0}}, {{"hold_blend_frames", 5.0}}},
+      {{{"horizon_frames", 4.2}}, {{"hold_blend_frames", 5.0}}},
+      {{{"horizon_frames", 4.0 + 1e-9}}, {{"hold_blend_frames", 4.0}}},  // a rounding above 4 is 4
+      {{{"horizon_frames", 20.0}}, {{"hold_blend_frames", 8.0}}},
+      {{{"horizon_frames", 2.0}}, {}},
+      {{{"horizon_frames", 1.0}}, {}},
+      {{{"horizon_frames", 0.0}}, {}},
+      {{{"horizon_frames", 6.0}, {"hold_blend_frames", 1.0}}, {{"hold_blend_frames", 1.0}}},
+  };
+  for (const char* name : {"kf-cv", "imm"}) {
+    for (size_t i = 0; i < same.size(); ++i) {
+      SCOPED_TRACE(std::string(name) + " pair " + std::to_string(i));
+      TwinsAndHold f(name, same[i].told, same[i].given);
+      // and a twin on the default two horizons, which the five-frame horizon must not forecast like
+      TwinsAndHold g(name, {{"horizon_frames", 5.0}}, {});
+      std::mt19937 rng(3);
+      std::normal_distribution<double> noise(0.0, 1.0);
+      bool differs = false;
+      for (int k = 0; k < 200; ++k) {
+        const double t = k / kRateHz;
+        const double z = 40.0 * std::sin(0.7 * t) + 15.0 * std::sin(2.3 * t) + noise(rng);
+        f.update(t, z);
+        g.update(t, z);
+        const double h = 5.0 / kRateHz;
+        // THEN each pair forecasts the same bits 5 frames ahead
+        ASSERT_EQ(f.a->predictPosition(0, t + h), f.b->predictPosition(0, t + h)) << k;
+        differs = differs || g.a->predictPosition(0, t + h) != g.b->predictPosition(0, t + h);
+      }
+      // AND the horizon asked for changes the forecast
+      EXPECT_TRUE(differs);
+    }
   }
 }
 

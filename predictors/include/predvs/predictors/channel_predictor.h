@@ -117,6 +117,11 @@
 // step that pays, a two-frame one that overshoots the dash's end) then gets the weight of the
 // horizon where extrapolating pays least (docs/MODELS.md §15, "The blend on more than one
 // horizon"). H = 1 is the one-frame weight alone (the default until 2026-12-03).
+// The horizons asked for (`horizon_frames` h, predictor.h; docs/MODELS.md §15): when the caller says
+// how far ahead it will ask, and hold_blend_frames is not given, H = clamp(ceil(h), 2, 8). Weights
+// learnt on one and two frames do not tell whether a five-frame extrapolation beats hold (a tremor
+// or a burst has turned by then; measured: docs/PERFORMANCE.md "The horizons asked for"). At h <= 2
+// nothing changes.
 // The weight's own uncertainty (`hold_blend_sigmas` n, opt-in: default kDefaultHoldBlendSigmas = 0,
 // off): each of the H regressions' weights is multiplied by the significance of its least-squares
 // value w_ls = S_dy / S_dd, w <- clamp(w_ls, 0, 1) w_ls^2 / (w_ls^2 + n^2 var(w_ls)), with
@@ -512,10 +517,16 @@ inline bool holdBlendSplitParam(const Params& params) {
   return params.get("hold_blend_split", kDefaultHoldBlendSplit, 0.0, 1.0) != 0.0;
 }
 
-/// The `hold_blend_frames` parameter H (whole frames 1..kMaxBlendFrames, default
-/// kDefaultHoldBlendFrames; file comment). Read by every per-channel filter and by imm.
+/// The `hold_blend_frames` parameter H (whole frames 1..kMaxBlendFrames; file comment). Its default
+/// is kDefaultHoldBlendFrames, or the horizons asked for, clamp(ceil(horizon_frames), default,
+/// kMaxBlendFrames) when the caller gives `horizon_frames` (file comment, "The horizons asked
+/// for"). Read by every per-channel filter and by imm.
 inline int holdBlendFramesParam(const Params& params) {
-  const double h = params.get("hold_blend_frames", kDefaultHoldBlendFrames, 1, kMaxBlendFrames);
+  // ceil with a tolerance: a horizon of --horizon-s over the median frame period is 5 frames when it
+  // comes out a rounding above 5
+  const double asked = std::ceil(horizonFramesParam(params) - 1e-6);
+  const double fallback = std::clamp(asked, static_cast<double>(kDefaultHoldBlendFrames), static_cast<double>(kMaxBlendFrames));
+  const double h = params.get("hold_blend_frames", fallback, 1, kMaxBlendFrames);
   if (h != std::floor(h))
     throw std::invalid_argument("hold_blend_frames: expected a whole number of frames from 1 to " + std::to_string(kMaxBlendFrames));
   return static_cast<int>(h);

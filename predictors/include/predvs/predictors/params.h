@@ -21,6 +21,11 @@ class Params {
   void set(const std::string& key, double value) { values_[key] = value; }
   void setText(const std::string& key, const std::string& value) { texts_[key] = value; }
   bool has(const std::string& key) const { return values_.count(key) != 0 || texts_.count(key) != 0; }
+  /// Removes `key` (number or word); nothing when absent.
+  void erase(const std::string& key) {
+    values_.erase(key);
+    texts_.erase(key);
+  }
   /// Sets every number and word of `over` (each replacing the one of its kind given here for the same
   /// key): a variant's or a file's overrides on top of these.
   void setAll(const Params& over) {

@@ -185,8 +185,17 @@ const std::vector<PredictorInfo>& predictorRegistry();
 /// True if `name` is registered.
 bool isPredictor(const std::string& name);
 /// Builds the predictor `name` for `channels` channels. Throws std::invalid_argument naming the
-/// unknown predictor, or the unknown / out-of-range parameter key.
+/// unknown predictor, or the unknown / out-of-range parameter key. Every predictor accepts the
+/// caller's keys `glitch_sigmas` (glitch_gate.h) and `horizon_frames` (horizonFramesParam).
 std::unique_ptr<Predictor> makePredictor(const std::string& name, int channels,
                                          const Params& params = {});
+
+/// The `horizon_frames` key: how many frames ahead the caller will ask for forecasts (a number >= 0,
+/// need not be whole; 0 or absent = not said). Not a model parameter but a fact about the queries,
+/// which `predict`, `track` and `track-study` set from their `--delay-frames` (or `--horizon-s`):
+/// a forecast that learns on several horizons sizes its learning by it (the blend with hold learns
+/// on the horizons 1..ceil(horizon_frames), channel_predictor.h "The horizons asked for"), the
+/// others ignore it. Throws std::invalid_argument naming the key unless in [0, 1e6].
+double horizonFramesParam(const Params& params);
 
 }  // namespace predvs

@@ -1,0 +1,100 @@
+// The horizon the commands ask for, passed to the predictors as `horizon_frames` (predictor.h,
+// app/predict_command.h setHorizonFrames): predict (--delay-frames or --horizon-s), track-study and
+// fit-noise; the blend with hold then learns on the horizons 1..ceil(horizon_frames)
+// (channel_predictor.h, "The horizons asked for"), unless hold_blend_frames is given.
+#include "app/cli_test_utils.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace predvs {
+namespace {
+
+using apptest::CliRun;
+using apptest::run;
+using apptest::slurp;
+
+class HorizonFrames : public apptest::ScratchDirTest {
+ protected:
+  HorizonFrames() : ScratchDirTest("predvs_horizon_frames_test") {}
+  void SetUp() override {
+    ASSERT_EQ(run({"make-track", "--kind", "hand", "--rate-hz", "30", "--noise-px", "1.5", "--duration-s", "20",
+                   "--seed", "3", "--out", path("t.csv")})
+                  .code,
+              0);
+  }
+  /// predictions.csv of predict on t.csv with these further arguments.
+  std::string predictions(const std::string& out, const std::vector<std::string>& args) {
+    std::vector<std::string> cmd = {"predict", "--input", path("t.csv"), "--predictor", "hold,kf-cv,imm", "--no-plots",
+                                    "--out", path(out)};
+    cmd.insert(cmd.end(), args.begin(), args.end());
+    const CliRun r = run(cmd);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return slurp(path(out) + "/predictions.csv");
+  }
+};
+
+TEST_F(HorizonFrames, PredictTellsThePredictorsItsHorizon) {
+  // GIVEN predict 5 frames ahead, as frames and as seconds (5 periods of 30 Hz), and with the blend
+  // horizons given explicitly
+  const std::string told = predictions("told", {"--delay-frames", "5"});
+  const std::string seconds = predictions("seconds", {"--horizon-s", "0.16666666666666666"});
+  const std::string given = predictions(
+      "given", {"--delay-frames", "5", "--param", "kf-cv.hold_blend_frames=5", "--param", "imm.hold_blend_frames=5"});
+  const std::string two = predictions(
+      "two", {"--delay-frames", "5", "--param", "kf-cv.hold_blend_frames=2", "--param", "imm.hold_blend_frames=2"});
+  // THEN the predictions told the horizon are those of hold_blend_frames 5, not those of the
+  // default 2 (the forecasts and the file's other columns alike)
+  ASSERT_FALSE(told.empty());
+  EXPECT_EQ(told, given);
+  EXPECT_NE(told, two);
+  // AND --horizon-s gives the same horizon in frames (the file differs only where the horizon's
+  // seconds are written, so compare the blend's effect: hold_blend_frames 5 again)
+  const std::string seconds_given =
+      predictions("seconds-given", {"--horizon-s", "0.16666666666666666", "--param", "kf-cv.hold_blend_frames=5", "--param",
+                                    "imm.hold_blend_frames=5"});
+  EXPECT_EQ(seconds, seconds_given);
+}
+
+TEST_F(HorizonFrames, TwoFramesAheadIsTheDefaultAsBefore) {
+  // GIVEN predict 2 frames ahead, told and with the default blend horizons spelt out
+  const std::string told = predictions("told", {"--delay-frames", "2"});
+  const std::string spelt = predictions(
+      "spelt", {"--delay-frames", "2", "--param", "kf-cv.hold_blend_frames=2", "--param", "imm.hold_blend_frames=2"});
+  // THEN they are the same: at 2 frames (or fewer) nothing changes
+  EXPECT_EQ(told, spelt);
+}
+
+TEST_F(HorizonFrames, FitNoiseFitsAtItsHorizonAndLeavesTheKeyOutOfParamsYaml) {
+  // GIVEN fit-noise of kf-cv on the prediction objective 5 frames ahead
+  const CliRun r = run({"fit-noise", "--input", path("t.csv"), "--predictor", "kf-cv", "--objective", "prediction",
+                        "--horizon-frames", "5", "--out", path("fit")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  // THEN params.yaml has the fitted noise but not the horizon, which is the caller's
+  const std::string yaml = slurp(path("fit") + "/params.yaml");
+  EXPECT_NE(yaml.find("q:"), std::string::npos) << yaml;
+  EXPECT_EQ(yaml.find("horizon_frames"), std::string::npos) << yaml;
+  // AND a horizon_frames given by the user is kept, as any key of theirs
+  const CliRun g = run({"fit-noise", "--input", path("t.csv"), "--predictor", "kf-cv", "--param", "horizon_frames=3",
+                        "--out", path("fit3")});
+  ASSERT_EQ(g.code, 0) << g.err;
+  EXPECT_NE(slurp(path("fit3") + "/params.yaml").find("horizon_frames"), std::string::npos);
+}
+
+TEST_F(HorizonFrames, TrackStudyTellsThePredictorsItsHorizon) {
+  // GIVEN track-study 5 frames ahead, told and with the blend horizons given
+  const std::vector<std::string> grid = {"track-study", "--kinds", "hand", "--rates", "10", "--noise", "3", "--seeds", "1",
+                                         "--duration-s", "10", "--delay-frames", "5"};
+  std::vector<std::string> told = grid, given = grid;
+  told.insert(told.end(), {"--predictors", "hold,kf-cv", "--out", path("told")});
+  given.insert(given.end(), {"--predictors", "hold,kf-cv", "--param", "kf-cv.hold_blend_frames=5", "--out", path("given")});
+  ASSERT_EQ(run(told).code, 0);
+  ASSERT_EQ(run(given).code, 0);
+  // THEN study.csv is the same
+  EXPECT_EQ(slurp(path("told") + "/study.csv"), slurp(path("given") + "/study.csv"));
+}
+
+}  // namespace
+}  // namespace predvs
