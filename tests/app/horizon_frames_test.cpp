@@ -67,12 +67,34 @@ TEST_F(HorizonFrames, TwoFramesAheadIsTheDefaultAsBefore) {
   EXPECT_EQ(told, spelt);
 }
 
+/// A number of fit-noise's DIR/fit.json ("KEY": value).
+double jsonNumber(const std::string& json, const std::string& key) {
+  const std::string tag = "\"" + key + "\": ";
+  const auto at = json.find(tag);
+  EXPECT_NE(at, std::string::npos) << key << " in " << json;
+  return at == std::string::npos ? 0.0 : std::stod(json.substr(at + tag.size()));
+}
+
 TEST_F(HorizonFrames, FitNoiseFitsAtItsHorizonAndLeavesTheKeyOutOfParamsYaml) {
-  // GIVEN fit-noise of kf-cv on the prediction objective 5 frames ahead
-  const CliRun r = run({"fit-noise", "--input", path("t.csv"), "--predictor", "kf-cv", "--objective", "prediction",
-                        "--horizon-frames", "5", "--out", path("fit")});
-  ASSERT_EQ(r.code, 0) << r.err;
-  // THEN params.yaml has the fitted noise but not the horizon, which is the caller's
+  // GIVEN fit-noise of kf-cv on the prediction objective 5 frames ahead, as it is and with the blend
+  // on 5 and on 2 horizons given (a given hold_blend_frames is kept as it is: no forecast variant)
+  const auto fit = [&](const std::string& out, const std::vector<std::string>& more) {
+    std::vector<std::string> cmd = {"fit-noise", "--input", path("t.csv"), "--predictor", "kf-cv", "--objective",
+                                    "prediction", "--horizon-frames", "5", "--out", path(out)};
+    cmd.insert(cmd.end(), more.begin(), more.end());
+    const CliRun r = run(cmd);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return slurp(path(out) + "/fit.json");
+  };
+  const std::string told = fit("fit", {});
+  const std::string five = fit("fit5", {"--param", "hold_blend_frames=5"});
+  const std::string two = fit("fit2", {"--param", "hold_blend_frames=2"});
+  // THEN the fit's own forecast, before and after, is the one on 5 horizons (the same bits), not
+  // the one on 2
+  EXPECT_EQ(jsonNumber(told, "rmse_before_px"), jsonNumber(five, "rmse_before_px"));
+  EXPECT_EQ(jsonNumber(told, "rmse_own_forecast_px"), jsonNumber(five, "rmse_after_px"));
+  EXPECT_NE(jsonNumber(told, "rmse_before_px"), jsonNumber(two, "rmse_before_px"));
+  // AND params.yaml has the fitted noise but not the horizon, which is the caller's
   const std::string yaml = slurp(path("fit") + "/params.yaml");
   EXPECT_NE(yaml.find("q:"), std::string::npos) << yaml;
   EXPECT_EQ(yaml.find("horizon_frames"), std::string::npos) << yaml;
