@@ -135,11 +135,6 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
   if (track.size() < 2) throw std::invalid_argument(a.input + ": need at least two data rows to measure the frame period");
   opt.burn_in_frames = a.burn_in;
   opt.horizon_s = a.horizon_frames * medianPeriod(track.t_s);
-  // The horizon asked for (predict_command.h setHorizonFrames): the fit's forecasts learn on the
-  // horizons its objective asks; the key is the caller's, not the predictor's, so params.yaml
-  // leaves it out (predict, track and track-study set it from their own horizon).
-  const bool horizon_given = base.has("horizon_frames");
-  if (!horizon_given) base.set("horizon_frames", a.horizon_frames);
   opt.starts = a.starts;
   if (!validSelectHoldout(a.select_holdout))
     throw std::invalid_argument("--select-holdout: expected a fraction in [0, 0.9]");
@@ -151,7 +146,6 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
     throw std::invalid_argument(a.input + ": " + e.what());
   }
 
-  if (!horizon_given) fit.params.erase("horizon_frames");
   StagedOutputDir dir(a.out);
   std::ostringstream ll;
   ll << std::fixed << std::setprecision(2) << fit.loglik_before << " -> " << fit.loglik_after;

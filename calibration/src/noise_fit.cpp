@@ -730,8 +730,42 @@ NoiseFitResult fitStructures(const std::string& predictor, const Params& base, c
 
 }  // namespace
 
+namespace {
+
+/// The median of the track's frame periods (s); NaN with fewer than two rows.
+double medianFramePeriod(const std::vector<double>& t_s) {
+  if (t_s.size() < 2) return std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> d(t_s.size() - 1);
+  for (size_t k = 1; k < t_s.size(); ++k) d[k - 1] = t_s[k] - t_s[k - 1];
+  const auto mid = d.begin() + static_cast<long>(d.size() / 2);
+  std::nth_element(d.begin(), mid, d.end());
+  return *mid;
+}
+
+NoiseFitResult fitNoiseAsked(const std::string& predictor, const Params& base, const FitTrack& track,
+                             const NoiseFitOptions& options);
+
+}  // namespace
+
 NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,
                         const NoiseFitOptions& options) {
+  // The fit's horizon (the prediction objective's, and the h-step RMSE's it reports), told to the
+  // predictor (horizon_frames) unless the caller told it; not handed back in the params, since it
+  // is the caller's to say.
+  const double period = medianFramePeriod(track.t_s);
+  if (base.has("horizon_frames") || !(options.horizon_s > 0.0) || !(period > 0.0))
+    return fitNoiseAsked(predictor, base, track, options);
+  Params told = base;
+  told.set("horizon_frames", options.horizon_s / period);
+  NoiseFitResult res = fitNoiseAsked(predictor, told, track, options);
+  res.params.erase("horizon_frames");
+  return res;
+}
+
+namespace {
+
+NoiseFitResult fitNoiseAsked(const std::string& predictor, const Params& base, const FitTrack& track,
+                             const NoiseFitOptions& options) {
   NoiseFitResult best = fitStructures(predictor, base, track, options);
   if (options.objective != FitObjective::Prediction) return best;  // the forecast does not change log L
   // The forecast variants of the kept structure (Predictor::forecastVariants()), unless `base`
@@ -754,5 +788,7 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
   }
   return best;
 }
+
+}  // namespace
 
 }  // namespace predvs

@@ -236,7 +236,11 @@ double predictionRmse(const std::string& predictor, const Params& params, const 
 /// rows, and the one with the lowest h-step RMSE is kept (`forecast_variant`; none when `base` pins
 /// one of their keys): they change the forecast only, so the noise need not be fitted again. This
 /// choice is made on the whole track also with select_holdout (one pass per variant at the fitted
-/// noise, nothing fitted on it). Throws std::invalid_argument
+/// noise, nothing fitted on it). The predictor is also told the fit's horizon (options.horizon_s:
+/// the prediction objective's, and the h-step RMSE's reported under either objective) over the
+/// track's median frame period, as the key horizon_frames (predictor.h), unless `base` gives it; a
+/// key added so is not in the result's params (whoever runs them says its own horizon; imm's
+/// filter, hence its likelihood, depends on it too). Throws std::invalid_argument
 /// (bad predictor, fewer than 4 * burn_in measured rows, no finite objective at the start, no h-step
 /// target for the prediction objective, horizon < 0, starts < 1).
 NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,
