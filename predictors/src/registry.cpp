@@ -10,6 +10,7 @@
 #include "predvs/predictors/stkf.h"
 
 #include <functional>
+#include <limits>
 #include <stdexcept>
 
 namespace predvs {
@@ -61,7 +62,9 @@ bool isPredictor(const std::string& name) {
   return false;
 }
 
-double horizonFramesParam(const Params& params) { return params.get("horizon_frames", 0.0, 0.0, 1e6); }
+double horizonFramesParam(const Params& params) {
+  return params.get("horizon_frames", 0.0, 0.0, std::numeric_limits<double>::max());  // any horizon a command takes
+}
 
 std::unique_ptr<Predictor> makePredictor(const std::string& name, int channels, const Params& params) {
   for (const auto& e : entries()) {

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <random>
 #include <stdexcept>
@@ -423,14 +424,16 @@ TEST(HoldBlend, OnlyHoldBlendTauZeroTurnsTheBlendOffNotShrinkSigmasZero) {
 
 TEST(HoldBlend, TheHorizonAskedForSetsTheBlendHorizonsUnlessTheyAreGiven) {
   // GIVEN every predictor: each takes horizon_frames, the caller's key (predictor.h), and refuses a
-  // negative one naming it
+  // negative or infinite one naming it
   for (const auto& info : predictorRegistry()) {
     EXPECT_NO_THROW(makePredictor(info.name, 1, {{"horizon_frames", 5.0}})) << info.name;
-    try {
-      makePredictor(info.name, 1, {{"horizon_frames", -1.0}});
-      ADD_FAILURE() << info.name << ": a negative horizon_frames was taken";
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find("horizon_frames"), std::string::npos) << e.what();
+    for (double bad : {-1.0, std::numeric_limits<double>::infinity()}) {
+      try {
+        makePredictor(info.name, 1, {{"horizon_frames", bad}});
+        ADD_FAILURE() << info.name << ": horizon_frames " << bad << " was taken";
+      } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("horizon_frames"), std::string::npos) << e.what();
+      }
     }
   }
   // AND, for a per-channel filter and imm, configurations that must forecast alike: a horizon of h
@@ -444,6 +447,7 @@ TEST(HoldBlend, TheHorizonAskedForSetsTheBlendHorizonsUnlessTheyAreGiven) {
       {{{"horizon_frames", 4.2}}, {{"hold_blend_frames", 5.0}}},
       {{{"horizon_frames", 4.0 + 1e-9}}, {{"hold_blend_frames", 4.0}}},  // a rounding above 4 is 4
       {{{"horizon_frames", 20.0}}, {{"hold_blend_frames", 8.0}}},
+      {{{"horizon_frames", 1e12}}, {{"hold_blend_frames", 8.0}}},  // any horizon a command takes
       {{{"horizon_frames", 2.0}}, {}},
       {{{"horizon_frames", 1.0}}, {}},
       {{{"horizon_frames", 0.0}}, {}},

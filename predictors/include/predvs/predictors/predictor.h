@@ -195,7 +195,7 @@ std::unique_ptr<Predictor> makePredictor(const std::string& name, int channels,
 /// which `predict`, `track` and `track-study` set from their `--delay-frames` (or `--horizon-s`):
 /// a forecast that learns on several horizons sizes its learning by it (the blend with hold learns
 /// on the horizons 1..ceil(horizon_frames), channel_predictor.h "The horizons asked for"), the
-/// others ignore it. Throws std::invalid_argument naming the key unless in [0, 1e6].
+/// others ignore it. Throws std::invalid_argument naming the key unless finite and >= 0.
 double horizonFramesParam(const Params& params);
 
 }  // namespace predvs
