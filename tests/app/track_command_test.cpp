@@ -15,6 +15,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -239,6 +241,41 @@ TEST_F(TrackCli, WritesTracksLongAndWideLeaderboardStripAndSummary) {
   EXPECT_GT(strip.getWidth(), 4u * 384u);
   EXPECT_TRUE(fs::exists(path("out/predictions.csv")));
   EXPECT_TRUE(fs::exists(path("out/leaderboard.json")));
+}
+
+TEST_F(TrackCli, ThePredictorsAreToldTheHorizon) {
+  REQUIRE_VISP_IMAGES();
+  // GIVEN 60 frames of mire-2 predicted 5 frames ahead by kf-cv as it is, with the blend on 5
+  // horizons given, and on the 2 of its default
+  const std::string images = copyMire2(1, 60);
+  const auto r = run({"track", "--images", images, "--predictor",
+                      "kf-cv,five=kf-cv:hold_blend_frames=5,two=kf-cv:hold_blend_frames=2", "--delay-frames", "5",
+                      "--no-plots", "--strip-frames", "0", "--out", path("out")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  // THEN kf-cv's predictions are those of the blend on 5 horizons (horizon_frames, channel_predictor.h),
+  // not those of 2
+  const std::string text = slurp(path("out/predictions.csv"));
+  const auto rows = csvRows(text);  // the data rows
+  ASSERT_GT(rows.size(), 50u);
+  const std::string first_line = text.substr(0, text.find('\n'));
+  std::vector<std::string> head;
+  for (size_t a = 0, b; a <= first_line.size(); a = b + 1) {
+    b = first_line.find(',', a);
+    if (b == std::string::npos) b = first_line.size();
+    head.push_back(first_line.substr(a, b - a));
+  }
+  const auto col = [&](const std::string& name) {
+    const auto it = std::find(head.begin(), head.end(), name);
+    EXPECT_NE(it, head.end()) << name;
+    return static_cast<size_t>(it - head.begin());
+  };
+  bool differs = false;
+  for (size_t k = 0; k < rows.size(); ++k)
+    for (const char* axis : {".u_pred", ".v_pred"}) {
+      EXPECT_EQ(rows[k][col(std::string("kf-cv") + axis)], rows[k][col(std::string("five") + axis)]) << k;
+      differs = differs || rows[k][col(std::string("kf-cv") + axis)] != rows[k][col(std::string("two") + axis)];
+    }
+  EXPECT_TRUE(differs);
 }
 
 TEST_F(TrackCli, CorruptMissingAndResizedFramesAreLoggedSkipsAndTheRunGoesOn) {
