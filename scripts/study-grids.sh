@@ -5,6 +5,9 @@
 #
 #   scripts/study-grids.sh BIN OUT [track-study arguments, e.g. --delay-frames 5 --param kf-cv.q=50]
 #
+# The arguments may be any but those the grids set themselves (--seed, --seeds, --duration-s, --drop,
+# --rates, --noise, --jobs, --out).
+#
 # g1-g3: the tuning grids (20 s, 15 s, other rates and noise); g4 and v8: 30 seeds each with the
 # generator's 2 % dropped frames; g5-g7, v9, v10: 30 seeds each with 5-10 % (v8-v10 held out: never
 # tuned on). About 25 s on 2 cores at --delay-frames 2.
