@@ -728,10 +728,6 @@ NoiseFitResult fitStructures(const std::string& predictor, const Params& base, c
   return best;
 }
 
-}  // namespace
-
-namespace {
-
 /// The median of the track's frame periods (s); NaN with fewer than two rows.
 double medianFramePeriod(const std::vector<double>& t_s) {
   if (t_s.size() < 2) return std::numeric_limits<double>::quiet_NaN();
@@ -742,28 +738,8 @@ double medianFramePeriod(const std::vector<double>& t_s) {
   return *mid;
 }
 
-NoiseFitResult fitNoiseAsked(const std::string& predictor, const Params& base, const FitTrack& track,
-                             const NoiseFitOptions& options);
-
-}  // namespace
-
-NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,
-                        const NoiseFitOptions& options) {
-  // The fit's horizon (the prediction objective's, and the h-step RMSE's it reports), told to the
-  // predictor (horizon_frames) unless the caller told it; not handed back in the params, since it
-  // is the caller's to say.
-  const double period = medianFramePeriod(track.t_s);
-  if (base.has("horizon_frames") || !(options.horizon_s > 0.0) || !(period > 0.0))
-    return fitNoiseAsked(predictor, base, track, options);
-  Params told = base;
-  told.set("horizon_frames", options.horizon_s / period);
-  NoiseFitResult res = fitNoiseAsked(predictor, told, track, options);
-  res.params.erase("horizon_frames");
-  return res;
-}
-
-namespace {
-
+/// fitNoise() once `base` says the horizon (or there is none to say): the structures, then the
+/// forecast variants.
 NoiseFitResult fitNoiseAsked(const std::string& predictor, const Params& base, const FitTrack& track,
                              const NoiseFitOptions& options) {
   NoiseFitResult best = fitStructures(predictor, base, track, options);
@@ -790,5 +766,20 @@ NoiseFitResult fitNoiseAsked(const std::string& predictor, const Params& base, c
 }
 
 }  // namespace
+
+NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const FitTrack& track,
+                        const NoiseFitOptions& options) {
+  // The fit's horizon (the prediction objective's, and the h-step RMSE's it reports), told to the
+  // predictor (horizon_frames) unless the caller told it; not handed back in the params, since it
+  // is the caller's to say.
+  const double period = medianFramePeriod(track.t_s);
+  if (base.has("horizon_frames") || !(options.horizon_s > 0.0) || !(period > 0.0))
+    return fitNoiseAsked(predictor, base, track, options);
+  Params told = base;
+  told.set("horizon_frames", options.horizon_s / period);
+  NoiseFitResult res = fitNoiseAsked(predictor, told, track, options);
+  res.params.erase("horizon_frames");
+  return res;
+}
 
 }  // namespace predvs
