@@ -159,7 +159,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
                     "predictor name, comma list, or 'all'; an element may be [LABEL=]NAME[:KEY=VALUE...] as in predict")
       ->capture_default_str()
       ->type_name("NAME|A,B|all");
-  track->add_option("--delay-frames", ta.delay_frames, "prediction horizon H in frames")->capture_default_str()->type_name("H");
+  track->add_option("--delay-frames", ta.delay_frames, "prediction horizon H in frames (told to the predictors as horizon_frames)")->capture_default_str()->type_name("H");
   track->add_option("--fps", ta.fps, "frame rate of the recording (time stamps t = k / fps)")
       ->capture_default_str()
       ->type_name("F");
