@@ -5,13 +5,10 @@
 #include "parallel_for.h"
 
 #include <algorithm>
-#include <array>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstdint>
 #include <cstdlib>
-#include <cstring>
 #include <limits>
 #include <map>
 #include <string_view>
@@ -529,76 +526,6 @@ FeatureTrack readFeatureTrack(const std::string& path, int jobs, size_t parallel
     if (truth) track.u_true_px[p].back() = r.u_true, track.v_true_px[p].back() = r.v_true;
   }
   return track;
-}
-
-namespace {
-
-/// The median of the differences t_s[i] - t_s[i - 1] when they take few distinct values (a steady
-/// clock written with a fixed number of digits: 54 values over the 2 million rows of the throughput
-/// track), without a copy of the differences: each distinct value is counted in a small
-/// open-addressing table (keyed by its bits), then the values of rank mid and, for an even count,
-/// mid - 1 are read off the sorted distinct values. These are the values nth_element finds below, so
-/// the result is the same bits. false (nothing decided) beyond kMaxDistinct values, or on a
-/// difference that is not > 0 (NaN, a zero, a time going back): the caller sorts a copy then.
-bool medianOfFewDifferences(const std::vector<double>& t_s, double& median) {
-  constexpr size_t kMaxDistinct = 256, kSlots = 1024;  // a load factor of 1/4 at most
-  struct Slot {
-    uint64_t bits = 0;
-    size_t count = 0;  // 0: empty
-  };
-  std::array<Slot, kSlots> table{};
-  size_t distinct = 0;
-  for (size_t i = 1; i < t_s.size(); ++i) {
-    const double d = t_s[i] - t_s[i - 1];
-    if (!(d > 0.0)) return false;
-    uint64_t bits;
-    std::memcpy(&bits, &d, sizeof bits);
-    size_t k = static_cast<size_t>((bits * 0x9E3779B97F4A7C15ull) >> 54);  // 10 bits: kSlots
-    while (table[k].count != 0 && table[k].bits != bits) k = (k + 1) % kSlots;
-    if (table[k].count == 0) {
-      if (++distinct > kMaxDistinct) return false;
-      table[k].bits = bits;
-    }
-    ++table[k].count;
-  }
-  std::vector<std::pair<double, size_t>> values;
-  values.reserve(distinct);
-  for (const Slot& slot : table) {
-    if (slot.count == 0) continue;
-    double v;
-    std::memcpy(&v, &slot.bits, sizeof v);
-    values.emplace_back(v, slot.count);
-  }
-  std::sort(values.begin(), values.end());
-  const size_t n = t_s.size() - 1, mid = n / 2;
-  auto valueOfRank = [&](size_t rank) {  // the value at position rank of the sorted differences
-    size_t below = 0;
-    for (const auto& [v, count] : values) {
-      below += count;
-      if (rank < below) return v;
-    }
-    return values.back().first;  // not reached: rank < n
-  };
-  const double upper = valueOfRank(mid);
-  median = n % 2 == 1 ? upper : 0.5 * (valueOfRank(mid - 1) + upper);
-  return true;
-}
-
-}  // namespace
-
-double medianPeriod(const std::vector<double>& t_s) {
-  if (t_s.size() < 2) throw std::invalid_argument("at least two rows are needed to measure the frame period");
-  double few = 0.0;
-  if (medianOfFewDifferences(t_s, few)) return few;
-  std::vector<double> dt;
-  dt.reserve(t_s.size() - 1);
-  for (size_t i = 1; i < t_s.size(); ++i) dt.push_back(t_s[i] - t_s[i - 1]);
-  const size_t mid = dt.size() / 2;
-  std::nth_element(dt.begin(), dt.begin() + static_cast<long>(mid), dt.end());
-  if (dt.size() % 2 == 1) return dt[mid];
-  const double upper = dt[mid];
-  const double lower = *std::max_element(dt.begin(), dt.begin() + static_cast<long>(mid));
-  return 0.5 * (lower + upper);
 }
 
 }  // namespace predvs

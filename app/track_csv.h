@@ -27,7 +27,7 @@
 // std::invalid_argument "FILE:LINE: what was expected".
 #pragma once
 
-#include "predvs/servo/sampled_signal.h"  // interpolateAt
+#include "predvs/servo/sampled_signal.h"  // interpolateAt, medianPeriod
 
 #include <cstddef>
 #include <string>
@@ -69,11 +69,5 @@ double parseCell(const std::string& cell, const std::string& file, int line, con
 
 /// Splits one CSV line on commas (no quoting: predvs files hold numbers and plain names only).
 std::vector<std::string> splitCsvLine(const std::string& line);
-
-/// Median of the differences of consecutive times (the frame period of a track); few distinct
-/// differences are counted without a copy of them, the same result as sorting (track_csv.cpp).
-/// Throws std::invalid_argument when fewer than two times are given.
-double medianPeriod(const std::vector<double>& t_s);
-
 
 }  // namespace predvs

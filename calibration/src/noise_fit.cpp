@@ -728,16 +728,6 @@ NoiseFitResult fitStructures(const std::string& predictor, const Params& base, c
   return best;
 }
 
-/// The median of the track's frame periods (s); NaN with fewer than two rows.
-double medianFramePeriod(const std::vector<double>& t_s) {
-  if (t_s.size() < 2) return std::numeric_limits<double>::quiet_NaN();
-  std::vector<double> d(t_s.size() - 1);
-  for (size_t k = 1; k < t_s.size(); ++k) d[k - 1] = t_s[k] - t_s[k - 1];
-  const auto mid = d.begin() + static_cast<long>(d.size() / 2);
-  std::nth_element(d.begin(), mid, d.end());
-  return *mid;
-}
-
 /// fitNoise() once `base` says the horizon (or there is none to say): the structures, then the
 /// forecast variants.
 NoiseFitResult fitNoiseAsked(const std::string& predictor, const Params& base, const FitTrack& track,
@@ -772,7 +762,8 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
   // The fit's horizon (the prediction objective's, and the h-step RMSE's it reports), told to the
   // predictor (horizon_frames) unless the caller told it; not handed back in the params, since it
   // is the caller's to say.
-  const double period = medianFramePeriod(track.t_s);
+  // (medianPeriod: the frame period predict and fit-noise measure their horizon in)
+  const double period = track.t_s.size() >= 2 ? medianPeriod(track.t_s) : 0.0;
   if (base.has("horizon_frames") || !(options.horizon_s > 0.0) || !(period > 0.0))
     return fitNoiseAsked(predictor, base, track, options);
   Params told = base;

@@ -22,4 +22,9 @@ std::vector<double> interpolateShifted(const std::vector<double>& t_s, const std
 void interpolateShifted(const std::vector<double>& t_s, const std::vector<double>& y, double shift_s, size_t i0,
                         size_t i1, double* out);
 
+/// Median of the differences of consecutive times (the frame period of a track); few distinct
+/// differences are counted without a copy of them, the same result as sorting (sampled_signal.cpp).
+/// Throws std::invalid_argument when fewer than two times are given.
+double medianPeriod(const std::vector<double>& t_s);
+
 }  // namespace predvs
