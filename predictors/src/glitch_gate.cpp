@@ -151,18 +151,19 @@ ChannelEstimate GlitchGate::predict(int channel, double t_s) const {
   return m;
 }
 
-double GlitchGate::predictPosition(int channel, double t_s) const {
-  const double fa = inner_->predictPosition(channel, t_s);
-  if (!coasted_ || !lines_[static_cast<size_t>(channel)].doubt) return fa;
+double GlitchGate::mixed(double (Predictor::*of)(int, double) const, int c, double t_s) const {
+  const double a = ((*inner_).*of)(c, t_s);
+  if (!coasted_ || !lines_[static_cast<size_t>(c)].doubt) return a;
   const double p = glitchShare();
-  return p * coasted_->predictPosition(channel, t_s) + (1.0 - p) * fa;
+  return p * ((*coasted_).*of)(c, t_s) + (1.0 - p) * a;
+}
+
+double GlitchGate::predictPosition(int channel, double t_s) const {
+  return mixed(&Predictor::predictPosition, channel, t_s);
 }
 
 double GlitchGate::predictVelocity(int channel, double t_s) const {
-  const double va = inner_->predictVelocity(channel, t_s);
-  if (!coasted_ || !lines_[static_cast<size_t>(channel)].doubt) return va;
-  const double p = glitchShare();
-  return p * coasted_->predictVelocity(channel, t_s) + (1.0 - p) * va;
+  return mixed(&Predictor::predictVelocity, channel, t_s);
 }
 
 NamedValues GlitchGate::tallies() const {
