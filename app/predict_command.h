@@ -130,8 +130,8 @@ struct PredictionFiles {
   bool plots = true;         ///< predictions.png, its gnuplot script and data
   size_t score_from = 0;     ///< rows before it are predicted and written, not scored (--fit-split)
   size_t block_rows = kPredictBlockRows;
-  /// The track's median frame period (s) when the caller has measured it (medianPeriod, for
-  /// --delay-frames): summary.json's "frame_period_s" then reuses it instead of a second median of
+  /// The track's median frame period (s) when the caller has measured it (medianPeriod, for the
+  /// horizon in frames): summary.json's "frame_period_s" then reuses it instead of a second median of
   /// every row's period, on one thread after the predictors (docs/PERFORMANCE.md, "Eleventh pass").
   /// NaN: measured there.
   double frame_period_s = std::numeric_limits<double>::quiet_NaN();

@@ -137,15 +137,18 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   if (!a.no_plots) requireGnuplot();
 
   const FeatureTrack track = readFeatureTrack(a.input, jobs);
-  double period_s = 0.0;  // with --delay-frames: measured once (a 2 M-row track: a 2 M-element median)
+  // The frame period, measured once (a 2 M-row track: a 2 M-element median) for the horizon and
+  // summary.json; NaN when the track has no two rows (--horizon-s only).
+  double period_s = std::numeric_limits<double>::quiet_NaN();
   if (delay_frames >= 0) {
     if (track.size() < 2)
       throw std::invalid_argument(fileLocation(a.input, 0, "--delay-frames needs at least two data rows to measure the frame period"));
     period_s = medianPeriod(track.t_s);
     horizon_s = delay_frames * period_s;
     setHorizonFrames(specs, delay_frames);
-  } else if (horizon_s > 0.0 && track.size() >= 2) {
-    setHorizonFrames(specs, horizon_s / medianPeriod(track.t_s));
+  } else if (track.size() >= 2) {
+    period_s = medianPeriod(track.t_s);
+    if (horizon_s > 0.0) setHorizonFrames(specs, horizon_s / period_s);
   }
   // --fit: each predictor's noise fitted on the first fit_split of the rows (all rows without
   // --fit-split), then run on the whole track; with --fit-split only the rest is scored.
@@ -187,7 +190,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   // With --fit-split only the rows after the fit are scored; predictions.csv has every row.
   PredictionFiles files;
   files.delay_frames = delay_frames;
-  if (delay_frames >= 0) files.frame_period_s = period_s;  // measured above
+  files.frame_period_s = period_s;  // measured above
   files.command_line = command_line;
   files.plots = !a.no_plots;
   if (a.fit && !a.fit_split.empty() && fit_rows < track.size()) files.score_from = fit_rows;
