@@ -8,6 +8,7 @@
 //   data/golden/mire-2-prediction-h1.csv   leaderboard.csv: predictor,point,rmse_px,median_px,max_px,n
 #include "cli_test_utils.h"
 #include "track_command.h"
+#include "track_csv.h"
 
 #include "predvs/predictors/predictor.h"
 
@@ -16,7 +17,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -257,13 +257,7 @@ TEST_F(TrackCli, ThePredictorsAreToldTheHorizon) {
   const std::string text = slurp(path("out/predictions.csv"));
   const auto rows = csvRows(text);  // the data rows
   ASSERT_GT(rows.size(), 50u);
-  const std::string first_line = text.substr(0, text.find('\n'));
-  std::vector<std::string> head;
-  for (size_t a = 0, b; a <= first_line.size(); a = b + 1) {
-    b = first_line.find(',', a);
-    if (b == std::string::npos) b = first_line.size();
-    head.push_back(first_line.substr(a, b - a));
-  }
+  const std::vector<std::string> head = splitCsvLine(text.substr(0, text.find('\n')));
   const auto col = [&](const std::string& name) {
     const auto it = std::find(head.begin(), head.end(), name);
     EXPECT_NE(it, head.end()) << name;
