@@ -166,6 +166,10 @@ double GlitchGate::predictVelocity(int channel, double t_s) const {
   return mixed(&Predictor::predictVelocity, channel, t_s);
 }
 
+double GlitchGate::feedforwardVelocity(int channel, double t_s) const {
+  return mixed(&Predictor::feedforwardVelocity, channel, t_s);
+}
+
 NamedValues GlitchGate::tallies() const {
   NamedValues out = inner_->tallies();
   out.emplace_back("glitches", n_glitch_);

@@ -779,6 +779,20 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
   return toEstimate(out);
 }
 
+double ImmPredictor::feedforwardVelocity(int channel, double t_s) const {
+  const Channel& ch = chan_.at(static_cast<size_t>(channel));
+  if (!ch.initialized) return std::numeric_limits<double>::quiet_NaN();
+  const double dt = t_s - time();
+  if (!(dt > 0.0)) return predict(channel, t_s).velocity();
+  const std::array<double, kMaxModes>& w = forecastWeights(ch);
+  double v = 0.0;
+  for (int j = 0; j < modeCount(); ++j) {
+    if (modes_[static_cast<size_t>(j)].dim < 2) continue;  // a constant position: no velocity
+    v += w[static_cast<size_t>(j)] * predictedMean(forecastStartMean(ch, j), transition(j, dt))(1);
+  }
+  return v;
+}
+
 double ImmPredictor::predictPosition(int channel, double t_s) const {
   const Channel& ch = chan_.at(static_cast<size_t>(channel));
   if (!ch.initialized) return std::numeric_limits<double>::quiet_NaN();

@@ -119,4 +119,10 @@ Eigen::VectorXd Predictor::predictVelocities(double t_s) const {
   return out;
 }
 
+Eigen::VectorXd Predictor::feedforwardVelocities(double t_s) const {
+  Eigen::VectorXd out(channels_);
+  for (int c = 0; c < channels_; ++c) out(c) = feedforwardVelocity(c, t_s);
+  return out;
+}
+
 }  // namespace predvs

@@ -193,6 +193,7 @@ class PyPredictor {
 
   py::array_t<double> predictPositions(double t_s) const { return toArray(p_->predictPositions(t_s)); }
   py::array_t<double> predictVelocities(double t_s) const { return toArray(p_->predictVelocities(t_s)); }
+  py::array_t<double> feedforwardVelocities(double t_s) const { return toArray(p_->feedforwardVelocities(t_s)); }
 
   Innovation innovation(int c) const {
     checkChannel(c);
@@ -303,6 +304,8 @@ PYBIND11_MODULE(_predvs, m) {
            "with channel=c, x (n_state,) and P (n_state, n_state).")
       .def("predict_positions", &PyPredictor::predictPositions, py::arg("t"), "Predicted positions at t, (channels,).")
       .def("predict_velocities", &PyPredictor::predictVelocities, py::arg("t"), "Predicted velocities at t, (channels,).")
+      .def("feedforward_velocities", &PyPredictor::feedforwardVelocities, py::arg("t"),
+           "Velocities at t for a feed-forward: the filter's own, without the forecast's blend with hold, (channels,).")
       .def("innovation", &PyPredictor::innovation, py::arg("channel"), "Innovation of the last update of a channel.")
       .def("diagnostics", &PyPredictor::diagnostics, "Named per-channel internals after the last update (dict).")
       .def("noise_parameters", &PyPredictor::noiseParameters, "The keys that set its noise, with bounds and values.")

@@ -136,6 +136,14 @@ struct ServoLoop::Impl {
     }
   }
 
+  /// The target rate fed to the task at t: with `feedforward` the task acts on the latest
+  /// measurement, and gets the predictor's velocity for a feed-forward (Predictor::
+  /// feedforwardVelocity()); with `both` (and `feature`) it acts on the forecast, and gets that
+  /// forecast's own velocity (predictVelocity(): blended with hold as its position is).
+  Eigen::VectorXd targetRates(double t) const {
+    return config.forecast == ForecastMode::Feedforward ? predictor.feedforwardVelocities(t) : predictor.predictVelocities(t);
+  }
+
   void deliver(const Measurement& m) {
     const Eigen::VectorXd f = task().features(m.points);
     const Eigen::VectorXd fed = compensate ? Eigen::VectorXd(f - m.ego) : f;
@@ -146,7 +154,7 @@ struct ServoLoop::Impl {
       const NamedValues diag = predictor.diagnostics();
       for (size_t i = 0; i < diag.size(); ++i) sample.predictor_diagnostics(static_cast<Eigen::Index>(i)) = diag[i].second;
     }
-    Eigen::VectorXd rate = compensate ? predictor.predictVelocities(m.t_acq_s) : Eigen::VectorXd();
+    Eigen::VectorXd rate = compensate ? targetRates(m.t_acq_s) : Eigen::VectorXd();
     if (rate.size())
       for (int i = 0; i < n_features; ++i)
         if (lost.expired(i)) rate(i) = 0.0;
@@ -199,7 +207,7 @@ struct ServoLoop::Impl {
         for (const Command& c : commands)
           if (c.apply_tick < eff_tick) ego_eff += c.dego;
         if (config.forecast != ForecastMode::Feedforward) s_used = predictor.predictPositions(t_eff) + ego_eff;
-        if (config.forecast != ForecastMode::Feature) rate = predictor.predictVelocities(t_eff);
+        if (config.forecast != ForecastMode::Feature) rate = targetRates(t_eff);
       }
       // A channel the predictor has not seen yet acts on its latest value.
       for (int i = 0; i < n_features; ++i)

@@ -187,6 +187,22 @@
 // only the track's own rates (px/s), so it holds at any rate and noise. The price: the first frame
 // or two of a real manoeuvre that starts from a slow, steady drift are held back too (a noise-free
 // drift then a dash). Figures: docs/PERFORMANCE.md "A recorded track at other frame rates".
+// The feed-forward's velocity (Predictor::feedforwardVelocity(), with the blend only; docs/MODELS.md
+// §15): the servo loop's `feedforward` mode acts on the last measurement and feeds the target's
+// velocity forward, and the law integrates it over its own time constant. The blend's weight is the
+// wrong judge of that velocity: one or two frames ahead a slow target's step is smaller than the
+// noise (15 px/s at 25 Hz is 0.6 px a frame under 1 px of noise), so the weight falls to 0 and the
+// feed-forward with it, though its noise would have been averaged out by the law. The velocity is
+// judged instead on what the law sees: the one-frame extrapolated steps d_x and the measured steps
+// y, each low-passed with the time constant kFeedforwardTauS (1 s), are regressed like the blend's
+// one-frame samples (the same pairs, forgetting and start-up prior):
+//   D <- a D + (1 - a) d_x,  Y <- a Y + (1 - a) y,  a = exp(-dt / kFeedforwardTauS),
+//   w_ff = clamp(S_DY / S_DD, 0, 1),  feed-forward velocity = w_ff (F x)(1).
+// The low-pass also removes the regression's bias of the one-frame samples: the noise of the
+// measurement a step starts from raises the filter's velocity and lowers the measured step; summed
+// over the filter's response, the two cancel. The loop's `both` mode acts on the blended forecast
+// and gets its velocity (predictVelocity()), the pair the blend makes. Figures: docs/PERFORMANCE.md
+// "The feed-forward's velocity".
 // Units: px, s; the weight is dimensionless, so the rule holds at any frame rate and noise level.
 // tau = 0 switches the blend off; its default is kDefaultHoldBlendTauS whatever the other keys say
 // (`shrink_sigmas: 0` turns the weighting off, not the blend: the papers' plain filters give both,
@@ -231,6 +247,10 @@ inline constexpr double kDefaultHoldBlendTauS = 6.0;
 /// 576 tracks, H = 1 / 2 / 3: see there.
 inline constexpr int kDefaultHoldBlendFrames = 2;
 inline constexpr int kMaxBlendFrames = 8;
+/// Time constant (s) of the low-pass under the feed-forward's weight (file comment, "The
+/// feed-forward's velocity"): about a control law's own (lambda 1 /s). Measured with `predvs servo`
+/// on the closed-loop scenarios (docs/PERFORMANCE.md "The feed-forward's velocity").
+inline constexpr double kFeedforwardTauS = 1.0;
 /// Default `hold_blend_split` (file comment, "Two weights"): 1, on. Measured with `predvs track-study`
 /// and scripts/foreign-tracks.py (docs/PERFORMANCE.md "Two blend weights").
 inline constexpr double kDefaultHoldBlendSplit = 1.0;
@@ -776,6 +796,8 @@ class ChannelPredictor : public Predictor {
           s.blend.z_hold = z(c);
           s.blend.start(blend_prior_);
           for (BlendWeight& l : s.longer) l.start(blend_prior_);
+          s.feedforward.start(blend_prior_);
+          s.ff_d = s.ff_y = 0.0;
           s.blend.recent.remember(t_s, z(c), s.g.x(1), 0.0, Innovation{});
           if (blend_tau_s_ > 0.0) rememberForecastStart(c, t_s);
         }
@@ -834,6 +856,21 @@ class ChannelPredictor : public Predictor {
     return x(1);
   }
 
+  /// x(1) of the same F x as predictVelocity(), neither capped nor blended with hold but times the
+  /// feed-forward's weight w_ff when the blend is on (Predictor::feedforwardVelocity(), file comment
+  /// "The feed-forward's velocity"); without the blend, predictVelocity()'s number.
+  double feedforwardVelocity(int channel, double t_s) const override {
+    const ChannelState& s = state_.at(channel);
+    if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
+    const double w = blend_tau_s_ > 0.0 ? s.feedforward.w : 1.0;
+    const double dt = t_s - time();
+    if (!(dt > 0.0)) return w * s.g.x(1);
+    Vec<N> x;
+    if (forecastWeightingOn()) weightedForecastMean(channel, x);
+    else x = s.g.x;
+    return w * predictedMean(x, transition(channel, dt))(1);
+  }
+
   /// predict(channel, t_s).position() without the covariance: x(0) of the same F x product.
   double predictPosition(int channel, double t_s) const override {
     const ChannelState& s = state_.at(channel);
@@ -868,6 +905,9 @@ class ChannelPredictor : public Predictor {
     HoldBlend blend;  ///< its BlendWeight learns on one-frame forecasts; its w is the handed-out weight
     /// The regressions on forecasts of 2..hold_blend_frames frames (longer[h - 2]).
     LongerBlendWeights longer{};
+    /// The feed-forward's weight on the velocity (file comment, "The feed-forward's velocity").
+    BlendWeight feedforward;
+    double ff_d = 0.0, ff_y = 0.0;  ///< its low-passed steps, px
     int run = 0;           ///< consecutive measured frames up to the last update
     /// The forecast starts of the last kMaxBlendFrames measured updates (ring, newest at head).
     std::array<Vec<N>, kMaxBlendFrames> x_start{};
@@ -929,6 +969,7 @@ class ChannelPredictor : public Predictor {
       s.blend.learn(f - s.z_start[j], s.x_start[j](0) - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_, blend_split_,
                     blend_prior_);
       if (extrapolation_cap_ > 0.0 && blend_split_) s.rates.learn(f - s.x_start[j](0), t_s - s.t_start[j], lambda);
+      learnFeedforward(s, f - s.x_start[j](0), z - s.z_start[j], t_s - s.t_start[j], lambda);
       // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
       // the handed-out weight is the smallest over the horizons (file comment).
       for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
@@ -945,6 +986,16 @@ class ChannelPredictor : public Predictor {
     s.blend.recent.remember(t_s, z, s.g.x(1), blendForgetting(t_s - s.blend.recent.lastTime()), s.innovation);
     if (N == 3 && coast_crossing_ && s.blend.recent.watching()) s.blend.recent.watchCrossing(s.g.P(1, 1), blend_tau_s_);
     rememberForecastStart(c, t_s);
+  }
+
+  /// One sample of the feed-forward's weight (file comment, "The feed-forward's velocity"): the
+  /// one-frame extrapolated step d_x and the measured step y over dt, each low-passed with the time
+  /// constant kFeedforwardTauS, then regressed.
+  void learnFeedforward(ChannelState& s, double d_x, double y, double dt, double lambda) {
+    const double a = feedforward_keep_.get({dt}, [&] { return std::exp(-dt / kFeedforwardTauS); });
+    s.ff_d = a * s.ff_d + (1.0 - a) * d_x;
+    s.ff_y = a * s.ff_y + (1.0 - a) * y;
+    s.feedforward.learn(s.ff_d, 0.0, s.ff_y, lambda, 0.0, false, blend_prior_);
   }
 
   ChannelPredictor(int channels, double r_px2, double p0_vel, double p0_acc)
@@ -1093,6 +1144,7 @@ class ChannelPredictor : public Predictor {
   double shrink_v_sigmas_ = 0.0;
   double blend_tau_s_ = 0.0;
   RecentValues<double> blend_keep_;  ///< blendForgetting(dt) of the last few dt
+  RecentValues<double> feedforward_keep_;  ///< exp(-dt / kFeedforwardTauS) of the last few dt
   int blend_frames_ = kDefaultHoldBlendFrames;
   double blend_sigmas_ = kDefaultHoldBlendSigmas;  ///< hold_blend_sigmas
   double blend_prior_ = kDefaultHoldBlendPrior;    ///< hold_blend_prior

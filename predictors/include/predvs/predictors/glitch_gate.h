@@ -100,6 +100,7 @@ class GlitchGate : public Predictor {
   ChannelEstimate predict(int channel, double t_s) const override;
   double predictPosition(int channel, double t_s) const override;
   double predictVelocity(int channel, double t_s) const override;
+  double feedforwardVelocity(int channel, double t_s) const override;
   Innovation innovation(int channel) const override { return inner_->innovation(channel); }
   bool extrapolates() const override { return inner_->extrapolates(); }
   int monitorAlarms() const override { return inner_->monitorAlarms(); }
@@ -143,8 +144,9 @@ class GlitchGate : public Predictor {
   void settle(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z);
   /// The glitch share p (file comment).
   double glitchShare() const { return (n_glitch_ + 1.0) / (n_glitch_ + n_step_ + 2.0); }
-  /// One number of a forecast (`of`: Predictor::predictPosition or predictVelocity) of channel c at
-  /// t_s: A's, or while c is in doubt the glitch share's mix of B's and A's, as predict() mixes them.
+  /// One number of a forecast (`of`: Predictor::predictPosition, predictVelocity or
+  /// feedforwardVelocity) of channel c at t_s: A's, or while c is in doubt the glitch share's mix of
+  /// B's and A's, as predict() mixes them.
   double mixed(double (Predictor::*of)(int, double) const, int c, double t_s) const;
 
   std::unique_ptr<Predictor> inner_;    ///< A: fed every measurement

@@ -240,6 +240,9 @@ class ImmPredictor : public Predictor {
   /// predict(channel, t_s).position() without the covariances: sum_j mu_j (F_j x_j)(0), the same
   /// arithmetic in the same order (bit for bit).
   double predictPosition(int channel, double t_s) const override;
+  /// sum_j mu_j (F_j x_j)(1) of the modes' forecast starts, without their blends with hold
+  /// (Predictor::feedforwardVelocity()).
+  double feedforwardVelocity(int channel, double t_s) const override;
   Innovation innovation(int channel) const override { return chan_.at(static_cast<size_t>(channel)).innovation; }
   NamedValues diagnostics() const override;
   /// q_cv, q_ca and r: the number given, or, when `r` is `auto`, the estimator's prior (1 px^2).

@@ -107,6 +107,14 @@ class Predictor {
   /// predictPosition(), a filter may override it to skip the covariance (the per-channel Kalman
   /// filters and the glitch gate do).
   virtual double predictVelocity(int channel, double t_s) const { return predict(channel, t_s).velocity(); }
+  /// The target's velocity at t_s for a feed-forward: what the servo loop feeds a control law in its
+  /// `feedforward` and `both` modes, and the target rate a task observes (servo_loop.h). It is the
+  /// filter's own velocity estimate without the forecast's blend with hold: the blend judges
+  /// position forecasts a few frames ahead, where a slow target's velocity is mostly noise, and
+  /// scales it towards 0, while a law integrates its feed-forward over its own time constant, which
+  /// averages that noise out (docs/MODELS.md §15, "The feed-forward's velocity"). Default:
+  /// predictVelocity(), for a predictor without a blend.
+  virtual double feedforwardVelocity(int channel, double t_s) const { return predictVelocity(channel, t_s); }
   /// Innovation of the last update on `channel`.
   virtual Innovation innovation(int channel) const = 0;
   /// A copy in the current state, fed the same measurements from here on it gives the same bits
@@ -159,6 +167,8 @@ class Predictor {
   void predictPositions(double t_s, Eigen::Ref<Eigen::VectorXd> out) const;
   /// Predicted velocities of every channel at t_s (convenience over predictVelocity()).
   Eigen::VectorXd predictVelocities(double t_s) const;
+  /// Feed-forward velocities of every channel at t_s (convenience over feedforwardVelocity()).
+  Eigen::VectorXd feedforwardVelocities(double t_s) const;
 
  protected:
   explicit Predictor(int channels);
