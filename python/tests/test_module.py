@@ -55,6 +55,7 @@ def test_update_predict_shapes_and_const_predict():
     assert np.array_equal(x, x2) and np.array_equal(P, P2)
     assert np.array_equal(p.predict_positions(p.time + 0.1), x[:, 0])
     assert np.array_equal(p.predict_velocities(p.time + 0.1), x[:, 1])
+    assert np.allclose(p.feedforward_velocities(p.time + 0.1), [60.0, -30.0], atol=1e-6)
     xc, Pc = p.predict(p.time + 0.1, channel=1)
     assert np.array_equal(xc, x[1]) and np.array_equal(Pc, P[1])
     assert p.innovation(0).valid and p.innovation(0).S > 0

@@ -686,6 +686,34 @@ inline size_t blendRingSlot(int head, int back) {
   return static_cast<size_t>(i < 0 ? i + kMaxBlendFrames : i);
 }
 
+/// The feed-forward's weight on one channel (file comment, "The feed-forward's velocity"): the
+/// low-passed one-frame steps and the forgetting sums of their regression. The weight is worked out
+/// when asked (weight()), not on every frame.
+struct FeedforwardWeight {
+  double d = 0.0, y = 0.0;        ///< the low-passed extrapolated and measured steps, px
+  double s_dd = 0.0, s_dy = 0.0;  ///< forgetting sums of the regression, px^2
+  double count = 0.0;             ///< samples learnt so far (the start-up prior)
+  /// One pair: extrapolated step d_x, measured step y_step; a = exp(-dt / kFeedforwardTauS), lambda
+  /// the blend's forgetting.
+  void learn(double d_x, double y_step, double a, double lambda) {
+    d = a * d + (1.0 - a) * d_x;
+    y = a * y + (1.0 - a) * y_step;
+    s_dd = lambda * s_dd + d * d;
+    s_dy = lambda * s_dy + d * y;
+    count += 1.0;
+  }
+  /// w_ff in [0, 1], times 1 - exp(-(c / prior)^2) after c samples when prior > 0 (BlendWeight's
+  /// start-up prior, hold_blend_prior): 0 before the first sample then, else 1.
+  double weight(double prior) const {
+    double w = s_dd > 0.0 ? std::clamp(s_dy / s_dd, 0.0, 1.0) : 1.0;
+    if (prior > 0.0) {
+      const double u = count / prior;
+      if (u * u < kBlendPriorExponentEnd) w *= 1.0 - std::exp(-u * u);
+    }
+    return w;
+  }
+};
+
 /// The blend with hold on one channel (file comment): hold's forecast, the regression's weight
 /// (BlendWeight) and the coasting of a gap.
 struct HoldBlend : BlendWeight {
@@ -783,7 +811,9 @@ class ChannelPredictor : public Predictor {
 
   void update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z) override {
     const double dt = advanceClock(t_s, z);
-    const double blend_keep = blend_tau_s_ > 0.0 ? blendForgetting(dt) : 0.0;  // kept per frame period
+    // kept per frame period: the blend's forgetting and the feed-forward's low-pass
+    const std::array<double, 2> keep = blend_tau_s_ > 0.0 ? blendKeeps(dt) : std::array<double, 2>{0.0, 0.0};
+    const double blend_keep = keep[0], feedforward_keep = keep[1];
     for (int c = 0; c < channels(); ++c) {
       ChannelState& s = state_[c];
       s.innovation = Innovation{};
@@ -796,8 +826,7 @@ class ChannelPredictor : public Predictor {
           s.blend.z_hold = z(c);
           s.blend.start(blend_prior_);
           for (BlendWeight& l : s.longer) l.start(blend_prior_);
-          s.feedforward.start(blend_prior_);
-          s.ff_d = s.ff_y = 0.0;
+          s.feedforward = FeedforwardWeight{};
           s.blend.recent.remember(t_s, z(c), s.g.x(1), 0.0, Innovation{});
           if (blend_tau_s_ > 0.0) rememberForecastStart(c, t_s);
         }
@@ -819,7 +848,7 @@ class ChannelPredictor : public Predictor {
       }
       step(c, dt, z(c));
       s.unmeasured_last = !isMeasured(z(c));
-      if (blend_tau_s_ > 0.0) learnBlend(c, t_s, z(c), blend_keep);
+      if (blend_tau_s_ > 0.0) learnBlend(c, t_s, z(c), blend_keep, feedforward_keep);
       if (!q_auto_.empty() && s.innovation.valid) q_auto_[static_cast<size_t>(c)].observe(s.innovation.eps, s.innovation.S, dt);
     }
   }
@@ -862,7 +891,7 @@ class ChannelPredictor : public Predictor {
   double feedforwardVelocity(int channel, double t_s) const override {
     const ChannelState& s = state_.at(channel);
     if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
-    const double w = blend_tau_s_ > 0.0 ? s.feedforward.w : 1.0;
+    const double w = blend_tau_s_ > 0.0 ? s.feedforward.weight(blend_prior_) : 1.0;
     const double dt = t_s - time();
     if (!(dt > 0.0)) return w * s.g.x(1);
     Vec<N> x;
@@ -905,9 +934,7 @@ class ChannelPredictor : public Predictor {
     HoldBlend blend;  ///< its BlendWeight learns on one-frame forecasts; its w is the handed-out weight
     /// The regressions on forecasts of 2..hold_blend_frames frames (longer[h - 2]).
     LongerBlendWeights longer{};
-    /// The feed-forward's weight on the velocity (file comment, "The feed-forward's velocity").
-    BlendWeight feedforward;
-    double ff_d = 0.0, ff_y = 0.0;  ///< its low-passed steps, px
+    FeedforwardWeight feedforward;  ///< the feed-forward's weight (file comment)
     int run = 0;           ///< consecutive measured frames up to the last update
     /// The forecast starts of the last kMaxBlendFrames measured updates (ring, newest at head).
     std::array<Vec<N>, kMaxBlendFrames> x_start{};
@@ -952,12 +979,15 @@ class ChannelPredictor : public Predictor {
   }
   /// exp(-dt / hold_blend_tau_s), kept for the last few distinct dt (recent_values.h): the same bits
   /// as std::exp.
-  double blendForgetting(double dt) {
-    return blend_keep_.get({dt}, [&] { return std::exp(-dt / blend_tau_s_); });
+  double blendForgetting(double dt) { return blendKeeps(dt)[0]; }
+  /// {blendForgetting(dt), exp(-dt / kFeedforwardTauS)}, kept together.
+  const std::array<double, 2>& blendKeeps(double dt) {
+    return blend_keep_.get({dt}, [&] { return std::array<double, 2>{std::exp(-dt / blend_tau_s_), std::exp(-dt / kFeedforwardTauS)}; });
   }
   /// One regression sample of the blend (file comment) on channel c after the update at t_s;
-  /// lambda = blendForgetting(dt) of the update's dt.
-  void learnBlend(int c, double t_s, double z, double lambda) {
+  /// lambda = blendForgetting(dt) of the update's dt, feedforward_keep = exp(-dt / kFeedforwardTauS)
+  /// (the feed-forward's low-pass, which learns from the same one-frame pair).
+  void learnBlend(int c, double t_s, double z, double lambda, double feedforward_keep) {
     ChannelState& s = state_[static_cast<size_t>(c)];
     if (!isMeasured(z)) {
       s.run = 0;
@@ -969,7 +999,7 @@ class ChannelPredictor : public Predictor {
       s.blend.learn(f - s.z_start[j], s.x_start[j](0) - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_, blend_split_,
                     blend_prior_);
       if (extrapolation_cap_ > 0.0 && blend_split_) s.rates.learn(f - s.x_start[j](0), t_s - s.t_start[j], lambda);
-      learnFeedforward(s, f - s.x_start[j](0), z - s.z_start[j], t_s - s.t_start[j], lambda);
+      s.feedforward.learn(f - s.x_start[j](0), z - s.z_start[j], feedforward_keep, lambda);
       // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
       // the handed-out weight is the smallest over the horizons (file comment).
       for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
@@ -986,16 +1016,6 @@ class ChannelPredictor : public Predictor {
     s.blend.recent.remember(t_s, z, s.g.x(1), blendForgetting(t_s - s.blend.recent.lastTime()), s.innovation);
     if (N == 3 && coast_crossing_ && s.blend.recent.watching()) s.blend.recent.watchCrossing(s.g.P(1, 1), blend_tau_s_);
     rememberForecastStart(c, t_s);
-  }
-
-  /// One sample of the feed-forward's weight (file comment, "The feed-forward's velocity"): the
-  /// one-frame extrapolated step d_x and the measured step y over dt, each low-passed with the time
-  /// constant kFeedforwardTauS, then regressed.
-  void learnFeedforward(ChannelState& s, double d_x, double y, double dt, double lambda) {
-    const double a = feedforward_keep_.get({dt}, [&] { return std::exp(-dt / kFeedforwardTauS); });
-    s.ff_d = a * s.ff_d + (1.0 - a) * d_x;
-    s.ff_y = a * s.ff_y + (1.0 - a) * y;
-    s.feedforward.learn(s.ff_d, 0.0, s.ff_y, lambda, 0.0, false, blend_prior_);
   }
 
   ChannelPredictor(int channels, double r_px2, double p0_vel, double p0_acc)
@@ -1143,8 +1163,7 @@ class ChannelPredictor : public Predictor {
   double shrink_a_sigmas_ = 0.0;  ///< 0 until readShrinkParams(): unweighted forecast
   double shrink_v_sigmas_ = 0.0;
   double blend_tau_s_ = 0.0;
-  RecentValues<double> blend_keep_;  ///< blendForgetting(dt) of the last few dt
-  RecentValues<double> feedforward_keep_;  ///< exp(-dt / kFeedforwardTauS) of the last few dt
+  RecentValues<std::array<double, 2>> blend_keep_;  ///< blendKeeps(dt) of the last few dt
   int blend_frames_ = kDefaultHoldBlendFrames;
   double blend_sigmas_ = kDefaultHoldBlendSigmas;  ///< hold_blend_sigmas
   double blend_prior_ = kDefaultHoldBlendPrior;    ///< hold_blend_prior
