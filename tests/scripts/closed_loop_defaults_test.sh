@@ -1,0 +1,27 @@
+#!/bin/bash
+# scripts/closed-loop-defaults.sh (docs/PERFORMANCE.md "The feed-forward's velocity"): one seed of
+# e5-line with every predictor at its defaults, by the same binary twice. Every predictor has a row
+# with two equal figures, and kf-cv feeds the leader's velocity forward (more than 3x closer than
+# hold; 5.7x at this seed). A path that is not an executable is an error with exit status 2.
+#   closed_loop_defaults_test.sh PREDVS OUT
+set -euo pipefail
+predvs=$1
+out=$2
+script=$(dirname "$0")/../../scripts/closed-loop-defaults.sh
+rm -rf "$out"
+table=$(bash "$script" -r 1 -s e5-line -o "$out" "$predvs" "$predvs" 2>/dev/null)
+echo "$table"
+for p in hold kf-cv kf-ca cs-akf cs-akf-adaptive stkf st-akf st-akf-pm fakf-classic fakf imm; do
+  row=$(echo "$table" | awk -v p="$p" '$1 == "e5-line" && $2 == p')
+  [ -n "$row" ] || { echo "FAIL: no row for $p" >&2; exit 1; }
+  echo "$row" | awk '{ if ($3 != $5) exit 1 }' || { echo "FAIL: $p differs between two runs of one binary: $row" >&2; exit 1; }
+done
+echo "$table" | awk '$1 == "e5-line" && $2 == "kf-cv" { r = $4; sub("x", "", r); exit !(r + 0 > 3) }' ||
+  { echo "FAIL: kf-cv is not 3x closer than hold on e5-line" >&2; exit 1; }
+set +e
+bash "$script" -o "$out/bad" /nonexistent/predvs 2>"$out/bad.err"
+status=$?
+set -e
+[ "$status" -eq 2 ] || { echo "FAIL: a missing binary exits with $status, not 2" >&2; exit 1; }
+grep -q "/nonexistent/predvs is not an executable" "$out/bad.err" || { echo "FAIL: the error does not name the path" >&2; exit 1; }
+echo "closed_loop_defaults_test: OK"
