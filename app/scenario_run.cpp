@@ -5,6 +5,7 @@
 #include "predvs/servo/paper_trajectories.h"
 #include "predvs/servo/run_metrics.h"
 #include "predvs/servo/servo_loop.h"
+#include "predvs/servo/timing_model.h"
 
 #include <cctype>
 #include <cmath>
@@ -15,11 +16,20 @@
 namespace predvs {
 namespace {
 
+/// A scenario predictor's params told the longest horizon its run asks for (the key horizon_frames,
+/// predictor.h horizonFramesParam; as predict and track tell theirs, predict_command.h
+/// setHorizonFrames), unless the scenario gives it.
+Params toldTheHorizon(const Params& params, const TimingConfig& timing) {
+  Params told = params;
+  if (!told.has("horizon_frames")) told.set("horizon_frames", TimingModel(timing).longestHorizonFrames());
+  return told;
+}
+
 RunRecord runClosedLoop(const Scenario& sc, const ScenarioPredictor& p, std::uint64_t seed, bool keep_trace) {
   ServoConfig cfg = sc.closed_loop;
   cfg.seed = seed;
   cfg.predictor_diagnostics = keep_trace;  // only a kept trace writes them
-  auto predictor = makePredictor(p.typeName(), sc.channels, p.params);
+  auto predictor = makePredictor(p.typeName(), sc.channels, toldTheHorizon(p.params, cfg.timing));
   const ServoResult r = runServoLoop(cfg, *predictor);
   RunRecord rec;
   rec.predictor = p.name;
@@ -54,7 +64,7 @@ RunRecord runOpenLoop(const Scenario& sc, const ScenarioPredictor& p, std::uint6
   PredictionExperimentConfig cfg = sc.open_loop;
   cfg.seed = seed;
   const auto traj = makeChannelTrajectory(sc.trajectory, sc.trajectory_params);
-  auto predictor = makePredictor(p.typeName(), traj->channels(), p.params);
+  auto predictor = makePredictor(p.typeName(), traj->channels(), toldTheHorizon(p.params, cfg.timing));
   const ChannelExperimentResult r = runChannelExperiment(cfg, *traj, *predictor);
   RunRecord rec;
   rec.predictor = p.name;

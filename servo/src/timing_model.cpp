@@ -97,4 +97,8 @@ double TimingModel::horizonFrames(double t_now_s, double t_acq_s) const {
 
 double TimingModel::nominalHorizonFrames() const { return horizonFrames(releaseTime(0.0), 0.0); }
 
+double TimingModel::longestHorizonFrames() const {
+  return horizonFrames(releaseTime(0.0) + (config_.frame_period_n - 1) * config_.base_period_s, 0.0);
+}
+
 }  // namespace predvs

@@ -1,8 +1,14 @@
 // The horizon the commands ask for, passed to the predictors as `horizon_frames` (predictor.h,
 // app/predict_command.h setHorizonFrames): predict (--delay-frames or --horizon-s), track-study and
-// fit-noise; the blend with hold then learns on the horizons 1..ceil(horizon_frames)
+// fit-noise, and the scenario runs of servo and compare (their timing's longest horizon); the blend
+// with hold then learns on the horizons 1..ceil(horizon_frames)
 // (channel_predictor.h, "The horizons asked for"), unless hold_blend_frames is given.
 #include "app/cli_test_utils.h"
+#include "scenario.h"
+#include "scenario_file.h"
+#include "scenario_run.h"
+
+#include "predvs/servo/timing_model.h"
 
 #include <gtest/gtest.h>
 
@@ -120,6 +126,31 @@ TEST_F(HorizonFrames, TrackStudyTellsThePredictorsItsHorizon) {
   ASSERT_EQ(run(given).code, 0);
   // THEN study.csv is the same
   EXPECT_EQ(slurp(path("told") + "/study.csv"), slurp(path("given") + "/study.csv"));
+}
+
+TEST(HorizonFramesScenario, ScenarioRunsTellThePredictorsTheLongestHorizonOfTheirTiming) {
+  // GIVEN e5-line (80 ms of latency and 40 ms of command lag at 25 Hz: 3 frames) and e4-circle-large
+  // (open loop, 0.5 s at 10 Hz: 5 frames), each with imm at its defaults (its filter scores its
+  // blended forecasts, so the blend's horizons change its figures even in feedforward mode)
+  for (const char* name : {"e5-line", "e4-circle-large"}) {
+    SCOPED_TRACE(name);
+    const Scenario sc = loadScenario(resolveScenario(name));
+    const double h = TimingModel(sc.kind == ScenarioKind::ClosedLoop ? sc.closed_loop.timing : sc.open_loop.timing).longestHorizonFrames();
+    EXPECT_GE(h, 3.0 - 1e-9);
+    auto figures = [&](Params params) {
+      return runScenarioOnce(sc, ScenarioPredictor{"imm", std::move(params), 0, ""}, sc.seed(), false).error;  // per tick
+    };
+    Params told, two;
+    told.set("horizon_frames", h);
+    two.set("hold_blend_frames", 2.0);
+    // WHEN it runs imm with no key THEN imm runs as told the horizon, not as on the default two
+    EXPECT_EQ(figures({}), figures(told));
+    EXPECT_NE(figures({}), figures(two));
+    // AND a horizon_frames the scenario gives is kept
+    Params given;
+    given.set("horizon_frames", 2.0);
+    EXPECT_EQ(figures(given), figures(two));
+  }
 }
 
 }  // namespace

@@ -22,6 +22,8 @@ TEST(TimingModel, DefaultIsTwoFrameLatencyParallel) {
   EXPECT_NEAR(tm.releaseTime(0.4), 0.48, kTimeTol);
   EXPECT_NEAR(tm.horizon(tm.releaseTime(0.4), 0.4), 0.08, kTimeTol);
   EXPECT_NEAR(tm.nominalHorizonFrames(), 2.0, kTimeTol);
+  // AND one frame a tick, the freshest frame is never older than at its release
+  EXPECT_NEAR(tm.longestHorizonFrames(), 2.0, kTimeTol);
 }
 
 TEST(TimingModel, SerialPipelineNeedsLongerFramePeriod) {
@@ -42,6 +44,9 @@ TEST(TimingModel, SerialPipelineNeedsLongerFramePeriod) {
   EXPECT_NEAR(tm.minimumFramePeriod(), 0.08, kTimeTol);
   EXPECT_EQ(tm.releaseTick(0.0), 2);
   EXPECT_NEAR(tm.nominalHorizonFrames(), 1.0, kTimeTol);
+  // AND at the tick before the next release it is one tick older: 1 + 1/2 frames
+  EXPECT_NEAR(tm.longestHorizonFrames(), 1.5, kTimeTol);
+  EXPECT_NEAR(tm.longestHorizonFrames(), tm.horizonFrames(tm.releaseTime(0.0) + tm.basePeriod(), 0.0), kTimeTol);
   // and the parallel pipeline with the same lags needs only max(t_ac, t_p)
   c.pipeline = Pipeline::Parallel;
   EXPECT_NEAR(TimingModel(c).minimumFramePeriod(), 0.04, kTimeTol);

@@ -96,6 +96,9 @@ class TimingModel {
   /// Horizon in frames of the freshest measurement at an acquisition-aligned release, i.e. with
   /// t_now = releaseTime(t_acq): the constant h of paper 002 for this configuration.
   double nominalHorizonFrames() const;
+  /// The longest horizon in frames the loop asks of the freshest measurement: at the last control
+  /// tick before the next frame's release, nominalHorizonFrames() + (N - 1) / N.
+  double longestHorizonFrames() const;
 
  private:
   TimingConfig config_;
