@@ -119,7 +119,7 @@ TEST(E5Scenarios, PredictorsWithTheirDefaultsFeedTheLeadersVelocityForward) {
       // WHEN the loop runs THEN the leader's velocity is fed forward (Predictor::
       // feedforwardVelocity()): the y error falls to a fraction of hold's lag. With the forecast's
       // blended velocity, scaled to about 0 on these slow leaders, it stayed at hold's
-      // (docs/PERFORMANCE.md "The feed-forward's velocity"; measured rms 0.16-0.25 of hold's)
+      // (docs/PERFORMANCE.md "The feed-forward's velocity"; measured rms 0.07-0.16 of hold's)
       const YError y = steadyYError(predvs::runServoLoop(sc.closed_loop, *predictor), sc.durationS());
       EXPECT_LT(y.rms_px, 0.4 * hold.rms_px);
     }

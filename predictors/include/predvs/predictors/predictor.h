@@ -108,12 +108,12 @@ class Predictor {
   /// filters and the glitch gate do).
   virtual double predictVelocity(int channel, double t_s) const { return predict(channel, t_s).velocity(); }
   /// The target's velocity at t_s for a feed-forward: what the servo loop feeds a control law in its
-  /// `feedforward` and `both` modes, and the target rate a task observes (servo_loop.h). It is the
-  /// filter's own velocity estimate without the forecast's blend with hold: the blend judges
-  /// position forecasts a few frames ahead, where a slow target's velocity is mostly noise, and
-  /// scales it towards 0, while a law integrates its feed-forward over its own time constant, which
-  /// averages that noise out (docs/MODELS.md §15, "The feed-forward's velocity"). Default:
-  /// predictVelocity(), for a predictor without a blend.
+  /// `feedforward` mode, and the target rate a task observes there (servo_loop.h). It is the
+  /// filter's own velocity, not scaled by the forecast's blend with hold: the blend judges position
+  /// forecasts a few frames ahead, where a slow target's velocity is mostly noise, and scales it
+  /// towards 0, while a law integrates its feed-forward over its own time constant, which averages
+  /// that noise out. The per-channel filters judge it at that time scale instead (docs/MODELS.md §15,
+  /// "The feed-forward's velocity"). Default: predictVelocity(), for a predictor without a blend.
   virtual double feedforwardVelocity(int channel, double t_s) const { return predictVelocity(channel, t_s); }
   /// Innovation of the last update on `channel`.
   virtual Innovation innovation(int channel) const = 0;
