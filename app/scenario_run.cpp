@@ -16,12 +16,14 @@
 namespace predvs {
 namespace {
 
-/// A scenario predictor's params told the longest horizon its run asks for (the key horizon_frames,
-/// predictor.h horizonFramesParam; as predict and track tell theirs, predict_command.h
-/// setHorizonFrames), unless the scenario gives it.
-Params toldTheHorizon(const Params& params, const TimingConfig& timing) {
+/// A scenario predictor's params told about its run, unless the scenario gives the keys: the longest
+/// horizon the run asks for (horizon_frames, predictor.h horizonFramesParam; as predict and track
+/// tell theirs, predict_command.h setHorizonFrames), and whether a control loop uses it
+/// (closed_loop, predictor.h closedLoopParam).
+Params toldTheRun(const Params& params, const TimingConfig& timing, bool closed_loop) {
   Params told = params;
   if (!told.has("horizon_frames")) told.set("horizon_frames", TimingModel(timing).longestHorizonFrames());
+  if (closed_loop && !told.has("closed_loop")) told.set("closed_loop", 1.0);
   return told;
 }
 
@@ -29,7 +31,7 @@ RunRecord runClosedLoop(const Scenario& sc, const ScenarioPredictor& p, std::uin
   ServoConfig cfg = sc.closed_loop;
   cfg.seed = seed;
   cfg.predictor_diagnostics = keep_trace;  // only a kept trace writes them
-  auto predictor = makePredictor(p.typeName(), sc.channels, toldTheHorizon(p.params, cfg.timing));
+  auto predictor = makePredictor(p.typeName(), sc.channels, toldTheRun(p.params, cfg.timing, true));
   const ServoResult r = runServoLoop(cfg, *predictor);
   RunRecord rec;
   rec.predictor = p.name;
@@ -64,7 +66,7 @@ RunRecord runOpenLoop(const Scenario& sc, const ScenarioPredictor& p, std::uint6
   PredictionExperimentConfig cfg = sc.open_loop;
   cfg.seed = seed;
   const auto traj = makeChannelTrajectory(sc.trajectory, sc.trajectory_params);
-  auto predictor = makePredictor(p.typeName(), traj->channels(), toldTheHorizon(p.params, cfg.timing));
+  auto predictor = makePredictor(p.typeName(), traj->channels(), toldTheRun(p.params, cfg.timing, false));
   const ChannelExperimentResult r = runChannelExperiment(cfg, *traj, *predictor);
   RunRecord rec;
   rec.predictor = p.name;

@@ -4,22 +4,26 @@
 # binaries on the same seeds. Prints, per scenario and predictor, the mean rmse over the runs of each
 # binary and hold's rmse over it (docs/PERFORMANCE.md "The feed-forward's velocity").
 #
-#   scripts/closed-loop-defaults.sh [-r RUNS] [-o OUT] [-s SCENARIOS] BIN [BIN ...]
+#   scripts/closed-loop-defaults.sh [-r RUNS] [-o OUT] [-s SCENARIOS] [-p PREDICTORS] BIN [BIN ...]
 #
 # RUNS: runs per predictor and scenario (default 5, seeds = each scenario's seed + r); OUT: where
 # the leaderboards go (default /tmp/closed-loop-defaults, OUT/1, OUT/2, ... one per binary);
-# SCENARIOS: comma-separated (default: the closed-loop scenarios with a moving target).
+# SCENARIOS: comma-separated (default: the closed-loop scenarios with a moving target);
+# PREDICTORS: the YAML list's elements instead of every predictor, e.g.
+#   -p 'hold, kf-cv, {name: kf-cv-auto, type: kf-cv, params: {q: auto}}'
 set -euo pipefail
 
 runs=5
 out=/tmp/closed-loop-defaults
 scenarios=ibvs-moving-target,e5-line,e5-circle,e5-line-ibvs,e5-circle-ibvs,e8-ibvs,e8-vtc
-usage() { sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
-while getopts "r:o:s:h" opt; do
+predictors="hold, kf-cv, kf-ca, cs-akf, cs-akf-adaptive, stkf, st-akf, st-akf-pm, fakf-classic, fakf, imm"
+usage() { sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+while getopts "r:o:s:p:h" opt; do
   case $opt in
     r) runs=$OPTARG ;;
     o) out=$OPTARG ;;
     s) scenarios=$OPTARG ;;
+    p) predictors=$OPTARG ;;
     *) usage ;;
   esac
 done
@@ -29,7 +33,6 @@ for bin in "$@"; do
   [ -x "$bin" ] || { echo "closed-loop-defaults: error: $bin is not an executable" >&2; exit 2; }
 done
 
-predictors="hold, kf-cv, kf-ca, cs-akf, cs-akf-adaptive, stkf, st-akf, st-akf-pm, fakf-classic, fakf, imm"
 mkdir -p "$out"
 i=0
 for bin in "$@"; do

@@ -66,11 +66,18 @@ double horizonFramesParam(const Params& params) {
   return params.get("horizon_frames", 0.0, 0.0, std::numeric_limits<double>::max());  // any horizon a command takes
 }
 
+bool closedLoopParam(const Params& params) {
+  const double v = params.get("closed_loop", 0.0, 0.0, 1.0);
+  if (v != 0.0 && v != 1.0) throw std::invalid_argument("closed_loop: expected 0 or 1");
+  return v == 1.0;
+}
+
 std::unique_ptr<Predictor> makePredictor(const std::string& name, int channels, const Params& params) {
   for (const auto& e : entries()) {
     if (e.info.name != name) continue;
     auto p = withGlitchGate(e.make(channels, params), glitchSigmasParam(params));
-    horizonFramesParam(params);  // a fact about the queries: every predictor takes it (predictor.h)
+    horizonFramesParam(params);  // facts about the queries and their use: every predictor takes them (predictor.h)
+    closedLoopParam(params);
     params.requireAllUsed("predictor '" + name + "'");
     return p;
   }

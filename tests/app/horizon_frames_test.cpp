@@ -153,5 +153,26 @@ TEST(HorizonFramesScenario, ScenarioRunsTellThePredictorsTheLongestHorizonOfThei
   }
 }
 
+TEST(HorizonFramesScenario, ClosedLoopRunsTellThePredictorsSoOpenLoopRunsDoNot) {
+  // GIVEN kf-cv with its defaults in a closed-loop scenario (ibvs-moving-target) and an open-loop
+  // one (e4-circle)
+  auto errors = [](const Scenario& sc, Params params) {
+    return runScenarioOnce(sc, ScenarioPredictor{"kf-cv", std::move(params), 0, ""}, sc.seed(), false).error;
+  };
+  auto closed_loop = [](double v) {
+    Params p;
+    p.set("closed_loop", v);
+    return p;
+  };
+  // WHEN they run THEN the closed loop's kf-cv is told closed_loop: 1 (predictor.h closedLoopParam:
+  // its q matched to its innovations), unless the scenario says otherwise; the open loop's is not
+  const Scenario loop = loadScenario(resolveScenario("ibvs-moving-target"));
+  EXPECT_EQ(errors(loop, {}), errors(loop, closed_loop(1.0)));
+  EXPECT_NE(errors(loop, {}), errors(loop, closed_loop(0.0)));
+  const Scenario open = loadScenario(resolveScenario("e4-circle"));
+  EXPECT_EQ(errors(open, {}), errors(open, closed_loop(0.0)));
+  EXPECT_NE(errors(open, {}), errors(open, closed_loop(1.0)));
+}
+
 }  // namespace
 }  // namespace predvs

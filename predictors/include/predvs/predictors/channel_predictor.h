@@ -1095,10 +1095,11 @@ class ChannelPredictor : public Predictor {
     if constexpr (N == 3) x(2) = g.x(2) * significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_) * w_v;
   }
   /// The adaptation of a density set by the key `q` (process_noise_adapt.h): `q: auto`, covariance
-  /// matching; `q` absent, the raise (readProcessNoiseRaise); a number, none (q fixed). Called by
-  /// the derived constructors whose `q` takes `auto` (kf-cv, kf-ca, st-akf, fakf-classic).
+  /// matching; `q` absent, the raise (readProcessNoiseRaise), or covariance matching when the caller
+  /// says `closed_loop: 1` (predictor.h closedLoopParam); a number, none (q fixed). Called by the
+  /// derived constructors whose `q` takes `auto` (kf-cv, kf-ca, st-akf, fakf-classic).
   void readProcessNoiseAdaptation(const Params& params) {
-    if (isAutoProcessNoise(params, "q")) {
+    if (isAutoProcessNoise(params, "q") || (!params.has("q") && closedLoopParam(params))) {
       processNoiseRaiseRatio(params);  // a known key there too, unused
       q_auto_.assign(state_.size(), ProcessNoiseMatcher());
     } else {

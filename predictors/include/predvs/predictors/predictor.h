@@ -196,7 +196,8 @@ const std::vector<PredictorInfo>& predictorRegistry();
 bool isPredictor(const std::string& name);
 /// Builds the predictor `name` for `channels` channels. Throws std::invalid_argument naming the
 /// unknown predictor, or the unknown / out-of-range parameter key. Every predictor accepts the
-/// caller's keys `glitch_sigmas` (glitch_gate.h) and `horizon_frames` (horizonFramesParam).
+/// caller's keys `glitch_sigmas` (glitch_gate.h), `horizon_frames` (horizonFramesParam) and
+/// `closed_loop` (closedLoopParam).
 std::unique_ptr<Predictor> makePredictor(const std::string& name, int channels,
                                          const Params& params = {});
 
@@ -207,5 +208,14 @@ std::unique_ptr<Predictor> makePredictor(const std::string& name, int channels,
 /// on the horizons 1..ceil(horizon_frames), channel_predictor.h "The horizons asked for"), the
 /// others ignore it. Throws std::invalid_argument naming the key unless finite and >= 0.
 double horizonFramesParam(const Params& params);
+
+/// The `closed_loop` key (0 or 1, default 0): the caller's forecasts and velocities drive a control
+/// loop every tick (the scenario runs of `predvs servo` and `compare` set it). Not a model parameter
+/// but a fact about the use. A filter whose process noise can be matched to its innovations (`q:
+/// auto`: kf-cv, kf-ca, st-akf, st-akf-pm, fakf-classic) then does so when `q` is not given,
+/// instead of the maneuvering tracks' density and its raise: the velocity's noise reaches the robot
+/// on every tick, so q should be as low as the innovations allow (docs/MODELS.md §15, "In a closed
+/// loop"). The others ignore it. Throws std::invalid_argument naming the key for another value.
+bool closedLoopParam(const Params& params);
 
 }  // namespace predvs
