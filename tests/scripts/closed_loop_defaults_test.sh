@@ -2,7 +2,8 @@
 # scripts/closed-loop-defaults.sh (docs/PERFORMANCE.md "The feed-forward's velocity"): one seed of
 # e5-line with every predictor at its defaults, by the same binary twice. Every predictor has a row
 # with two equal figures, and kf-cv feeds the leader's velocity forward (more than 3x closer than
-# hold; 5.7x at this seed). A path that is not an executable is an error with exit status 2.
+# hold; 7.8x at this seed); -p runs the list given. A path that is not an executable is an error
+# with exit status 2.
 #   closed_loop_defaults_test.sh PREDVS OUT
 set -euo pipefail
 predvs=$1
@@ -18,6 +19,10 @@ for p in hold kf-cv kf-ca cs-akf cs-akf-adaptive stkf st-akf st-akf-pm fakf-clas
 done
 echo "$table" | awk '$1 == "e5-line" && $2 == "kf-cv" { r = $4; sub("x", "", r); exit !(r + 0 > 3) }' ||
   { echo "FAIL: kf-cv is not 3x closer than hold on e5-line" >&2; exit 1; }
+# -p: the list given instead of every predictor
+rows=$(bash "$script" -r 1 -s e5-line -o "$out/p" -p "hold, {name: cv-auto, type: kf-cv, params: {q: auto}}" "$predvs" 2>/dev/null |
+  awk '$1 == "e5-line" { print $2 }' | sort | paste -sd' ')
+[ "$rows" = "cv-auto hold" ] || { echo "FAIL: -p gave the rows '$rows'" >&2; exit 1; }
 set +e
 bash "$script" -o "$out/bad" /nonexistent/predvs 2>"$out/bad.err"
 status=$?
