@@ -240,8 +240,8 @@ class ImmPredictor : public Predictor {
   /// predict(channel, t_s).position() without the covariances: sum_j mu_j (F_j x_j)(0), the same
   /// arithmetic in the same order (bit for bit).
   double predictPosition(int channel, double t_s) const override;
-  /// sum_j mu_j (F_j x_j)(1) of the modes' forecast starts, without their blends with hold
-  /// (Predictor::feedforwardVelocity()).
+  /// sum_j w_j (F_j x_j)(1) of the moving modes' forecast starts, w the forecast's weights
+  /// (forecastWeights()), without the modes' blends with hold (Predictor::feedforwardVelocity()).
   double feedforwardVelocity(int channel, double t_s) const override;
   Innovation innovation(int channel) const override { return chan_.at(static_cast<size_t>(channel)).innovation; }
   NamedValues diagnostics() const override;
