@@ -1,5 +1,7 @@
 #include "predvs/predictors/process_noise_adapt.h"
 
+#include "predvs/predictors/predictor.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -30,8 +32,10 @@ double processNoiseRaiseRatio(const Params& params) {
 std::optional<ProcessNoiseMatcher> processNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys,
                                                      bool blend_on) {
   const double ratio = processNoiseRaiseRatio(params);
+  const bool closed_loop = closedLoopParam(params);
   for (const char* key : fixing_keys)
     if (params.has(key)) return std::nullopt;
+  if (closed_loop) return ProcessNoiseMatcher();
   if (!blend_on || !(ratio > 0.0)) return std::nullopt;
   return ProcessNoiseMatcher::raise(ratio);
 }

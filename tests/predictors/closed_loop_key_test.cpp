@@ -1,6 +1,7 @@
-// The caller's key `closed_loop` (predictor.h closedLoopParam): the filters whose q takes `auto`
-// match it to their innovations when q is not given; a given q is kept; the others ignore the key;
-// any value but 0 or 1 is an error naming the key.
+// The caller's key `closed_loop` (predictor.h closedLoopParam): every filter with the raise of q
+// matches its density to its innovations instead when the keys that set the density are not given
+// (those whose q takes `auto` exactly as with `q: auto`); given keys are kept; hold and cs-akf (no
+// raise) ignore the key; any value but 0 or 1 is an error naming the key.
 #include "predvs/predictors/params.h"
 #include "predvs/predictors/predictor.h"
 
@@ -55,8 +56,25 @@ TEST(ClosedLoopKey, FiltersWithAnAutoQMatchItWhenQIsNotGiven) {
   }
 }
 
-TEST(ClosedLoopKey, EveryPredictorTakesItTheOthersIgnoreIt) {
-  for (const char* name : {"hold", "cs-akf", "cs-akf-adaptive", "stkf", "fakf", "imm"}) {
+TEST(ClosedLoopKey, TheOtherFiltersWithARaiseMatchTooUnlessTheirDensityIsGiven) {
+  // GIVEN the filters whose density is set by other keys (the CS variance bounds, stkf's q / q_pos /
+  // q_vel, imm's q_cv / q_ca) WHEN told closed_loop: 1 THEN their forecasts change, and not when a
+  // key that sets the density is given
+  struct Case {
+    const char* name;
+    const char* key;
+    double value;
+  };
+  for (const Case& c : {Case{"cs-akf-adaptive", "sigma_max_sq", 2000.0}, Case{"fakf", "sigma_min_sq", 5.0},
+                        Case{"stkf", "q", 500.0}, Case{"imm", "q_cv", 500.0}}) {
+    SCOPED_TRACE(c.name);
+    EXPECT_NE(forecasts(c.name, with({{"closed_loop", 1.0}})), forecasts(c.name, with({})));
+    EXPECT_EQ(forecasts(c.name, with({{"closed_loop", 1.0}, {c.key, c.value}})), forecasts(c.name, with({{c.key, c.value}})));
+  }
+}
+
+TEST(ClosedLoopKey, EveryPredictorTakesItHoldAndCsAkfIgnoreIt) {
+  for (const char* name : {"hold", "cs-akf"}) {
     SCOPED_TRACE(name);
     EXPECT_EQ(forecasts(name, with({{"closed_loop", 1.0}})), forecasts(name, with({})));
   }

@@ -1095,11 +1095,11 @@ class ChannelPredictor : public Predictor {
     if constexpr (N == 3) x(2) = g.x(2) * significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_) * w_v;
   }
   /// The adaptation of a density set by the key `q` (process_noise_adapt.h): `q: auto`, covariance
-  /// matching; `q` absent, the raise (readProcessNoiseRaise), or covariance matching when the caller
-  /// says `closed_loop: 1` (predictor.h closedLoopParam); a number, none (q fixed). Called by the
-  /// derived constructors whose `q` takes `auto` (kf-cv, kf-ca, st-akf, fakf-classic).
+  /// matching; `q` absent, the raise (readProcessNoiseRaise: covariance matching in a closed loop);
+  /// a number, none (q fixed). Called by the derived constructors whose `q` takes `auto` (kf-cv,
+  /// kf-ca, st-akf, fakf-classic).
   void readProcessNoiseAdaptation(const Params& params) {
-    if (isAutoProcessNoise(params, "q") || (!params.has("q") && closedLoopParam(params))) {
+    if (isAutoProcessNoise(params, "q")) {
       processNoiseRaiseRatio(params);  // a known key there too, unused
       q_auto_.assign(state_.size(), ProcessNoiseMatcher());
     } else {
@@ -1109,7 +1109,8 @@ class ChannelPredictor : public Predictor {
   /// The raise above the default density while the innovations exceed q_raise_ratio times their
   /// predicted variance, when none of `fixing_keys` (the keys that set the density: `q`, stkf's
   /// q_pos / q_vel, the CS variance bounds) is given and the blend with hold is on
-  /// (readShrinkParams() first): processNoiseRaise(). Called by the derived constructors whose
+  /// (readShrinkParams() first); in a closed loop (`closed_loop: 1`) covariance matching instead:
+  /// processNoiseRaise(). Called by the derived constructors whose
   /// processNoise() scales its density by processNoiseScale().
   void readProcessNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys) {
     if (const auto raise = processNoiseRaise(params, fixing_keys, blend_tau_s_ > 0.0))

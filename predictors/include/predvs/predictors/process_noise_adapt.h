@@ -89,8 +89,11 @@ class ProcessNoiseMatcher {
 };
 
 /// The raise of a predictor (file comment), when it is on: none of `fixing_keys` (the keys that set
-/// its density) given, the blend with hold on and `q_raise_ratio` > 0; otherwise none. Reads (and
-/// checks) `q_raise_ratio` in every case.
+/// its density) given, the blend with hold on and `q_raise_ratio` > 0; otherwise none. In a closed
+/// loop (`closed_loop: 1`, predictor.h closedLoopParam) with none of `fixing_keys` given, covariance
+/// matching instead (ProcessNoiseMatcher(), as `q: auto`): the density falls as far as the
+/// innovations allow (docs/MODELS.md §15, "In a closed loop"). Reads (and checks) `q_raise_ratio`
+/// and `closed_loop` in every case.
 std::optional<ProcessNoiseMatcher> processNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys,
                                                      bool blend_on);
 
