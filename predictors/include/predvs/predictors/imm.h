@@ -161,7 +161,8 @@
 // (px^2/s^5, default kDefaultQCa; when neither q_cv nor q_ca is given and the blend with hold is
 // on, both are raised, per channel, while the combined innovation is more than q_raise_ratio
 // (default 2; 0 = no raise) times its predicted variance: process_noise_adapt.h; the CV mode by
-// the raise to the power q_raise_cv_exponent, above),
+// the raise to the power q_raise_cv_exponent, above; in a closed loop, `closed_loop: 1`, the same
+// scale is matched to the innovations instead, down as well as up: predictor.h closedLoopParam),
 // alpha (1/s, default 0: CA; > 0: Singer), r (px^2; default `auto`,
 // predictors/noise_estimate.h; a number fixes it), tau_cp_s (5), tau_cv_s (30), tau_ca_s (3)
 // (stationary shares 13 / 79 / 8 %), cp (1; 0 leaves the CP mode out), p0_vel ((px/s)^2, 1e4),
