@@ -471,12 +471,12 @@ void requirePredictor(const std::string& option, const std::string& name) {
 void setGlitchSigmas(std::vector<PredictorSpec>& specs, double g) {
   if (!(g >= 0.0 && std::isfinite(g))) throw std::invalid_argument("--glitch-sigmas: expected a number of sigmas >= 0 (0 = no gate)");
   for (PredictorSpec& s : specs)
-    if (!s.params.has("glitch_sigmas")) s.params.set("glitch_sigmas", g);
+    s.params.setUnlessGiven("glitch_sigmas", g);
 }
 
 void setHorizonFrames(std::vector<PredictorSpec>& specs, double frames) {
   for (PredictorSpec& s : specs)
-    if (!s.params.has("horizon_frames")) s.params.set("horizon_frames", frames);
+    s.params.setUnlessGiven("horizon_frames", frames);
 }
 
 std::vector<PredictorSpec> parsePredictorSpecs(const std::string& option, const std::vector<std::string>& items) {

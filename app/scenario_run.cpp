@@ -22,8 +22,8 @@ namespace {
 /// (closed_loop, predictor.h closedLoopParam).
 Params toldTheRun(const Params& params, const TimingConfig& timing, bool closed_loop) {
   Params told = params;
-  if (!told.has("horizon_frames")) told.set("horizon_frames", TimingModel(timing).longestHorizonFrames());
-  if (closed_loop && !told.has("closed_loop")) told.set("closed_loop", 1.0);
+  told.setUnlessGiven("horizon_frames", TimingModel(timing).longestHorizonFrames());
+  if (closed_loop) told.setUnlessGiven("closed_loop", 1.0);
   return told;
 }
 

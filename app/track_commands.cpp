@@ -151,7 +151,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   }
   for (size_t j = 0; j < names.size(); ++j)  // an entry's KEY=VALUE, then --param LABEL.KEY on top
     for (const auto& kv : inline_params[j].values())
-      if (!fixed[names[j]].has(kv.first)) fixed[names[j]].set(kv.first, kv.second);
+      fixed[names[j]].setUnlessGiven(kv.first, kv.second);
   for (size_t j = 0; j < names.size(); ++j)
     for (const auto& kv : inline_params[j].texts())
       if (!fixed[names[j]].has(kv.first)) fixed[names[j]].setText(kv.first, kv.second);
@@ -163,8 +163,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     }
   }
   // The horizon asked for (predict_command.h setHorizonFrames), on every entry.
-  for (const auto& name : names)
-    if (!fixed[name].has("horizon_frames")) fixed[name].set("horizon_frames", a.delay_frames);
+  for (const auto& name : names) fixed[name].setUnlessGiven("horizon_frames", a.delay_frames);
   if (a.fit && !(a.fit_split > 0.0 && a.fit_split <= 1.0))
     throw std::invalid_argument("--fit-split: expected a fraction in (0, 1] (1 = fit and score the whole track)");
   // --fit-split 1: each predictor fitted on every row of the track and scored on every row, as

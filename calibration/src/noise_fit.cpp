@@ -763,9 +763,10 @@ NoiseFitResult fitNoise(const std::string& predictor, const Params& base, const 
   // predictor (horizon_frames) unless the caller told it; not handed back in the params, since it
   // is the caller's to say.
   // (medianPeriod: the frame period predict and fit-noise measure their horizon in)
-  const double period = track.t_s.size() >= 2 ? medianPeriod(track.t_s) : 0.0;
-  if (base.has("horizon_frames") || !(options.horizon_s > 0.0) || !(period > 0.0))
+  if (base.has("horizon_frames") || !(options.horizon_s > 0.0) || track.t_s.size() < 2)
     return fitNoiseAsked(predictor, base, track, options);
+  const double period = medianPeriod(track.t_s);
+  if (!(period > 0.0)) return fitNoiseAsked(predictor, base, track, options);
   Params told = base;
   told.set("horizon_frames", options.horizon_s / period);
   NoiseFitResult res = fitNoiseAsked(predictor, told, track, options);

@@ -273,6 +273,12 @@ inline constexpr double kDefaultExtrapolationCap = 4.0;
 /// (c / p)^2 from which 1 - exp(-(c / p)^2) is 1 in double precision (exp(-40) < 2^-54): the factor
 /// is not computed beyond it.
 inline constexpr double kBlendPriorExponentEnd = 40.0;
+/// The start-up prior's factor after c samples, prior p > 0 (file comment, "The start of a track"):
+/// 1 - exp(-(c / p)^2), exactly 1 from kBlendPriorExponentEnd on (not computed there).
+inline double blendPriorFactor(double count, double prior) {
+  const double u = count / prior;
+  return u * u < kBlendPriorExponentEnd ? 1.0 - std::exp(-u * u) : 1.0;
+}
 
 /// Default `coast_stop_fraction` c (dimensionless, file comment): a gap that begins while the target
 /// decelerates coasts with min(coast_tau_s, c t_stop). Measured with `predvs track-study` on the wide
@@ -600,9 +606,8 @@ struct BlendWeight {
     }
     if (prior > 0.0) {
       count += 1.0;
-      const double u = count / prior;
-      if (u * u < kBlendPriorExponentEnd) {  // beyond it 1 - exp(-u^2) rounds to 1: nothing to do
-        const double k = 1.0 - std::exp(-u * u);
+      const double k = blendPriorFactor(count, prior);
+      if (k != 1.0) {  // 1 from kBlendPriorExponentEnd on: nothing to do
         w *= k;
         if (split) {  // w_s, w_x: learnt (each sample anew) and read with the split only
           w_s *= k;
@@ -705,12 +710,8 @@ struct FeedforwardWeight {
   /// w_ff in [0, 1], times 1 - exp(-(c / prior)^2) after c samples when prior > 0 (BlendWeight's
   /// start-up prior, hold_blend_prior): 0 before the first sample then, else 1.
   double weight(double prior) const {
-    double w = s_dd > 0.0 ? std::clamp(s_dy / s_dd, 0.0, 1.0) : 1.0;
-    if (prior > 0.0) {
-      const double u = count / prior;
-      if (u * u < kBlendPriorExponentEnd) w *= 1.0 - std::exp(-u * u);
-    }
-    return w;
+    const double w = s_dd > 0.0 ? std::clamp(s_dy / s_dd, 0.0, 1.0) : 1.0;
+    return prior > 0.0 ? w * blendPriorFactor(count, prior) : w;
   }
 };
 

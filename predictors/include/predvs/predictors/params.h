@@ -21,7 +21,11 @@ class Params {
   void set(const std::string& key, double value) { values_[key] = value; }
   void setText(const std::string& key, const std::string& value) { texts_[key] = value; }
   bool has(const std::string& key) const { return values_.count(key) != 0 || texts_.count(key) != 0; }
-  /// Removes `key` (number or word); nothing when absent.
+  /// set(key, value) unless `key` is given already (a number or a word): a caller's default on top
+  /// of what the user or a file gave.
+  void setUnlessGiven(const std::string& key, double value) {
+    if (!has(key)) set(key, value);
+  }  /// Removes `key` (number or word); nothing when absent.
   void erase(const std::string& key) {
     values_.erase(key);
     texts_.erase(key);
