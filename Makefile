@@ -44,11 +44,12 @@ FUZZY_LAYERS := cs-akf-adaptive,fakf,fakf-fixed-r=fakf:r_min=0.9999:r_max=1.0001
 # stkf in the closed loop: the squared R, the self-tuning, R_0 and Q_0 changed one at a time.
 STKF_TUNING := hold,kf-cv,stkf,stkf-unsquared=stkf:squared=0,stkf-plain=stkf:window=0,stkf-r025=stkf:r=0.25,stkf-qpos0=stkf:q_pos=0,stkf-qvel200=stkf:q_vel=200
 PAPER000 := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf-classic,fakf,imm
-CLOSED := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf,stkf,st-akf,imm:q_cv=100:q_ca=1000:r=1:shrink_sigmas=0:hold_blend_tau_s=0
+CLOSED := hold,kf-cv,kf-ca,cs-akf,cs-akf-adaptive,fakf,stkf,st-akf,imm:q_cv=100:q_ca=1000:r=1:shrink_sigmas=0:hold_blend_tau_s=0:cp=1
 # Predictors a line adds to scenarios that do not list them run with the defaults before issue 11.
 PRE11 := data/params/pre-issue-11.yaml
 # (imm in CLOSED: its CV and CA modes as the scenario's kf-cv and the kf-ca of PRE11, like for like;
-# the paper scenario files pin it the same way.)
+# the paper scenario files pin it the same way; cp=1 keeps its CP mode, which a closed loop leaves
+# out by default since 2026-12-05: docs/PERFORMANCE.md "Innovations made white".)
 reproduce: build
 	$(PREDVS) compare --scenarios e1-line,e2-accel-jump,e3-zigzag,e4-circle,e4-circle-large --predictors $(PAPER000) --params $(PRE11) --out out/reproduction/paper000
 	$(PREDVS) compare --scenarios e5-line,e5-circle,e5-line-ibvs,e5-circle-ibvs --out out/reproduction/paper000-e5

@@ -149,7 +149,8 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
   // scales the CA mode's density and, to the power q_raise_cv_exponent, the CV mode's (imm.h, "The
   // raise of q on each mode"); only when neither q_cv nor q_ca is given.
   q_raise_ = processNoiseRaise(params, {"q_cv", "q_ca"}, blend_tau_s_ > 0.0);
-  const bool with_cp = params.get("cp", 1.0, 0.0, 1.0) >= 0.5;
+  // Without the CP mode in a closed loop unless `cp` is given (imm.h, "In a closed loop").
+  const bool with_cp = params.get("cp", closedLoopParam(params) ? 0.0 : 1.0, 0.0, 1.0) >= 0.5;
   const double tau_cp = params.get("tau_cp_s", 5.0, 1e-6, 1e6);
   const double tau_cv = params.get("tau_cv_s", 30.0, 1e-6, 1e6);
   const double tau_ca = params.get("tau_ca_s", 3.0, 1e-6, 1e6);
@@ -743,6 +744,13 @@ Vec<3> ImmPredictor::forecastStartMean(const Channel& ch, int j) const {
   return x;
 }
 
+Vec<3> ImmPredictor::feedforwardStartMean(const Channel& ch, int j) const {
+  const Gaussian<3>& g = ch.g[static_cast<size_t>(j)];
+  Vec<3> x = g.x;
+  if (modes_[static_cast<size_t>(j)].kind == ImmMode::Ca) x(2) *= significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_);
+  return x;
+}
+
 Gaussian<3> ImmPredictor::forecastStart(const Channel& ch, int j) const {
   Gaussian<3> g = ch.g[static_cast<size_t>(j)];
   g.x = forecastStartMean(ch, j);
@@ -788,7 +796,7 @@ double ImmPredictor::feedforwardVelocity(int channel, double t_s) const {
   double v = 0.0;
   for (int j = 0; j < modeCount(); ++j) {
     if (modes_[static_cast<size_t>(j)].dim < 2) continue;  // a constant position: no velocity
-    v += w[static_cast<size_t>(j)] * predictedMean(forecastStartMean(ch, j), transition(j, dt))(1);
+    v += w[static_cast<size_t>(j)] * predictedMean(feedforwardStartMean(ch, j), transition(j, dt))(1);
   }
   return v;
 }

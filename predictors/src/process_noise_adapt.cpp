@@ -30,12 +30,13 @@ double processNoiseRaiseRatio(const Params& params) {
 }
 
 std::optional<ProcessNoiseMatcher> processNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys,
-                                                     bool blend_on) {
+                                                     bool blend_on, InnovationStatistic in_closed_loop) {
   const double ratio = processNoiseRaiseRatio(params);
   const bool closed_loop = closedLoopParam(params);
   for (const char* key : fixing_keys)
     if (params.has(key)) return std::nullopt;
-  if (closed_loop) return ProcessNoiseMatcher();
+  if (closed_loop)
+    return in_closed_loop == InnovationStatistic::Whiteness ? ProcessNoiseMatcher::whitening() : ProcessNoiseMatcher();
   if (!blend_on || !(ratio > 0.0)) return std::nullopt;
   return ProcessNoiseMatcher::raise(ratio);
 }
@@ -46,10 +47,26 @@ ProcessNoiseMatcher::ProcessNoiseMatcher(double tau_s, double scale_min, double 
     throw std::invalid_argument("process-noise adaptation: need tau_s > 0, scale_min <= 1 <= scale_max and target > 0");
 }
 
+ProcessNoiseMatcher ProcessNoiseMatcher::whitening() {
+  ProcessNoiseMatcher m(kDefaultQWhitenTauS);
+  m.statistic_ = InnovationStatistic::Whiteness;
+  return m;
+}
+
 void ProcessNoiseMatcher::observe(double eps, double S, double dt_s) {
   if (!(S > 0.0) || !(dt_s > 0.0) || !std::isfinite(eps)) return;
-  const double ratio = std::min(eps * eps / S, kQAutoRatioMax);
-  const double l = std::clamp(log_scale_ + dt_s / tau_s_ * (ratio - target_), log_min_, log_max_);
+  double step;
+  if (statistic_ == InnovationStatistic::Whiteness) {
+    const double e = eps / std::sqrt(S);
+    const bool first = !have_last_e_;
+    step = std::clamp(last_e_ * e, -kQWhitenStepMax, kQWhitenStepMax);
+    last_e_ = e;
+    have_last_e_ = true;
+    if (first) return;
+  } else {
+    step = std::min(eps * eps / S, kQAutoRatioMax) - target_;
+  }
+  const double l = std::clamp(log_scale_ + dt_s / tau_s_ * step, log_min_, log_max_);
   if (l != log_scale_) {
     log_scale_ = l;
     scale_ = std::exp(l);

@@ -119,7 +119,11 @@ StkfFilter<N>::StkfFilter(int channels, const Params& params)
                          N == 3 ? kDefaultShrinkSigmasStkfCa
                                 : (white_acceleration_ ? kDefaultShrinkSigmasKfCv : kDefaultShrinkSigmasStkf),
                          kDefaultShrinkVelocityStkf);
-  this->readProcessNoiseRaise(params, {"q", "q_pos", "q_vel"});
+  // In a closed loop the spread, not the whitening (process_noise_adapt.h): the self-tuned R moves
+  // with the window's scatter every frame, so the innovations' normalisation does too, and with the
+  // whitening stkf lost 1.3-1.7x on ibvs-moving-target and e5-circle (docs/PERFORMANCE.md
+  // "Innovations made white").
+  this->readProcessNoiseRaise(params, {"q", "q_pos", "q_vel"}, InnovationStatistic::Spread);
   if (isAutoMeasurementNoise(params)) this->enableAutoNoise();
 }
 

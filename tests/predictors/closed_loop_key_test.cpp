@@ -1,7 +1,8 @@
 // The caller's key `closed_loop` (predictor.h closedLoopParam): every filter with the raise of q
-// matches its density to its innovations instead when the keys that set the density are not given
-// (those whose q takes `auto` exactly as with `q: auto`); given keys are kept; hold and cs-akf (no
-// raise) ignore the key; any value but 0 or 1 is an error naming the key.
+// adapts its density to its innovations instead when the keys that set the density are not given
+// (the whitening, process_noise_adapt.h; stkf the spread, as `q: auto`); given keys are kept; imm
+// leaves its CP mode out unless `cp` is given; hold and cs-akf (no raise) ignore the key; any value
+// but 0 or 1 is an error naming the key.
 #include "predvs/predictors/params.h"
 #include "predvs/predictors/predictor.h"
 
@@ -41,13 +42,13 @@ Params with(std::initializer_list<std::pair<const char*, double>> values, const 
   return p;
 }
 
-TEST(ClosedLoopKey, FiltersWithAnAutoQMatchItWhenQIsNotGiven) {
+TEST(ClosedLoopKey, FiltersWithAnAutoQWhitenTheirInnovationsWhenQIsNotGiven) {
   for (const char* name : {"kf-cv", "kf-ca", "st-akf", "st-akf-pm", "fakf-classic"}) {
     SCOPED_TRACE(name);
-    // GIVEN a filter told closed_loop: 1 THEN it runs as with q: auto (covariance matching), not as
-    // with its default density and the raise
+    // GIVEN a filter told closed_loop: 1 THEN it runs neither with its default density and the
+    // raise nor as with q: auto (covariance matching): its density is whitened (q_whitening_test.cpp)
     const auto told = forecasts(name, with({{"closed_loop", 1.0}}));
-    EXPECT_EQ(told, forecasts(name, with({}, "auto")));
+    EXPECT_NE(told, forecasts(name, with({}, "auto")));
     EXPECT_NE(told, forecasts(name, with({})));
     // AND closed_loop: 0 is the default
     EXPECT_EQ(forecasts(name, with({{"closed_loop", 0.0}})), forecasts(name, with({})));
@@ -69,8 +70,33 @@ TEST(ClosedLoopKey, TheOtherFiltersWithARaiseMatchTooUnlessTheirDensityIsGiven) 
                         Case{"stkf", "q", 500.0}, Case{"imm", "q_cv", 500.0}}) {
     SCOPED_TRACE(c.name);
     EXPECT_NE(forecasts(c.name, with({{"closed_loop", 1.0}})), forecasts(c.name, with({})));
-    EXPECT_EQ(forecasts(c.name, with({{"closed_loop", 1.0}, {c.key, c.value}})), forecasts(c.name, with({{c.key, c.value}})));
+    // (imm's `cp` given too: in a closed loop its CP mode is left out by default, below)
+    const double cp = std::string(c.name) == "imm" ? 1.0 : -1.0;
+    Params told = with({{"closed_loop", 1.0}, {c.key, c.value}}), given = with({{c.key, c.value}});
+    if (cp > 0.0) told.set("cp", cp), given.set("cp", cp);
+    EXPECT_EQ(forecasts(c.name, told), forecasts(c.name, given));
   }
+}
+
+/// True when imm built with `params` reports mode probabilities of mode `mode` ("cp", "cv", "ca").
+bool immHasMode(const Params& params, const std::string& mode) {
+  std::unique_ptr<Predictor> p = makePredictor("imm", 2, params);
+  Eigen::VectorXd z(2);
+  z << 1.0, 2.0;
+  p->update(0.0, z);
+  for (const auto& [name, value] : p->diagnostics())
+    if (name.rfind("mu_" + mode + "_", 0) == 0) return true;
+  return false;
+}
+
+TEST(ClosedLoopKey, ImmLeavesItsConstantPositionModeOutUnlessCpIsGiven) {
+  // GIVEN imm told closed_loop: 1 THEN it has the CV and CA modes only
+  EXPECT_FALSE(immHasMode(with({{"closed_loop", 1.0}}), "cp"));
+  EXPECT_TRUE(immHasMode(with({{"closed_loop", 1.0}}), "cv"));
+  EXPECT_TRUE(immHasMode(with({{"closed_loop", 1.0}}), "ca"));
+  // AND all three with cp: 1, and without the key (the open loop's default)
+  EXPECT_TRUE(immHasMode(with({{"closed_loop", 1.0}, {"cp", 1.0}}), "cp"));
+  EXPECT_TRUE(immHasMode(with({}), "cp"));
 }
 
 TEST(ClosedLoopKey, EveryPredictorTakesItHoldAndCsAkfIgnoreIt) {

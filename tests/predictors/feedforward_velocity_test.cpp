@@ -1,8 +1,9 @@
 // The feed-forward's velocity (Predictor::feedforwardVelocity(); channel_predictor.h, "The
 // feed-forward's velocity"; docs/MODELS.md §15): the velocity the servo loop feeds a law forward,
 // judged on low-passed steps instead of the blend's one- and two-frame forecasts. A slow ramp under
-// noise, where the blend hands out a velocity of about 0, keeps its velocity here; without the blend
-// it is predictVelocity()'s number; the glitch gate and imm hand out their own.
+// noise, where the blend hands out a velocity of about 0, keeps its velocity here, and the velocity
+// is not weighted by its significance; without the blend and the weighting it is predictVelocity()'s
+// number; the glitch gate and imm hand out their own.
 #include "predvs/predictors/params.h"
 #include "predvs/predictors/predictor.h"
 
@@ -70,10 +71,12 @@ TEST(FeedforwardVelocity, KeepsTheVelocityOfASlowRampThatTheBlendScalesToNothing
   }
 }
 
-TEST(FeedforwardVelocity, IsThePredictedVelocityWhenTheBlendIsOff) {
-  // GIVEN predictors with the blend off (the papers' scenarios pin it so) on a noisy ramp with a gap
+TEST(FeedforwardVelocity, IsThePredictedVelocityWhenTheBlendAndTheWeightingAreOff) {
+  // GIVEN predictors with the blend and the forecast weighting off (the papers' scenarios pin them
+  // so) on a noisy ramp with a gap
   Params off;
   off.set("hold_blend_tau_s", 0.0);
+  off.set("shrink_sigmas", 0.0);
   for (const char* name : {"kf-cv", "kf-ca", "cs-akf", "cs-akf-adaptive", "stkf", "st-akf", "st-akf-pm", "fakf-classic", "fakf"}) {
     std::unique_ptr<Predictor> p = makePredictor(name, 2, off);
     std::mt19937 rng(7);
@@ -94,13 +97,28 @@ TEST(FeedforwardVelocity, IsThePredictedVelocityWhenTheBlendIsOff) {
   }
 }
 
+TEST(FeedforwardVelocity, TheVelocityIsNotWeightedByItsSignificance) {
+  // GIVEN the CA-model filters with the blend off and their forecast weighting at its defaults, on
+  // the slow ramp: a velocity of 5 px/s is small against its own standard deviation there, so the
+  // weighting shrinks the forecast's velocity towards 0
+  Params no_blend;
+  no_blend.set("hold_blend_tau_s", 0.0);
+  for (const char* name : {"kf-ca", "st-akf"}) {
+    const MeanVelocities m = onTheRamp(name, no_blend, 1);
+    // THEN the feed-forward's velocity keeps the ramp's 5 px/s (the law averages the noise out, the
+    // shrink's bias would stay), the forecast's is shrunk (measured: kf-ca 4.99 and 1.37, st-akf 5.01 and 1.98)
+    EXPECT_NEAR(m.feedforward, kSpeedPxS, 0.1 * kSpeedPxS) << name;
+    EXPECT_LT(m.blended, 0.6 * kSpeedPxS) << name;
+  }
+}
+
 TEST(FeedforwardVelocity, TheGlitchGateAndImmHandOutTheirOwn) {
   // GIVEN kf-cv behind a glitch gate, and imm, with their defaults, on the slow ramp
   Params gated;
   gated.set("glitch_sigmas", 4.0);
   // WHEN asked for the feed-forward's velocity THEN the gate passes on its filter's (not the
   // blended one; measured 4.93 px/s), and imm's mode-weighted velocity without the modes' blends
-  // keeps most of the ramp's 5 px/s (measured 3.4) where its forecast's velocity is 0.00
+  // keeps the ramp's 5 px/s (measured 5.3) where its forecast's velocity is 0.00
   const MeanVelocities g = onTheRamp("kf-cv", gated, 1);
   EXPECT_LT(g.blended, 0.2 * kSpeedPxS);
   EXPECT_NEAR(g.feedforward, kSpeedPxS, 0.15 * kSpeedPxS);

@@ -200,7 +200,13 @@
 //   w_ff = clamp(S_DY / S_DD, 0, 1),  feed-forward velocity = w_ff (F x)(1).
 // The low-pass also removes the regression's bias of the one-frame samples: the noise of the
 // measurement a step starts from raises the filter's velocity and lowers the measured step; summed
-// over the filter's response, the two cancel. The loop's `both` mode acts on the blended forecast
+// over the filter's response, the two cancel. The velocity is not weighted by its significance
+// (shrink_v_sigmas; the acceleration keeps its weight w_a): that weight shrinks towards hold a
+// velocity that is small against its own standard deviation, right for a forecast one or two frames
+// ahead, where it trades a bias for less noise, but a slow target's velocity is always small against
+// it (5 px/s under 1 px of noise at 25 Hz), and the law averages the noise out while the bias
+// stays: kf-ca fed 1.8 px/s of e5-line's 5 forward. d_x is then the unweighted start's step, and
+// w_ff judges that velocity. The loop's `both` mode acts on the blended forecast
 // and gets its velocity (predictVelocity()), the pair the blend makes. Figures: docs/PERFORMANCE.md
 // "The feed-forward's velocity".
 // Units: px, s; the weight is dimensionless, so the rule holds at any frame rate and noise level.
@@ -886,9 +892,10 @@ class ChannelPredictor : public Predictor {
     return x(1);
   }
 
-  /// x(1) of the same F x as predictVelocity(), neither capped nor blended with hold but times the
-  /// feed-forward's weight w_ff when the blend is on (Predictor::feedforwardVelocity(), file comment
-  /// "The feed-forward's velocity"); without the blend, predictVelocity()'s number.
+  /// x(1) of F x from the feed-forward's start (feedforwardStartMean(): the velocity not weighted by
+  /// its significance), neither capped nor blended with hold but times the feed-forward's weight
+  /// w_ff when the blend is on (Predictor::feedforwardVelocity(), file comment "The feed-forward's
+  /// velocity"); without the blend and the weighting, predictVelocity()'s number.
   double feedforwardVelocity(int channel, double t_s) const override {
     const ChannelState& s = state_.at(channel);
     if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
@@ -896,7 +903,7 @@ class ChannelPredictor : public Predictor {
     const double dt = t_s - time();
     if (!(dt > 0.0)) return w * s.g.x(1);
     Vec<N> x;
-    if (forecastWeightingOn()) weightedForecastMean(channel, x);
+    if (forecastWeightingOn()) feedforwardStartMean(channel, x);
     else x = s.g.x;
     return w * predictedMean(x, transition(channel, dt))(1);
   }
@@ -936,6 +943,9 @@ class ChannelPredictor : public Predictor {
     /// The regressions on forecasts of 2..hold_blend_frames frames (longer[h - 2]).
     LongerBlendWeights longer{};
     FeedforwardWeight feedforward;  ///< the feed-forward's weight (file comment)
+    /// The feed-forward's start (feedforwardStartMean()) of the last measured update, with the
+    /// weighting on: its one-frame step is what w_ff learns from.
+    Vec<N> x_ff_start = Vec<N>::Zero();
     int run = 0;           ///< consecutive measured frames up to the last update
     /// The forecast starts of the last kMaxBlendFrames measured updates (ring, newest at head).
     std::array<Vec<N>, kMaxBlendFrames> x_start{};
@@ -971,8 +981,12 @@ class ChannelPredictor : public Predictor {
     ChannelState& s = state_[static_cast<size_t>(c)];
     s.head = (s.head + 1) % kMaxBlendFrames;
     Vec<N>& start = s.x_start[static_cast<size_t>(s.head)];
-    if (forecastWeightingOn()) weightedForecastMean(c, start);
-    else start = s.g.x;
+    if (forecastWeightingOn()) {
+      weightedForecastMean(c, start);
+      feedforwardStartMean(c, s.x_ff_start);
+    } else {
+      start = s.g.x;
+    }
     s.t_start[static_cast<size_t>(s.head)] = t_s;
     s.z_start[static_cast<size_t>(s.head)] = s.blend.z_hold;
     s.run = std::min(s.run + 1, kMaxBlendFrames + 1);
@@ -996,11 +1010,14 @@ class ChannelPredictor : public Predictor {
     }
     if (s.run >= 1) {  // frame k - 1 measured: the one-frame forecast made there
       const auto j = static_cast<size_t>(s.head);
-      const double f = predictedPosition(s.x_start[j], transition(c, t_s - s.t_start[j]));
+      const Mat<N> F = transition(c, t_s - s.t_start[j]);
+      const double f = predictedPosition(s.x_start[j], F);
       s.blend.learn(f - s.z_start[j], s.x_start[j](0) - s.z_start[j], z - s.z_start[j], lambda, blend_sigmas_, blend_split_,
                     blend_prior_);
       if (extrapolation_cap_ > 0.0 && blend_split_) s.rates.learn(f - s.x_start[j](0), t_s - s.t_start[j], lambda);
-      s.feedforward.learn(f - s.x_start[j](0), z - s.z_start[j], feedforward_keep, lambda);
+      // the feed-forward's own one-frame step (its start's velocity not weighted; file comment)
+      const double d_ff = forecastWeightingOn() ? predictedPosition(s.x_ff_start, F) - s.x_ff_start(0) : f - s.x_start[j](0);
+      s.feedforward.learn(d_ff, z - s.z_start[j], feedforward_keep, lambda);
       // The forecasts of h = 2..H frames made at k - h, when frames k - h .. k - 1 were measured;
       // the handed-out weight is the smallest over the horizons (file comment).
       for (int h = 2; h <= blend_frames_ && h <= s.run; ++h) {
@@ -1087,6 +1104,14 @@ class ChannelPredictor : public Predictor {
     weightedForecastMean(c, g.x);
     return g;
   }
+  /// The start of the feed-forward's velocity (feedforwardVelocity()): x(k|k) with a weighted by w_a
+  /// alone and v not weighted (file comment, "The feed-forward's velocity").
+  void feedforwardStartMean(int c, Vec<N>& x) const {
+    const Gaussian<N>& g = state_[static_cast<size_t>(c)].g;
+    x(0) = g.x(0);
+    x(1) = g.x(1);
+    if constexpr (N == 3) x(2) = g.x(2) * significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_);
+  }
   /// Its mean alone, written into x entry by entry (no Gaussian copied).
   void weightedForecastMean(int c, Vec<N>& x) const {
     const Gaussian<N>& g = state_[static_cast<size_t>(c)].g;
@@ -1096,7 +1121,7 @@ class ChannelPredictor : public Predictor {
     if constexpr (N == 3) x(2) = g.x(2) * significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_) * w_v;
   }
   /// The adaptation of a density set by the key `q` (process_noise_adapt.h): `q: auto`, covariance
-  /// matching; `q` absent, the raise (readProcessNoiseRaise: covariance matching in a closed loop);
+  /// matching; `q` absent, the raise (readProcessNoiseRaise: the whitening in a closed loop);
   /// a number, none (q fixed). Called by the derived constructors whose `q` takes `auto` (kf-cv,
   /// kf-ca, st-akf, fakf-classic).
   void readProcessNoiseAdaptation(const Params& params) {
@@ -1110,11 +1135,12 @@ class ChannelPredictor : public Predictor {
   /// The raise above the default density while the innovations exceed q_raise_ratio times their
   /// predicted variance, when none of `fixing_keys` (the keys that set the density: `q`, stkf's
   /// q_pos / q_vel, the CS variance bounds) is given and the blend with hold is on
-  /// (readShrinkParams() first); in a closed loop (`closed_loop: 1`) covariance matching instead:
-  /// processNoiseRaise(). Called by the derived constructors whose
-  /// processNoise() scales its density by processNoiseScale().
-  void readProcessNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys) {
-    if (const auto raise = processNoiseRaise(params, fixing_keys, blend_tau_s_ > 0.0))
+  /// (readShrinkParams() first); in a closed loop (`closed_loop: 1`) the adaptation `in_closed_loop`
+  /// instead (the whitening unless said): processNoiseRaise(). Called by the derived constructors
+  /// whose processNoise() scales its density by processNoiseScale().
+  void readProcessNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys,
+                             InnovationStatistic in_closed_loop = InnovationStatistic::Whiteness) {
+    if (const auto raise = processNoiseRaise(params, fixing_keys, blend_tau_s_ > 0.0, in_closed_loop))
       q_auto_.assign(state_.size(), *raise);
   }
   /// q / q0 of channel c: 1 unless q is adapted (readProcessNoiseAdaptation, readProcessNoiseRaise).

@@ -157,15 +157,25 @@
 // track, imm 1.5 times kf-ca's error). Measured on both track generators (docs/PERFORMANCE.md "imm
 // raises its CV mode less"); 0 (the CV mode never raised) won as much on the second generator and
 // cost more on make-track's drop grids.
+// In a closed loop (`closed_loop: 1`, predictor.h) imm runs without its CP mode unless `cp` is
+// given. The loop's feed-forward takes imm's velocity (feedforwardVelocity()): CP's share of the
+// forecast weights scales it down (CP says v = 0), and mixing CP's position, which lags a moving
+// target, into the CV mode's prior every frame biases the CV mode's velocity up to make the lag
+// good (on e5-line's 5 px/s leader the fed-forward velocity averaged 7.4 px/s with a standard
+// deviation of 16). Leaving CP out of the mixing alone gave e5-line 2.3 px instead of 2.7; without
+// the mode imm is the IMM of kf-cv's and kf-ca's models, 0.8 px (10 seeds; docs/PERFORMANCE.md
+// "Innovations made white"). In the open loop the CP mode stays: it is imm's own judgement of hold.
 // Parameters (px and s): q_cp (px^2/s, default 2), q_cv (px^2/s^3, default kDefaultQCv), q_ca
 // (px^2/s^5, default kDefaultQCa; when neither q_cv nor q_ca is given and the blend with hold is
 // on, both are raised, per channel, while the combined innovation is more than q_raise_ratio
 // (default 2; 0 = no raise) times its predicted variance: process_noise_adapt.h; the CV mode by
 // the raise to the power q_raise_cv_exponent, above; in a closed loop, `closed_loop: 1`, the same
-// scale is matched to the innovations instead, down as well as up: predictor.h closedLoopParam),
+// scale is moved until the combined innovations are white instead, down as well as up:
+// process_noise_adapt.h, predictor.h closedLoopParam),
 // alpha (1/s, default 0: CA; > 0: Singer), r (px^2; default `auto`,
 // predictors/noise_estimate.h; a number fixes it), tau_cp_s (5), tau_cv_s (30), tau_ca_s (3)
-// (stationary shares 13 / 79 / 8 %), cp (1; 0 leaves the CP mode out), p0_vel ((px/s)^2, 1e4),
+// (stationary shares 13 / 79 / 8 %), cp (1, and 0 with `closed_loop: 1`, below; 0 leaves the CP
+// mode out), p0_vel ((px/s)^2, 1e4),
 // p0_acc ((px/s^2)^2, 1e4), coast_tau_s (s, default kDefaultCoastTauS; 0 = off): on a frame with
 // no measurement, each mode's mixed velocity and acceleration decay before its time update, the
 // law of every other predictor (channel_predictor.h, docs/MODELS.md §15), so imm coasts like its
@@ -241,8 +251,9 @@ class ImmPredictor : public Predictor {
   /// predict(channel, t_s).position() without the covariances: sum_j mu_j (F_j x_j)(0), the same
   /// arithmetic in the same order (bit for bit).
   double predictPosition(int channel, double t_s) const override;
-  /// sum_j w_j (F_j x_j)(1) of the moving modes' forecast starts, w the forecast's weights
-  /// (forecastWeights()), without the modes' blends with hold (Predictor::feedforwardVelocity()).
+  /// sum_j w_j (F_j x_j)(1) of the moving modes' feed-forward starts (feedforwardStartMean()), w the
+  /// forecast's weights (forecastWeights()), without the modes' blends with hold
+  /// (Predictor::feedforwardVelocity()).
   double feedforwardVelocity(int channel, double t_s) const override;
   Innovation innovation(int channel) const override { return chan_.at(static_cast<size_t>(channel)).innovation; }
   NamedValues diagnostics() const override;
@@ -384,6 +395,9 @@ class ImmPredictor : public Predictor {
   Gaussian<3> forecastStart(const Channel& ch, int j) const;
   /// The mean of forecastStart(ch, j) alone.
   Vec<3> forecastStartMean(const Channel& ch, int j) const;
+  /// The start of mode j's feed-forward velocity: forecastStartMean() without the CA mode's weight
+  /// on its velocity (channel_predictor.h, "The feed-forward's velocity").
+  Vec<3> feedforwardStartMean(const Channel& ch, int j) const;
   /// The weights the forecast combines the modes with on channel ch: mu, or the forecast weights.
   const std::array<double, kMaxModes>& forecastWeights(const Channel& ch) const {
     return fc_tau_s_ > 0.0 ? ch.fw : ch.mu;

@@ -212,11 +212,12 @@ double horizonFramesParam(const Params& params);
 /// The `closed_loop` key (0 or 1, default 0): the caller's forecasts and velocities drive a control
 /// loop every tick (the scenario runs of `predvs servo` and `compare` set it). Not a model parameter
 /// but a fact about the use. Every filter with the raise of its process noise (all but hold and
-/// cs-akf; process_noise_adapt.h processNoiseRaise) then matches the density to its innovations
-/// instead (covariance matching, as `q: auto`), unless the keys that set its density are given:
-/// the maneuvering tracks' density puts noise into the velocity, which reaches the robot on every
-/// tick, so it should be as low as the innovations allow (docs/MODELS.md §15, "In a closed loop").
-/// Throws std::invalid_argument naming the key for another value.
+/// cs-akf; process_noise_adapt.h processNoiseRaise) then moves the density until its innovations
+/// are white instead (the whitening; stkf matches their spread, as `q: auto`), unless the keys that
+/// set its density are given: the maneuvering tracks' density puts noise into the velocity, which
+/// reaches the robot on every tick, so it should be as low as the innovations allow; and imm leaves
+/// its constant-position mode out unless `cp` is given (imm.h). (docs/MODELS.md §15, "In a closed
+/// loop".) Throws std::invalid_argument naming the key for another value.
 bool closedLoopParam(const Params& params);
 
 }  // namespace predvs

@@ -30,6 +30,29 @@
 // default q was sized for (a fixed q cannot serve a 50 px/s drift and a 700 px/s oscillation at
 // once), and falls back to the default once they are not. The symmetric `q: auto` lowers q too: on
 // the generated tracks that costs more at two frames ahead than it gains (docs/MODELS.md §15).
+//
+// The whitening (the closed loop's, `closed_loop: 1`, docs/MODELS.md §15 "In a closed loop"): the
+// step is the product of the last two normalised innovations instead of the spread,
+//
+//   l <- clamp(l + (dt / tau_w) clamp(e(k) e(k-1), -c_w, c_w), ln(scale_min), ln(scale_max)),
+//   e = eps / sqrt(S),
+//
+// i.e. the density moves until the innovations are white (Mehra 1970, docs/MODELS.md §13: a Kalman filter's
+// innovations are white exactly when its gain is the optimal one). A filter that follows the noise
+// has innovations that alternate in sign (the product is negative on average: q falls), one that
+// lags a motion has runs of one sign (positive: q rises). Why not the spread: E[eps^2 / S] = 1 ties
+// q to R, and R is an estimate (noise_estimate.h: +-30 % over a track's first 50 differences). With
+// R 20 % low, the spread balances kf-cv at q ~ 1e3 px^2/s^3 on a 5 px/s line at 25 Hz under 1 px of
+// noise (its velocity noise 5.7 px/s); 43 % low (a draw of e5-line's first second), at q ~ 2e4
+// (19 px/s); with R right, it drifts down. The sign of the innovations' correlation does not depend
+// on R: a wrong R moves the density the whitening settles at in proportion, so the gain, and the
+// velocity's noise, stay what they would be with R right (tests/predictors/q_whitening_test.cpp).
+// The step's clip and time constant: with c_w = 9 (the spread's clip) and tau_w = 1 s, e8-vtc lost
+// the target on one seed of 30 in the first second (cs-akf-adaptive and fakf); c_w = 3, 1 s was
+// safe but slower. Choices (measured on the seven closed-loop scenarios, 10 seeds, and 30 on
+// e8 and ibvs-moving-target: docs/PERFORMANCE.md "Innovations made white"): tau_w = kDefaultQWhitenTauS,
+// c_w = kQWhitenStepMax; the first measured frame (no product yet) moves nothing, and a gap keeps
+// the last normalised innovation for the next measured frame.
 #pragma once
 
 #include "predvs/predictors/params.h"
@@ -49,6 +72,14 @@ inline constexpr double kQAutoScaleMax = 1e2;
 inline constexpr double kQAutoRatioMax = 9.0;
 /// Default target ratio c of the raise (`q_raise_ratio`; 0 = no raise).
 inline constexpr double kDefaultQRaiseRatio = 2.0;
+/// Time constant of the whitening (s): 1 / 1.5 (file comment).
+inline constexpr double kDefaultQWhitenTauS = 1.0 / 1.5;
+/// Largest |e(k) e(k-1)| one frame contributes to the whitening.
+inline constexpr double kQWhitenStepMax = 2.0;
+
+/// What the adaptation balances (file comment): the innovations' spread E[eps^2 / S] against a
+/// target (`q: auto`, the raise), or their lag-one correlation against 0 (the whitening).
+enum class InnovationStatistic { Spread, Whiteness };
 
 /// True when the process-noise key `key` (e.g. "q") holds the word `auto`: q is then adapted
 /// (ProcessNoiseMatcher) from the predictor's default. False when it is absent (the default q,
@@ -72,10 +103,15 @@ class ProcessNoiseMatcher {
   static ProcessNoiseMatcher raise(double ratio) {
     return ProcessNoiseMatcher(kDefaultQAutoTauS, 1.0, kQAutoScaleMax, ratio);
   }
+  /// The whitening (file comment): bounds [kQAutoScaleMin, kQAutoScaleMax] around q0.
+  static ProcessNoiseMatcher whitening();
   void reset() {
     log_scale_ = 0.0;
     scale_ = 1.0;
+    last_e_ = 0.0;
+    have_last_e_ = false;
   }
+  InnovationStatistic statistic() const { return statistic_; }
   /// One measured frame: innovation eps (px) with predicted variance S (px^2), dt (s) since the
   /// previous update. Ignored when S <= 0 or dt <= 0.
   void observe(double eps, double S, double dt_s);
@@ -84,17 +120,23 @@ class ProcessNoiseMatcher {
 
  private:
   double tau_s_, log_min_, log_max_, target_;
+  InnovationStatistic statistic_ = InnovationStatistic::Spread;
   double log_scale_ = 0.0;
   double scale_ = 1.0;
+  double last_e_ = 0.0;      ///< the whitening's last normalised innovation eps / sqrt(S)
+  bool have_last_e_ = false;
 };
 
 /// The raise of a predictor (file comment), when it is on: none of `fixing_keys` (the keys that set
 /// its density) given, the blend with hold on and `q_raise_ratio` > 0; otherwise none. In a closed
-/// loop (`closed_loop: 1`, predictor.h closedLoopParam) with none of `fixing_keys` given, covariance
-/// matching instead (ProcessNoiseMatcher(), as `q: auto`): the density falls as far as the
-/// innovations allow (docs/MODELS.md §15, "In a closed loop"). Reads (and checks) `q_raise_ratio`
-/// and `closed_loop` in every case.
+/// loop (`closed_loop: 1`, predictor.h closedLoopParam) with none of `fixing_keys` given, the
+/// adaptation `in_closed_loop` says instead: the whitening (ProcessNoiseMatcher::whitening(), the
+/// default), or covariance matching (Spread: ProcessNoiseMatcher(), as `q: auto`; stkf's, whose R
+/// moves every frame). Either lets the density fall as far as the innovations allow
+/// (docs/MODELS.md §15, "In a closed loop"). Reads (and checks) `q_raise_ratio` and `closed_loop`
+/// in every case.
 std::optional<ProcessNoiseMatcher> processNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys,
-                                                     bool blend_on);
+                                                     bool blend_on,
+                                                     InnovationStatistic in_closed_loop = InnovationStatistic::Whiteness);
 
 }  // namespace predvs
