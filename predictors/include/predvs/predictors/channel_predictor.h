@@ -197,7 +197,8 @@
 // y, each low-passed with the time constant kFeedforwardTauS (1 s), are regressed like the blend's
 // one-frame samples (the same pairs, forgetting and start-up prior):
 //   D <- a D + (1 - a) d_x,  Y <- a Y + (1 - a) y,  a = exp(-dt / kFeedforwardTauS),
-//   w_ff = clamp(S_DY / S_DD, 0, 1),  feed-forward velocity = w_ff (F x)(1).
+//   w_ff = clamp(S_DY / S_DD, 0, 1),  feed-forward velocity = w_ff (F x_ff)(1),
+// x_ff the feed-forward's start (below).
 // The low-pass also removes the regression's bias of the one-frame samples: the noise of the
 // measurement a step starts from raises the filter's velocity and lowers the measured step; summed
 // over the filter's response, the two cancel. The velocity is not weighted by its significance

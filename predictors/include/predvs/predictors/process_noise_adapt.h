@@ -47,11 +47,11 @@
 // (19 px/s); with R right, it drifts down. The sign of the innovations' correlation does not depend
 // on R: a wrong R moves the density the whitening settles at in proportion, so the gain, and the
 // velocity's noise, stay what they would be with R right (tests/predictors/q_whitening_test.cpp).
-// The step's clip and time constant: with c_w = 9 (the spread's clip) and tau_w = 1 s, e8-vtc lost
-// the target on one seed of 30 in the first second (cs-akf-adaptive and fakf); c_w = 3, 1 s was
-// safe but slower. Choices (measured on the seven closed-loop scenarios, 10 seeds, and 30 on
-// e8 and ibvs-moving-target: docs/PERFORMANCE.md "Innovations made white"): tau_w = kDefaultQWhitenTauS,
-// c_w = kQWhitenStepMax; the first measured frame (no product yet) moves nothing, and a gap keeps
+// The step's clip and time constant (measured on the closed-loop scenarios, 10 seeds, and 30 on
+// five of them: docs/PERFORMANCE.md "Innovations made white"): c_w = 9 (the spread's clip) with
+// tau_w = 1 s let cs-akf-adaptive and fakf run away on one seed of e8-vtc (95,946 px); c_w = 3 with
+// 1 s and c_w = 1 with 0.5 s did 7 and 2 % worse than the kept tau_w = kDefaultQWhitenTauS,
+// c_w = kQWhitenStepMax. The first measured frame (no product yet) moves nothing, and a gap keeps
 // the last normalised innovation for the next measured frame.
 #pragma once
 
