@@ -306,7 +306,7 @@ PYBIND11_MODULE(_predvs, m) {
       .def("predict_velocities", &PyPredictor::predictVelocities, py::arg("t"), "Predicted velocities at t, (channels,).")
       .def("feedforward_velocities", &PyPredictor::feedforwardVelocities, py::arg("t"),
            "Velocities at t for a control law's feed-forward: the filter's own, judged over about a second instead of "
-           "scaled by the forecast's blend with hold, (channels,).")
+           "scaled by the forecast's blend with hold, and not weighted by their significance, (channels,).")
       .def("innovation", &PyPredictor::innovation, py::arg("channel"), "Innovation of the last update of a channel.")
       .def("diagnostics", &PyPredictor::diagnostics, "Named per-channel internals after the last update (dict).")
       .def("noise_parameters", &PyPredictor::noiseParameters, "The keys that set its noise, with bounds and values.")
