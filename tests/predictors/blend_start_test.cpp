@@ -3,10 +3,13 @@
 // its weights times 1 - exp(-(c / p)^2), so the first forecasts of a track are hold's and the model's
 // step returns as the track shows that it pays, in full after about 6 p samples.
 #include "predvs/predictors/channel_predictor.h"
+#include "predvs/predictors/predictor.h"
 #include "predvs/predictors/registry.h"
 #include "predictors/blend_alone.h"
 
 #include <gtest/gtest.h>
+
+#include <Eigen/Core>
 
 #include <cmath>
 #include <memory>
@@ -121,6 +124,46 @@ TEST(BlendStart, ATrackThatBeginsInTheSecondHalfOfAShortDashCostsLessThanWithout
     // within 1 % of hold's (measured 0.1-0.3 % above it: the model's step returns as the rest is seen)
     EXPECT_LT(with, 0.5 * without) << name << " " << with << " " << without << " " << hold;
     EXPECT_LT(with, 1.01 * hold) << name << " " << with << " " << without << " " << hold;
+  }
+}
+
+TEST(BlendStart, AZeroHorizonVelocityCountsTheSameFactor) {
+  // GIVEN the channel filters with their defaults, and with the blend off, on a track at 10 Hz under
+  // 5 px of noise (e8-vtc's), asked at the time of their last update (a zero horizon, as a servo loop
+  // without vision delay asks its rates)
+  for (const char* name : {"kf-cv", "kf-ca", "cs-akf-adaptive", "st-akf", "fakf-classic", "stkf"}) {
+    SCOPED_TRACE(name);
+    Params off;
+    off.set("hold_blend_tau_s", 0.0);
+    std::unique_ptr<Predictor> p = makePredictor(name, 1, {}), plain = makePredictor(name, 1, off);
+    const double z[] = {31.5, 34.5, 25.0, 43.0, 39.0, 29.0, 40.0, 33.0};
+    Eigen::VectorXd m(1);
+    double previous_ratio = 0.0;
+    for (int k = 0; k < 8; ++k) {
+      m(0) = z[k];
+      p->update(k / kRateHz, m);
+      plain->update(k / kRateHz, m);
+      const double t = k / kRateHz;
+      const double v = p->predictVelocity(0, t), v_raw = p->predict(0, t).velocity();
+      // THEN the velocity is predict()'s, and the filter's own velocity times 1 - exp(-(c / 4)^2),
+      // c the one-frame samples so far (k: every frame after the first is one), growing to 1
+      EXPECT_EQ(v, v_raw);
+      const auto* f = dynamic_cast<const ChannelPredictor<2>*>(p.get());
+      const auto* f3 = dynamic_cast<const ChannelPredictor<3>*>(p.get());
+      const double own = f ? f->gaussian(0).x(1) : f3->gaussian(0).x(1);
+      const double factor = 1.0 - std::exp(-(k / 4.0) * (k / 4.0));
+      EXPECT_NEAR(v, own * factor, 1e-12 * (1.0 + std::abs(own)));
+      if (k > 0 && std::abs(own) > 1e-9) {
+        EXPECT_GT(v / own, previous_ratio);
+        previous_ratio = v / own;
+      }
+      // AND the position is the posterior's, unscaled
+      EXPECT_EQ(p->predictPosition(0, t), f ? f->gaussian(0).x(0) : f3->gaussian(0).x(0));
+      // AND with the blend off the velocity is the filter's own
+      const auto* g = dynamic_cast<const ChannelPredictor<2>*>(plain.get());
+      const auto* g3 = dynamic_cast<const ChannelPredictor<3>*>(plain.get());
+      EXPECT_EQ(plain->predictVelocity(0, t), g ? g->gaussian(0).x(1) : g3->gaussian(0).x(1));
+    }
   }
 }
 
