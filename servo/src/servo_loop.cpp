@@ -136,13 +136,10 @@ struct ServoLoop::Impl {
     }
   }
 
-  /// The target rate fed to the task at t: with `feedforward` the task acts on the latest
-  /// measurement, and gets the predictor's velocity for a feed-forward (Predictor::
-  /// feedforwardVelocity()); with `both` (and `feature`) it acts on the forecast, and gets that
-  /// forecast's own velocity (predictVelocity(): blended with hold as its position is).
-  Eigen::VectorXd targetRates(double t) const {
-    return config.forecast == ForecastMode::Feedforward ? predictor.feedforwardVelocities(t) : predictor.predictVelocities(t);
-  }
+  /// The target rate fed to the task at t, in `feedforward` and `both` alike: the predictor's velocity
+  /// for a feed-forward (Predictor::feedforwardVelocity(), judged at a law's bandwidth, not scaled
+  /// by the forecast's blend with hold).
+  Eigen::VectorXd targetRates(double t) const { return predictor.feedforwardVelocities(t); }
 
   void deliver(const Measurement& m) {
     const Eigen::VectorXd f = task().features(m.points);

@@ -213,9 +213,15 @@
 // ahead, where it trades a bias for less noise, but a slow target's velocity is always small against
 // it (5 px/s under 1 px of noise at 25 Hz), and the law averages the noise out while the bias
 // stays: kf-ca fed 1.8 px/s of e5-line's 5 forward. d_x is then the unweighted start's step, and
-// w_ff judges that velocity. The loop's `both` mode acts on the blended forecast
-// and gets its velocity (predictVelocity()), the pair the blend makes. Figures: docs/PERFORMANCE.md
-// "The feed-forward's velocity".
+// w_ff judges that velocity. At a zero horizon (a query at the last update's time: a loop without
+// vision delay, e8) the feed-forward's velocity is predictVelocity()'s, the filter's own with the
+// start-up factor (below, "The start of a track"): there w_ff times it fed e8-vtc and e8-ibvs 11 %
+// less well (10 seeds, every predictor at its defaults; no cell better), while over a horizon w_ff is
+// what lets e5's slow leaders be followed. The servo loop feeds this velocity forward in both its
+// modes that feed one (`feedforward`, `both`): in `both` the blended forecast's own velocity, scaled
+// towards hold on e5's slow leaders as its position is, had left every predictor behind hold there
+// (4.6 px against 4.0 on e5-line), now 0.7-1.0. Figures: docs/PERFORMANCE.md "The feed-forward's
+// velocity" and "Innovations made white".
 // Units: px, s; the weight is dimensionless, so the rule holds at any frame rate and noise level.
 // tau = 0 switches the blend off; its default is kDefaultHoldBlendTauS whatever the other keys say
 // (`shrink_sigmas: 0` turns the weighting off, not the blend: the papers' plain filters give both,
@@ -911,13 +917,14 @@ class ChannelPredictor : public Predictor {
   /// x(1) of F x from the feed-forward's start (feedforwardStartMean(): the velocity not weighted by
   /// its significance), neither capped nor blended with hold but times the feed-forward's weight
   /// w_ff when the blend is on (Predictor::feedforwardVelocity(), file comment "The feed-forward's
-  /// velocity"); without the blend and the weighting, predictVelocity()'s number.
+  /// velocity"); at a zero horizon, and without the blend and the weighting, predictVelocity()'s
+  /// number.
   double feedforwardVelocity(int channel, double t_s) const override {
     const ChannelState& s = state_.at(channel);
     if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
     const double w = blend_tau_s_ > 0.0 ? s.feedforward.weight(blend_prior_) : 1.0;
     const double dt = t_s - time();
-    if (!(dt > 0.0)) return w * s.g.x(1);
+    if (!(dt > 0.0)) return predictVelocity(channel, t_s);  // a zero horizon: the filter's own (file comment)
     Vec<N> x;
     if (forecastWeightingOn()) feedforwardStartMean(channel, x);
     else x = s.g.x;

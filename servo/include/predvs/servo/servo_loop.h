@@ -32,10 +32,12 @@
 //           ds_c/dt(t_eff) = the predictor's velocity: the target-induced feature rate
 //       and `forecast` decides what the task gets:
 //         feature      acts on s_hat(t_eff), no feed-forward
-//         feedforward  acts on the latest measurement, feeds the target rate forward (default);
-//                      the rate is Predictor::feedforwardVelocity(), judged at a law's bandwidth
-//         both         acts on s_hat(t_eff) and feeds the target rate forward; the rate is that
-//                      forecast's own, predictVelocity() (blended with hold as its position);
+//         feedforward  acts on the latest measurement, feeds the target rate forward (default)
+//         both         acts on s_hat(t_eff) and feeds the target rate forward
+//       where the rate is Predictor::feedforwardVelocity(), judged at a law's bandwidth (in `both`
+//       until 2026-12-05 the forecast's own predictVelocity(), blended with hold as its position:
+//       on e5's slow leaders that was about 0, and every predictor with its defaults fell behind
+//       hold there);
 //       (the task observes the same rate with each delivered frame);
 //     A channel lost for lost.timeout_s or more (acquisition times; lost_feature_policy.h) is no
 //     longer extrapolated: with lost.action hold the predictor's position for it is replaced by the
