@@ -216,7 +216,7 @@
 // w_ff judges that velocity. At a zero horizon (a query at the last update's time: a loop without
 // vision delay, e8) the feed-forward's velocity is predictVelocity()'s, the filter's own with the
 // start-up factor (below, "The start of a track"): there w_ff times it fed e8-vtc and e8-ibvs 11 %
-// less well (10 seeds, every predictor at its defaults; no cell better), while over a horizon w_ff is
+// less well (10 seeds, every predictor at its defaults, geometric mean), while over a horizon w_ff is
 // what lets e5's slow leaders be followed. The servo loop feeds this velocity forward in both its
 // modes that feed one (`feedforward`, `both`): in `both` the blended forecast's own velocity, scaled
 // towards hold on e5's slow leaders as its position is, had left every predictor behind hold there
