@@ -733,12 +733,12 @@ void ImmPredictor::normaliseForecastWeights(Channel& ch, double power) const {
 }
 
 Vec<3> ImmPredictor::forecastStartMean(const Channel& ch, int j) const {
-  const Gaussian<3>& g = ch.g[static_cast<size_t>(j)];
-  Vec<3> x = g.x;
+  // the feed-forward's start with the CA mode's v and a weighted by w_v (the same products in order)
+  Vec<3> x = feedforwardStartMean(ch, j);
   if (modes_[static_cast<size_t>(j)].kind == ImmMode::Ca) {
+    const Gaussian<3>& g = ch.g[static_cast<size_t>(j)];
     const double w_v = significanceWeight(g.x(1), g.P(1, 1), shrink_v_sigmas_);
     x(1) *= w_v;
-    x(2) *= significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_);
     x(2) *= w_v;
   }
   return x;

@@ -886,8 +886,7 @@ class ChannelPredictor : public Predictor {
     if (!(dt > 0.0)) {  // the posterior, its derivatives times the start-up factor (file comment)
       ChannelEstimate e = toEstimate(s.g);
       const double k = startFactor(s);
-      if (k != 1.0)
-        for (int i = 1; i < N; ++i) e.x(i) = s.g.x(i) * k;
+      for (int i = 1; i < N; ++i) e.x(i) *= k;
       return e;
     }
     Gaussian<N> g = forecastWeightingOn() ? weightedForecastStart(channel) : s.g;
@@ -902,10 +901,7 @@ class ChannelPredictor : public Predictor {
     const ChannelState& s = state_.at(channel);
     if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
     const double dt = t_s - time();
-    if (!(dt > 0.0)) {
-      const double k = startFactor(s);
-      return k != 1.0 ? s.g.x(1) * k : s.g.x(1);
-    }
+    if (!(dt > 0.0)) return s.g.x(1) * startFactor(s);
     Vec<N> x;
     if (forecastWeightingOn()) weightedForecastMean(channel, x);
     else x = s.g.x;
@@ -922,9 +918,9 @@ class ChannelPredictor : public Predictor {
   double feedforwardVelocity(int channel, double t_s) const override {
     const ChannelState& s = state_.at(channel);
     if (!s.initialized) return std::numeric_limits<double>::quiet_NaN();
-    const double w = blend_tau_s_ > 0.0 ? s.feedforward.weight(blend_prior_) : 1.0;
     const double dt = t_s - time();
     if (!(dt > 0.0)) return predictVelocity(channel, t_s);  // a zero horizon: the filter's own (file comment)
+    const double w = blend_tau_s_ > 0.0 ? s.feedforward.weight(blend_prior_) : 1.0;
     Vec<N> x;
     if (forecastWeightingOn()) feedforwardStartMean(channel, x);
     else x = s.g.x;
@@ -1010,9 +1006,10 @@ class ChannelPredictor : public Predictor {
     ChannelState& s = state_[static_cast<size_t>(c)];
     s.head = (s.head + 1) % kMaxBlendFrames;
     Vec<N>& start = s.x_start[static_cast<size_t>(s.head)];
-    if (forecastWeightingOn()) {
-      weightedForecastMean(c, start);
+    if (forecastWeightingOn()) {  // the feed-forward's start, and the forecast's: it weighted by w_v
       feedforwardStartMean(c, s.x_ff_start);
+      start = s.x_ff_start;
+      weighVelocity(c, start);
     } else {
       start = s.g.x;
     }
@@ -1141,13 +1138,18 @@ class ChannelPredictor : public Predictor {
     x(1) = g.x(1);
     if constexpr (N == 3) x(2) = g.x(2) * significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_);
   }
-  /// Its mean alone, written into x entry by entry (no Gaussian copied).
+  /// Its mean alone, written into x entry by entry (no Gaussian copied): the feed-forward's start
+  /// with its derivatives weighted by w_v (the same products in the same order).
   void weightedForecastMean(int c, Vec<N>& x) const {
+    feedforwardStartMean(c, x);
+    weighVelocity(c, x);
+  }
+  /// x(1) (and x(2)) of a start of channel c times w_v = w(v, P_vv; shrink_v_sigmas) (file comment).
+  void weighVelocity(int c, Vec<N>& x) const {
     const Gaussian<N>& g = state_[static_cast<size_t>(c)].g;
     const double w_v = significanceWeight(g.x(1), g.P(1, 1), shrink_v_sigmas_);
-    x(0) = g.x(0);
-    x(1) = g.x(1) * w_v;
-    if constexpr (N == 3) x(2) = g.x(2) * significanceWeight(g.x(2), g.P(2, 2), shrink_a_sigmas_) * w_v;
+    x(1) *= w_v;
+    if constexpr (N == 3) x(2) *= w_v;
   }
   /// The adaptation of a density set by the key `q` (process_noise_adapt.h): `q: auto`, covariance
   /// matching; `q` absent, the raise (readProcessNoiseRaise: the whitening in a closed loop);

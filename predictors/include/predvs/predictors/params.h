@@ -25,7 +25,8 @@ class Params {
   /// of what the user or a file gave.
   void setUnlessGiven(const std::string& key, double value) {
     if (!has(key)) set(key, value);
-  }  /// Removes `key` (number or word); nothing when absent.
+  }
+  /// Removes `key` (number or word); nothing when absent.
   void erase(const std::string& key) {
     values_.erase(key);
     texts_.erase(key);
