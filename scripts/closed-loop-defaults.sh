@@ -59,6 +59,7 @@ for (variant, predictor) in sorted(tables[0], key=lambda k: (k[0], k[1] != "hold
     line = f"{variant:19s} {predictor:16s}"
     for t in tables:
         r, h = t.get((variant, predictor)), t.get((variant, "hold"))
-        line += f" {r:10.3f} {h / r:7.1f}x" if r and h else f" {'-':>10s} {'-':>8s}"
+        line += f" {r:10.3f}" if r else f" {'-':>10s}"
+        line += f" {h / r:7.1f}x" if r and h else f" {'-':>8s}"
     print(line)
 EOF

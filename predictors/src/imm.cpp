@@ -148,9 +148,12 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
   // The raise of q (process_noise_adapt.h) as kf-cv's and kf-ca's: on the combined innovation, it
   // scales the CA mode's density and, to the power q_raise_cv_exponent, the CV mode's (imm.h, "The
   // raise of q on each mode"); only when neither q_cv nor q_ca is given.
-  q_raise_ = processNoiseRaise(params, {"q_cv", "q_ca"}, blend_tau_s_ > 0.0);
-  // Without the CP mode in a closed loop unless `cp` is given (imm.h, "In a closed loop").
+  q_raise_ = processNoiseRaise(params, {"q_cv", "q_ca"}, blend_tau_s_ > 0.0, InnovationStatistic::Whiteness,
+                               kDefaultQWhiteRhoAcceleration);
+  // Without the CP mode in a closed loop unless `cp` is given (imm.h, "In a closed loop"); there
+  // the feed-forward learns its own weights (imm.h, "The feed-forward's velocity").
   const bool with_cp = params.get("cp", closedLoopParam(params) ? 0.0 : 1.0, 0.0, 1.0) >= 0.5;
+  learn_feedforward_ = closedLoopParam(params) && blend_tau_s_ > 0.0;
   const double tau_cp = params.get("tau_cp_s", 5.0, 1e-6, 1e6);
   const double tau_cv = params.get("tau_cv_s", 30.0, 1e-6, 1e6);
   const double tau_ca = params.get("tau_ca_s", 3.0, 1e-6, 1e6);
@@ -174,6 +177,9 @@ void ImmPredictor::reset() {
   init.mu.fill(0.0);
   for (int j = 0; j < modeCount(); ++j) init.mu[static_cast<size_t>(j)] = 1.0 / modeCount();
   init.fw = init.mu;
+  int moving = 0;
+  for (const Mode& md : modes_) moving += md.dim > 1;
+  for (int j = 0; j < modeCount(); ++j) init.ff_w[static_cast<size_t>(j)] = modes_[static_cast<size_t>(j)].dim > 1 ? 1.0 / moving : 0.0;
   init.fc_cal.fill(1.0);
   init.q_raise = q_raise_.value_or(ProcessNoiseMatcher());
   chan_.assign(static_cast<size_t>(channels()), init);
@@ -261,6 +267,7 @@ const ImmPredictor::PeriodModels& ImmPredictor::periodModels(double dt) const {
     }
     e.keep = fc_tau_s_ > 0.0 ? std::exp(-dt / fc_tau_s_) : 0.0;
     e.blend_keep = blend_tau_s_ > 0.0 ? std::exp(-dt / blend_tau_s_) : 0.0;
+    e.feedforward_keep = std::exp(-dt / kFeedforwardTauS);
     return e;
   });
 }
@@ -436,6 +443,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
       // the combination's step is not split (it is blended only with blend_per_mode 0)
       ch.blend.learn(d_step, 0.0, z(c) - ch.blend.z_hold, blend_keep, blend_sigmas_, false, blend_prior_);
+      if (learn_feedforward_) learnFeedforward(ch, z(c), F, blend_keep, fm.feedforward_keep);
       if (blend_frames_ > 1) learnLongerBlend(ch, t_s, z(c), blend_keep);
     }
     const bool started_gap = ch.last_measured && !measured;
@@ -631,6 +639,56 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
   }
 }
 
+namespace {
+
+/// A mode's share of the feed-forward before normalising, from the ratio r = S_min / S_j <= 1 of the
+/// best mode's error sum to its own: r^kFeedforwardModePower (imm.h, "The feed-forward's velocity").
+constexpr int kFeedforwardModePower = 16;
+double feedforwardShare(double r) {
+  static_assert(kFeedforwardModePower == 16, "the power is four squarings");
+  r *= r;
+  r *= r;
+  r *= r;
+  return r * r;
+}
+
+}  // namespace
+
+void ImmPredictor::learnFeedforward(Channel& ch, double z, const std::array<Mat<3>, kMaxModes>& F, double lambda,
+                                    double a) const {
+  // Each moving mode's one-frame step from its feed-forward start (the posterior of the last update,
+  // still in ch.g), combined with the weights the feed-forward used over that frame.
+  const int m = modeCount();
+  const std::array<double, kMaxModes>& u = ch.ff_w;
+  std::array<double, kMaxModes> step{};
+  double d = 0.0;
+  for (int j = 0; j < m; ++j) {
+    const auto jj = static_cast<size_t>(j);
+    if (modes_[jj].dim < 2) continue;  // CP does not move
+    const Vec<3> x = feedforwardStartMean(ch, j);
+    step[jj] = F[jj](0, 1) * x(1) + (modes_[jj].dim > 2 ? F[jj](0, 2) * x(2) : 0.0);
+    d += u[jj] * step[jj];
+  }
+  ch.feedforward.learn(d, z - ch.blend.z_hold, a, lambda);
+  // Each mode's low-passed step against the low-passed measured step, and the weights from their sums.
+  double best = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < m; ++j) {
+    const auto jj = static_cast<size_t>(j);
+    if (modes_[jj].dim < 2) continue;
+    ch.ff_step[jj] = a * ch.ff_step[jj] + (1.0 - a) * step[jj];
+    const double e = ch.feedforward.y - ch.ff_step[jj];
+    ch.ff_sq[jj] = lambda * ch.ff_sq[jj] + e * e;
+    best = std::min(best, ch.ff_sq[jj]);
+  }
+  double sum = 0.0;
+  for (int j = 0; j < m; ++j) {
+    const auto jj = static_cast<size_t>(j);
+    ch.ff_w[jj] = modes_[jj].dim < 2 ? 0.0 : ch.ff_sq[jj] > 0.0 ? feedforwardShare(best / ch.ff_sq[jj]) : 1.0;
+    sum += ch.ff_w[jj];
+  }
+  for (int j = 0; j < m; ++j) ch.ff_w[static_cast<size_t>(j)] /= sum;
+}
+
 void ImmPredictor::rememberBlendStart(Channel& ch, double t_s) const {
   ch.start_head = (ch.start_head + 1) % kMaxBlendFrames;
   Channel::BlendStart& st = ch.starts[static_cast<size_t>(ch.start_head)];
@@ -791,14 +849,19 @@ double ImmPredictor::feedforwardVelocity(int channel, double t_s) const {
   const Channel& ch = chan_.at(static_cast<size_t>(channel));
   if (!ch.initialized) return std::numeric_limits<double>::quiet_NaN();
   const double dt = t_s - time();
-  if (!(dt > 0.0)) return predict(channel, t_s).velocity();
-  const std::array<double, kMaxModes>& w = forecastWeights(ch);
+  const std::array<double, kMaxModes>& u = feedforwardWeights(ch);
   double v = 0.0;
+  if (!(dt > 0.0) && !learn_feedforward_) return predict(channel, t_s).velocity();  // as before the feed-forward's own (imm.h)
+  if (!(dt > 0.0)) {  // a zero horizon: the posteriors' velocities, without w_ff (imm.h)
+    for (int j = 0; j < modeCount(); ++j)
+      if (modes_[static_cast<size_t>(j)].dim > 1) v += u[static_cast<size_t>(j)] * ch.g[static_cast<size_t>(j)].x(1);
+    return v;
+  }
   for (int j = 0; j < modeCount(); ++j) {
     if (modes_[static_cast<size_t>(j)].dim < 2) continue;  // a constant position: no velocity
-    v += w[static_cast<size_t>(j)] * predictedMean(feedforwardStartMean(ch, j), transition(j, dt))(1);
+    v += u[static_cast<size_t>(j)] * predictedMean(feedforwardStartMean(ch, j), transition(j, dt))(1);
   }
-  return v;
+  return learn_feedforward_ ? ch.feedforward.weight(blend_prior_) * v : v;
 }
 
 double ImmPredictor::predictPosition(int channel, double t_s) const {
@@ -842,6 +905,14 @@ NamedValues ImmPredictor::diagnostics() const {
     for (int j = 0; j < modeCount(); ++j)
       out.emplace_back(std::string("fw_") + immModeName(modes_[static_cast<size_t>(j)].kind) + "_" + std::to_string(c),
                        forecastWeight(c, modes_[static_cast<size_t>(j)].kind));
+  // Then, when it learns them (a closed loop), the feed-forward's weights of the moving modes (imm.h,
+  // "The feed-forward's velocity").
+  if (!learn_feedforward_) return out;
+  for (int c = 0; c < channels(); ++c)
+    for (int j = 0; j < modeCount(); ++j)
+      if (modes_[static_cast<size_t>(j)].dim > 1)
+        out.emplace_back(std::string("ff_") + immModeName(modes_[static_cast<size_t>(j)].kind) + "_" + std::to_string(c),
+                         chan_[static_cast<size_t>(c)].ff_w[static_cast<size_t>(j)]);
   return out;
 }
 

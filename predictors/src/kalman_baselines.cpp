@@ -27,7 +27,7 @@ KfCaPredictor::KfCaPredictor(int channels, const Params& params)
       q_(processNoiseParam(params, "q", kDefaultQCa, 0.0, 1e15)) {
   readCoastParam(params);
   readShrinkParams(params, kDefaultShrinkSigmasKfCa, kDefaultShrinkVelocityKfCa);
-  readProcessNoiseAdaptation(params);
+  readProcessNoiseAdaptation(params, kDefaultQWhiteRhoAcceleration);
   if (isAutoMeasurementNoise(params)) enableAutoNoise();
 }
 

@@ -30,13 +30,14 @@ double processNoiseRaiseRatio(const Params& params) {
 }
 
 std::optional<ProcessNoiseMatcher> processNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys,
-                                                     bool blend_on, InnovationStatistic in_closed_loop) {
+                                                     bool blend_on, InnovationStatistic in_closed_loop, double white_rho) {
   const double ratio = processNoiseRaiseRatio(params);
+  const double rho = params.get("q_white_rho", white_rho, -kQWhiteRhoMax, kQWhiteRhoMax);
   const bool closed_loop = closedLoopParam(params);
   for (const char* key : fixing_keys)
     if (params.has(key)) return std::nullopt;
   if (closed_loop)
-    return in_closed_loop == InnovationStatistic::Whiteness ? ProcessNoiseMatcher::whitening() : ProcessNoiseMatcher();
+    return in_closed_loop == InnovationStatistic::Whiteness ? ProcessNoiseMatcher::whitening(rho) : ProcessNoiseMatcher();
   if (!blend_on || !(ratio > 0.0)) return std::nullopt;
   return ProcessNoiseMatcher::raise(ratio);
 }
@@ -47,9 +48,10 @@ ProcessNoiseMatcher::ProcessNoiseMatcher(double tau_s, double scale_min, double 
     throw std::invalid_argument("process-noise adaptation: need tau_s > 0, scale_min <= 1 <= scale_max and target > 0");
 }
 
-ProcessNoiseMatcher ProcessNoiseMatcher::whitening() {
+ProcessNoiseMatcher ProcessNoiseMatcher::whitening(double rho) {
   ProcessNoiseMatcher m(kDefaultQWhitenTauS);
   m.statistic_ = InnovationStatistic::Whiteness;
+  m.target_ = rho;
   return m;
 }
 
@@ -59,7 +61,7 @@ void ProcessNoiseMatcher::observe(double eps, double S, double dt_s) {
   if (statistic_ == InnovationStatistic::Whiteness) {
     const double e = eps / std::sqrt(S);
     const bool first = !have_last_e_;
-    step = std::clamp(last_e_ * e, -kQWhitenStepMax, kQWhitenStepMax);
+    step = std::clamp(last_e_ * e, -kQWhitenStepMax, kQWhitenStepMax) - target_;
     last_e_ = e;
     have_last_e_ = true;
     if (first) return;

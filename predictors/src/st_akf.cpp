@@ -36,7 +36,7 @@ StAkfPredictor<N>::StAkfPredictor(int channels, const Params& params)
   this->readCoastParam(params);
   this->readAdaptAfterGapParam(params);
   this->readShrinkParams(params, N == 2 ? kDefaultShrinkSigmasStAkfCv : kDefaultShrinkSigmasStAkf, kDefaultShrinkVelocityStAkf);
-  this->readProcessNoiseAdaptation(params);
+  this->readProcessNoiseAdaptation(params, N == 3 ? kDefaultQWhiteRhoAcceleration : kDefaultQWhiteRho);
   const double a1 = params.get("a1", 1.0, 1.0, 1e6), a2 = params.get("a2", 1.0, 1.0, 1e6);
   const double a3 = params.get("a3", 1.0, 1.0, 1e6);  // read on cv too, unused there (header)
   if constexpr (N == 2)

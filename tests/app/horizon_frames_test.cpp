@@ -129,12 +129,14 @@ TEST_F(HorizonFrames, TrackStudyTellsThePredictorsItsHorizon) {
 }
 
 TEST(HorizonFramesScenario, ScenarioRunsTellThePredictorsTheLongestHorizonOfTheirTiming) {
-  // GIVEN e5-line (80 ms of latency and 40 ms of command lag at 25 Hz: 3 frames) and e4-circle-large
-  // (open loop, 0.5 s at 10 Hz: 5 frames), each with imm at its defaults (its filter scores its
-  // blended forecasts, so the blend's horizons change its figures even in feedforward mode)
+  // GIVEN e5-line (80 ms of latency and 40 ms of command lag at 25 Hz: 3 frames) in `both` mode, where
+  // the task acts on the forecast (in feedforward mode imm's velocity is its feed-forward's, whose
+  // weights the blend's horizons do not change: imm.h), and e4-circle-large (open loop, 0.5 s at
+  // 10 Hz: 5 frames), each with imm at its defaults
   for (const char* name : {"e5-line", "e4-circle-large"}) {
     SCOPED_TRACE(name);
-    const Scenario sc = loadScenario(resolveScenario(name));
+    Scenario sc = loadScenario(resolveScenario(name));
+    sc.closed_loop.forecast = ForecastMode::Both;
     const double h = TimingModel(sc.kind == ScenarioKind::ClosedLoop ? sc.closed_loop.timing : sc.open_loop.timing).longestHorizonFrames();
     EXPECT_GE(h, 3.0 - 1e-9);
     auto figures = [&](Params params) {

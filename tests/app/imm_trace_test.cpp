@@ -90,7 +90,8 @@ TEST_F(ImmTrace, ClosedLoopServoLogHasTheModeProbabilitiesToo) {
   // THEN log.csv ends with imm's diagnostics for each of the 8 feature channels, empty on kf-cv's
   // rows and filled on imm's once a frame has arrived (its CV and CA modes: in a closed loop imm
   // leaves its CP mode out, imm.h)
-  const std::string tail = ",fw_cv_7,fw_ca_7";
+  const std::string tail = ",fw_cv_7,fw_ca_7,ff_cv_0,ff_ca_0,ff_cv_1,ff_ca_1,ff_cv_2,ff_ca_2,ff_cv_3,ff_ca_3,ff_cv_4,ff_ca_4,ff_cv_5,"
+                           "ff_ca_5,ff_cv_6,ff_ca_6,ff_cv_7,ff_ca_7";
   ASSERT_GE(header.size(), tail.size());
   EXPECT_EQ(header.substr(header.size() - tail.size()), tail) << header;
   EXPECT_NE(header.find(",wz,mu_cv_0,mu_ca_0,mu_cv_1,"), std::string::npos) << header;

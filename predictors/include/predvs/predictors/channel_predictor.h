@@ -1154,13 +1154,15 @@ class ChannelPredictor : public Predictor {
   /// The adaptation of a density set by the key `q` (process_noise_adapt.h): `q: auto`, covariance
   /// matching; `q` absent, the raise (readProcessNoiseRaise: the whitening in a closed loop);
   /// a number, none (q fixed). Called by the derived constructors whose `q` takes `auto` (kf-cv,
-  /// kf-ca, st-akf, fakf-classic).
-  void readProcessNoiseAdaptation(const Params& params) {
+  /// kf-ca, st-akf, fakf-classic); `white_rho`, the default of the whitening's target (q_white_rho,
+  /// process_noise_adapt.h).
+  void readProcessNoiseAdaptation(const Params& params, double white_rho = kDefaultQWhiteRho) {
     if (isAutoProcessNoise(params, "q")) {
-      processNoiseRaiseRatio(params);  // a known key there too, unused
+      processNoiseRaiseRatio(params);  // known keys there too, unused
+      params.get("q_white_rho", white_rho, -kQWhiteRhoMax, kQWhiteRhoMax);
       q_auto_.assign(state_.size(), ProcessNoiseMatcher());
     } else {
-      readProcessNoiseRaise(params, {"q"});
+      readProcessNoiseRaise(params, {"q"}, InnovationStatistic::Whiteness, white_rho);
     }
   }
   /// The raise above the default density while the innovations exceed q_raise_ratio times their
@@ -1170,8 +1172,9 @@ class ChannelPredictor : public Predictor {
   /// instead (the whitening unless said): processNoiseRaise(). Called by the derived constructors
   /// whose processNoise() scales its density by processNoiseScale().
   void readProcessNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys,
-                             InnovationStatistic in_closed_loop = InnovationStatistic::Whiteness) {
-    if (const auto raise = processNoiseRaise(params, fixing_keys, blend_tau_s_ > 0.0, in_closed_loop))
+                             InnovationStatistic in_closed_loop = InnovationStatistic::Whiteness,
+                             double white_rho = kDefaultQWhiteRho) {
+    if (const auto raise = processNoiseRaise(params, fixing_keys, blend_tau_s_ > 0.0, in_closed_loop, white_rho))
       q_auto_.assign(state_.size(), *raise);
   }
   /// q / q0 of channel c: 1 unless q is adapted (readProcessNoiseAdaptation, readProcessNoiseRaise).

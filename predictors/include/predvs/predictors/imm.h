@@ -165,13 +165,40 @@
 // deviation of 16). Leaving CP out of the mixing alone gave e5-line 2.3 px instead of 2.7; without
 // the mode imm is the IMM of kf-cv's and kf-ca's models, 0.8 px (10 seeds; docs/PERFORMANCE.md
 // "Innovations made white"). In the open loop the CP mode stays: it is imm's own judgement of hold.
+// The feed-forward's velocity (feedforwardVelocity(); channel_predictor.h, "The feed-forward's
+// velocity"): sum_j u_j (F_j x_ff_j)(1) over the moving modes, times w_ff, with x_ff_j the mode's
+// feed-forward start (the CA mode's velocity not weighted by its significance) and w_ff learnt, as a
+// channel filter's, on the combination's one-frame step sum_j u_j d_j, d_j = (F_j x_ff_j)(0) - x_ff_j(0).
+// The weights u_j are the feed-forward's own: each moving mode's step low-passed with
+// kFeedforwardTauS, D_j, is compared with the low-passed measured step Y (w_ff's pair), the
+// forgetting sums S_j = sum lambda^(k-i) (Y - D_j)^2 are kept (lambda the blend's), and
+//   u_j = (min_i S_i / S_j)^16 / normalisation  (equal shares before the first sample; CP's 0),
+// so a mode's share halves for every 4.4 % of error more than the best one's. At a zero horizon
+// the posteriors' velocities are mixed by u, without w_ff (as the channel filters' zero horizon).
+// u and w_ff are learnt only when imm is told it serves a closed loop (`closed_loop: 1`, predictor.h)
+// with the blend on: the feed-forward's one caller is the servo loop, and on `predict`'s 2-million-row
+// track the learning cost 0.13 s of CPU (imm alone 2.04 -> 2.17 s, docs/PERFORMANCE.md "A lagging
+// acceleration model in the closed loop") for weights nobody read. Otherwise (and without the blend,
+// hold_blend_tau_s 0: the papers' scenarios) the feed-forward's velocity is the forecast-weighted one
+// it was before them (predict()'s at a zero horizon).
+// Why: the forecast weights score one-frame positions, where the two models differ by less than
+// the noise; on e5-line's 5 px/s leader they gave the CA mode 0.96 of the velocity, whose noise the
+// law then integrated, while u gives the CV mode 0.65-0.73. Measured (10 seeds, 24 closed-loop
+// cells, every predictor at its defaults; docs/PERFORMANCE.md "A lagging acceleration model in the
+// closed loop"): imm / min(kf-cv, kf-ca) over 1.1 on 2 cells (e5-line 1.14, e8-ibvs 1.16) instead of
+// 10 with the forecast weights and no w_ff, and 3 with w_ff alone. A power of 4 left 4 over (e9-broyden's
+// gains 6 and 7 too), 1000 (the better mode alone) 2 (e8-ibvs 1.18). Each mode whitened on its own
+// innovations instead of the shared scale made the modes kf-cv and kf-ca to 1 %, but then the
+// weights u chose the worse of the two on delay-study (1.18-1.34); the CV mode alone on its own
+// whitening lost 6 of 12 held-out variants of the default loop (up to 2.84 times).
 // Parameters (px and s): q_cp (px^2/s, default 2), q_cv (px^2/s^3, default kDefaultQCv), q_ca
 // (px^2/s^5, default kDefaultQCa; when neither q_cv nor q_ca is given and the blend with hold is
 // on, both are raised, per channel, while the combined innovation is more than q_raise_ratio
 // (default 2; 0 = no raise) times its predicted variance: process_noise_adapt.h; the CV mode by
 // the raise to the power q_raise_cv_exponent, above; in a closed loop, `closed_loop: 1`, the same
 // scale is moved until the combined innovations are white instead, down as well as up:
-// process_noise_adapt.h, predictor.h closedLoopParam),
+// process_noise_adapt.h, predictor.h closedLoopParam; q_white_rho, the whiteness aimed at, default
+// kDefaultQWhiteRhoAcceleration: process_noise_adapt.h, "The whitening's target"),
 // alpha (1/s, default 0: CA; > 0: Singer), r (px^2; default `auto`,
 // predictors/noise_estimate.h; a number fixes it), tau_cp_s (5), tau_cv_s (30), tau_ca_s (3)
 // (stationary shares 13 / 79 / 8 %), cp (1, and 0 with `closed_loop: 1`, below; 0 leaves the CP
@@ -251,9 +278,10 @@ class ImmPredictor : public Predictor {
   /// predict(channel, t_s).position() without the covariances: sum_j mu_j (F_j x_j)(0), the same
   /// arithmetic in the same order (bit for bit).
   double predictPosition(int channel, double t_s) const override;
-  /// sum_j w_j (F_j x_j)(1) of the moving modes' feed-forward starts (feedforwardStartMean()), w the
-  /// forecast's weights (forecastWeights()), without the modes' blends with hold
-  /// (Predictor::feedforwardVelocity()).
+  /// w_ff sum_j u_j (F_j x_j)(1) of the moving modes' feed-forward starts (feedforwardStartMean()), u
+  /// the feed-forward's weights (file comment, "The feed-forward's velocity"), without the modes'
+  /// blends with hold (Predictor::feedforwardVelocity()); at a zero horizon sum_j u_j v_j of the
+  /// posteriors.
   double feedforwardVelocity(int channel, double t_s) const override;
   Innovation innovation(int channel) const override { return chan_.at(static_cast<size_t>(channel)).innovation; }
   NamedValues diagnostics() const override;
@@ -301,6 +329,13 @@ class ImmPredictor : public Predictor {
     Innovation innovation;
     StartupNoiseEstimator r_est;
     HoldBlend blend;  ///< the blend with hold (channel_predictor.h)
+    /// The feed-forward (file comment, "The feed-forward's velocity"): w_ff's regression on the
+    /// combination's one-frame step, each moving mode's low-passed one-frame step D_j and the
+    /// forgetting sum of (Y - D_j)^2 (Y the low-passed measured step, feedforward.y), and the
+    /// weights the feed-forward combines the modes with (equal shares of the moving modes until the
+    /// first sample; CP's is 0).
+    FeedforwardWeight feedforward;
+    std::array<double, kMaxModes> ff_step{}, ff_sq{}, ff_w{};
     bool last_measured = false;
     /// The raise of q (process_noise_adapt.h); its scale stays 1 unless q_raise_ is set.
     ProcessNoiseMatcher q_raise;
@@ -402,6 +437,19 @@ class ImmPredictor : public Predictor {
   const std::array<double, kMaxModes>& forecastWeights(const Channel& ch) const {
     return fc_tau_s_ > 0.0 ? ch.fw : ch.mu;
   }
+  /// The weights the feed-forward's velocity combines the modes with on channel ch: its own (file
+  /// comment, "The feed-forward's velocity") when it learns them, else the forecast's, as before them.
+  const std::array<double, kMaxModes>& feedforwardWeights(const Channel& ch) const {
+    return learn_feedforward_ ? ch.ff_w : forecastWeights(ch);
+  }
+  /// True when the feed-forward's weights and w_ff are learnt: told `closed_loop: 1`, with the blend
+  /// on (file comment, "The feed-forward's velocity").
+  bool learn_feedforward_ = false;
+  /// The feed-forward's sample of channel ch on a measured frame z after a measured one, F the
+  /// modes' transitions over the frame, lambda the blend's forgetting and a the feed-forward's
+  /// low-pass: w_ff's regression on the combination's step, then each moving mode's error and the
+  /// modes' weights (file comment, "The feed-forward's velocity").
+  void learnFeedforward(Channel& ch, double z, const std::array<Mat<3>, kMaxModes>& F, double lambda, double a) const;
   /// ch.fw from ch.logw: exp(power logw_j), normalised (power < 1 on a frame without a measurement).
   void normaliseForecastWeights(Channel& ch, double power = 1.0) const;
   bool r_auto_;
@@ -420,7 +468,7 @@ class ImmPredictor : public Predictor {
   struct PeriodModels {
     ModeMatrix chain;
     std::array<Mat<3>, kMaxModes> F, Q;
-    double keep = 0.0, blend_keep = 0.0;
+    double keep = 0.0, blend_keep = 0.0, feedforward_keep = 0.0;
   };
   ModeMatrix computeChain(double dt) const;
   const PeriodModels& periodModels(double dt) const;

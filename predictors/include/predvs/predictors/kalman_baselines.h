@@ -44,7 +44,9 @@ class HoldPredictor : public ChannelPredictor<2> {
 /// Parameters: q (px^2/s^3, default kDefaultQCv = 1e4, raised above it while the innovations are
 /// more than q_raise_ratio (default 2) times their predicted variance when q is not given and the
 /// blend with hold is on; `auto`: adapted both ways from that value by covariance matching, opt-in;
-/// predictors/process_noise_adapt.h, docs/MODELS.md §15), r (measurement variance px^2;
+/// in a closed loop, `closed_loop: 1`, whitened instead, towards the lag-one correlation
+/// q_white_rho, default kDefaultQWhiteRho = 0; predictors/process_noise_adapt.h, docs/MODELS.md
+/// §15), r (measurement variance px^2;
 /// default `auto`: estimated from the first frames of each channel, predictors/noise_estimate.h; a
 /// number fixes it), p0_vel ((px/s)^2, default 1e4), coast_tau_s (s, default 0.2: the velocity
 /// decays with this time constant on frames without a measurement, channel_predictor.h),
@@ -70,7 +72,8 @@ class KfCvPredictor : public ChannelPredictor<2> {
 /// `kf-ca`: constant-acceleration Kalman filter per channel, x = [p, v, a],
 /// F = [[1, T, T^2/2], [0, 1, T], [0, 0, 1]], white-jerk Q of density q (px^2/s^5).
 /// Parameters: q (px^2/s^5, default kDefaultQCa = 3e5, raised as kf-cv's; or `auto` as kf-cv;
-/// q_raise_ratio as kf-cv), r (px^2, default
+/// q_raise_ratio as kf-cv; in a closed loop whitened towards q_white_rho, default
+/// kDefaultQWhiteRhoAcceleration = 0.2: process_noise_adapt.h, "The whitening's target"), r (px^2, default
 /// `auto` as kf-cv), p0_vel ((px/s)^2, 1e4), p0_acc ((px/s^2)^2, 1e4), coast_tau_s (s, 0.2, as
 /// kf-cv; the acceleration decays twice as fast), shrink_sigmas (n of the acceleration weight of
 /// the forecast, default kDefaultShrinkSigmasKfCa = 2; 0 = the unweighted filter),

@@ -63,7 +63,9 @@ inline constexpr bool kDefaultShrinkVelocityStAkf = true;
 ///
 /// Parameters: model (cv | ca, default ca), q (ca: px^2/s^5, default kDefaultQStAkf = 1e5, 1000
 /// before issue 11; cv: px^2/s^3, default kDefaultQStAkfCv = 1e4; raised as kf-cv's when not given,
-/// q_raise_ratio (default 2; 0 = no raise); `auto`: adapted both ways; process_noise_adapt.h),
+/// q_raise_ratio (default 2; 0 = no raise); `auto`: adapted both ways; in a closed loop whitened
+/// towards q_white_rho, default kDefaultQWhiteRhoAcceleration on ca, kDefaultQWhiteRho on cv;
+/// process_noise_adapt.h),
 /// r (px^2, default `auto`: predictors/noise_estimate.h),
 /// p0_vel ((px/s)^2, 1e4), p0_acc ((px/s^2)^2, 1e4), rho (0.95), beta (default 5 since issue 11,
 /// 1 before), a1, a2, a3 (1: preset ratios of the fading factors of p, v, a; each >= 1),
