@@ -267,7 +267,7 @@ const ImmPredictor::PeriodModels& ImmPredictor::periodModels(double dt) const {
     }
     e.keep = fc_tau_s_ > 0.0 ? std::exp(-dt / fc_tau_s_) : 0.0;
     e.blend_keep = blend_tau_s_ > 0.0 ? std::exp(-dt / blend_tau_s_) : 0.0;
-    e.feedforward_keep = std::exp(-dt / kFeedforwardTauS);
+    e.feedforward_keep = learn_feedforward_ ? std::exp(-dt / kFeedforwardTauS) : 0.0;  // read only then
     return e;
   });
 }
