@@ -662,20 +662,32 @@ class alignas(kCacheLineBytes) PlotTable : public BlockConsumer {  // written on
   size_t width() const { return width_; }
   size_t items(const PredictionBlock&) const override { return 1; }
   void run(const PredictionBlock& blk, size_t) override {
+    // Everything a row reads but the columns, read once here: the report and the track live beside
+    // what the other thread writes, and a double read in the loop (the horizon) is read again on
+    // every row, since the row's stores could alias it.
     const bool truth = track_.hasTruth();
+    const double horizon_s = report_.horizon_s;
+    const size_t runs = report_.runs.size();
+    const double* t = track_.t_s.data();
+    const double* u = track_.u_px[0].data();
+    const double* v = track_.v_px[0].data();
+    const double* u_true = truth ? track_.u_true_px[0].data() : nullptr;
+    const double* v_true = truth ? track_.v_true_px[0].data() : nullptr;
+    double* row = row_.data();
+    EnvelopeBuilder* builder = builder_.get();
     for (size_t i = blk.i0; i < blk.i1; ++i) {
-      row_[0] = track_.t_s[i];
-      row_[1] = track_.u_px[0][i];
-      row_[2] = track_.v_px[0][i];
-      row_[3] = track_.t_s[i] + report_.horizon_s;
-      row_[4] = truth ? track_.u_true_px[0][i] : kNaN;
-      row_[5] = truth ? track_.v_true_px[0][i] : kNaN;
-      for (size_t k = 0; k < report_.runs.size(); ++k) {
-        row_[6 + 2 * k] = blk.prediction(k, 0)[i - blk.i0];
-        row_[7 + 2 * k] = blk.prediction(k, 1)[i - blk.i0];
+      row[0] = t[i];
+      row[1] = u[i];
+      row[2] = v[i];
+      row[3] = t[i] + horizon_s;
+      row[4] = truth ? u_true[i] : kNaN;
+      row[5] = truth ? v_true[i] : kNaN;
+      for (size_t k = 0; k < runs; ++k) {
+        row[6 + 2 * k] = blk.prediction(k, 0)[i - blk.i0];
+        row[7 + 2 * k] = blk.prediction(k, 1)[i - blk.i0];
       }
-      if (builder_)
-        builder_->add(row_[0], row_.data());
+      if (builder)
+        builder->add(row[0], row);
       else
         rows_.insert(rows_.end(), row_.begin(), row_.end());
     }
