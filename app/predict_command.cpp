@@ -533,12 +533,24 @@ size_t csvRowBound(const FeatureTrack& track, const PredictionReport& report) {
 /// at p (room for (i1 - i0) * points * csvRowBound bytes); returns the end.
 char* writeCsvRows(char* p, const FeatureTrack& track, const PredictionReport& report, const PredictionBlock& blk,
                    size_t i0, size_t i1) {
+  // Every column's start and the horizon read once here: the text's char stores may alias anything,
+  // so in the loop each would be read again for every cell, from the track and the report, which
+  // live beside what the other thread writes.
   const int n = track.points();
   const bool single = n == 1;
+  const size_t points = static_cast<size_t>(n), runs = report.runs.size();
+  const double horizon_s = report.horizon_s;
+  const double* t = track.t_s.data();
+  std::vector<const double*> measured(2 * points), predicted(2 * points * runs);
+  for (size_t pp = 0; pp < points; ++pp) {
+    measured[2 * pp] = track.u_px[pp].data();
+    measured[2 * pp + 1] = track.v_px[pp].data();
+    for (size_t r = 0; r < runs; ++r)
+      for (size_t c = 0; c < 2; ++c) predicted[(pp * runs + r) * 2 + c] = blk.prediction(r, 2 * pp + c) - blk.i0;
+  }
   for (size_t i = i0; i < i1; ++i)
-    for (int k = 0; k < n; ++k) {
-      const size_t pp = static_cast<size_t>(k);
-      p = csvCell(p, track.t_s[i]);
+    for (size_t pp = 0; pp < points; ++pp) {
+      p = csvCell(p, t[i]);
       *p++ = ',';
       if (!single) {
         const std::string& name = track.point_names[pp];
@@ -546,16 +558,17 @@ char* writeCsvRows(char* p, const FeatureTrack& track, const PredictionReport& r
         p += name.size();
         *p++ = ',';
       }
-      p = csvCell(p, track.u_px[pp][i]);
+      p = csvCell(p, measured[2 * pp][i]);
       *p++ = ',';
-      p = csvCell(p, track.v_px[pp][i]);
+      p = csvCell(p, measured[2 * pp + 1][i]);
       *p++ = ',';
-      p = csvCell(p, track.t_s[i] + report.horizon_s);
-      for (size_t r = 0; r < report.runs.size(); ++r) {
+      p = csvCell(p, t[i] + horizon_s);
+      const double* const* column = predicted.data() + pp * runs * 2;
+      for (size_t r = 0; r < runs; ++r) {
         *p++ = ',';
-        p = csvCell(p, blk.prediction(r, 2 * pp)[i - blk.i0]);
+        p = csvCell(p, column[2 * r][i]);
         *p++ = ',';
-        p = csvCell(p, blk.prediction(r, 2 * pp + 1)[i - blk.i0]);
+        p = csvCell(p, column[2 * r + 1][i]);
       }
       *p++ = '\n';
     }
