@@ -535,7 +535,8 @@ char* writeCsvRows(char* p, const FeatureTrack& track, const PredictionReport& r
                    size_t i0, size_t i1) {
   // Every column's start and the horizon read once here: the text's char stores may alias anything,
   // so in the loop each would be read again for every cell, from the track and the report, which
-  // live beside what the other thread writes.
+  // may lie beside what the other thread writes (docs/PERFORMANCE.md, "A lagging acceleration model
+  // in the closed loop", item 8's run).
   const int n = track.points();
   const bool single = n == 1;
   const size_t points = static_cast<size_t>(n), runs = report.runs.size();
@@ -546,7 +547,7 @@ char* writeCsvRows(char* p, const FeatureTrack& track, const PredictionReport& r
     measured[2 * pp] = track.u_px[pp].data();
     measured[2 * pp + 1] = track.v_px[pp].data();
     for (size_t r = 0; r < runs; ++r)
-      for (size_t c = 0; c < 2; ++c) predicted[(pp * runs + r) * 2 + c] = blk.prediction(r, 2 * pp + c) - blk.i0;
+      for (size_t c = 0; c < 2; ++c) predicted[(pp * runs + r) * 2 + c] = blk.prediction(r, 2 * pp + c);
   }
   for (size_t i = i0; i < i1; ++i)
     for (size_t pp = 0; pp < points; ++pp) {
@@ -564,11 +565,12 @@ char* writeCsvRows(char* p, const FeatureTrack& track, const PredictionReport& r
       *p++ = ',';
       p = csvCell(p, t[i] + horizon_s);
       const double* const* column = predicted.data() + pp * runs * 2;
+      const size_t in_block = i - blk.i0;
       for (size_t r = 0; r < runs; ++r) {
         *p++ = ',';
-        p = csvCell(p, column[2 * r][i]);
+        p = csvCell(p, column[2 * r][in_block]);
         *p++ = ',';
-        p = csvCell(p, column[2 * r + 1][i]);
+        p = csvCell(p, column[2 * r + 1][in_block]);
       }
       *p++ = '\n';
     }
@@ -675,9 +677,9 @@ class alignas(kCacheLineBytes) PlotTable : public BlockConsumer {  // written on
   size_t width() const { return width_; }
   size_t items(const PredictionBlock&) const override { return 1; }
   void run(const PredictionBlock& blk, size_t) override {
-    // Everything a row reads but the columns, read once here: the report and the track live beside
-    // what the other thread writes, and a double read in the loop (the horizon) is read again on
-    // every row, since the row's stores could alias it.
+    // Everything a row reads but the columns, read once here: the report and the track may lie
+    // beside what the other thread writes, and a double read in the loop (the horizon) is read again
+    // on every row, since the row's stores could alias it.
     const bool truth = track_.hasTruth();
     const double horizon_s = report_.horizon_s;
     const size_t runs = report_.runs.size();
