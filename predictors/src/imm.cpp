@@ -849,9 +849,9 @@ double ImmPredictor::feedforwardVelocity(int channel, double t_s) const {
   const Channel& ch = chan_.at(static_cast<size_t>(channel));
   if (!ch.initialized) return std::numeric_limits<double>::quiet_NaN();
   const double dt = t_s - time();
+  if (!(dt > 0.0) && !learn_feedforward_) return predict(channel, t_s).velocity();  // as before the feed-forward's own (imm.h)
   const std::array<double, kMaxModes>& u = feedforwardWeights(ch);
   double v = 0.0;
-  if (!(dt > 0.0) && !learn_feedforward_) return predict(channel, t_s).velocity();  // as before the feed-forward's own (imm.h)
   if (!(dt > 0.0)) {  // a zero horizon: the posteriors' velocities, without w_ff (imm.h)
     for (int j = 0; j < modeCount(); ++j)
       if (modes_[static_cast<size_t>(j)].dim > 1) v += u[static_cast<size_t>(j)] * ch.g[static_cast<size_t>(j)].x(1);

@@ -29,10 +29,14 @@ double processNoiseRaiseRatio(const Params& params) {
   return c;
 }
 
+double processNoiseWhiteRho(const Params& params, double fallback) {
+  return params.get("q_white_rho", fallback, -kQWhiteRhoMax, kQWhiteRhoMax);
+}
+
 std::optional<ProcessNoiseMatcher> processNoiseRaise(const Params& params, std::initializer_list<const char*> fixing_keys,
                                                      bool blend_on, InnovationStatistic in_closed_loop, double white_rho) {
   const double ratio = processNoiseRaiseRatio(params);
-  const double rho = params.get("q_white_rho", white_rho, -kQWhiteRhoMax, kQWhiteRhoMax);
+  const double rho = processNoiseWhiteRho(params, white_rho);
   const bool closed_loop = closedLoopParam(params);
   for (const char* key : fixing_keys)
     if (params.has(key)) return std::nullopt;

@@ -1159,7 +1159,7 @@ class ChannelPredictor : public Predictor {
   void readProcessNoiseAdaptation(const Params& params, double white_rho = kDefaultQWhiteRho) {
     if (isAutoProcessNoise(params, "q")) {
       processNoiseRaiseRatio(params);  // known keys there too, unused
-      params.get("q_white_rho", white_rho, -kQWhiteRhoMax, kQWhiteRhoMax);
+      processNoiseWhiteRho(params, white_rho);
       q_auto_.assign(state_.size(), ProcessNoiseMatcher());
     } else {
       readProcessNoiseRaise(params, {"q"}, InnovationStatistic::Whiteness, white_rho);

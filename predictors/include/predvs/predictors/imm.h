@@ -414,6 +414,9 @@ class ImmPredictor : public Predictor {
   /// mix_ca: the CA mode's prior is mixed from every mode's posterior, as the other modes' are
   /// (false: it starts from its own posterior; imm.h, "The CA mode unmixed").
   bool mix_ca_;
+  /// True when the feed-forward's weights and w_ff are learnt: told `closed_loop: 1`, with the blend
+  /// on (file comment, "The feed-forward's velocity").
+  bool learn_feedforward_ = false;
   /// True when the blend with hold is applied per mode (blend_per_mode_ and the blend on).
   bool blendsPerMode() const { return blend_per_mode_ && blend_tau_s_ > 0.0; }
   /// True when mode j's forecast is blended with hold by its own weight: blendsPerMode() and a
@@ -442,9 +445,6 @@ class ImmPredictor : public Predictor {
   const std::array<double, kMaxModes>& feedforwardWeights(const Channel& ch) const {
     return learn_feedforward_ ? ch.ff_w : forecastWeights(ch);
   }
-  /// True when the feed-forward's weights and w_ff are learnt: told `closed_loop: 1`, with the blend
-  /// on (file comment, "The feed-forward's velocity").
-  bool learn_feedforward_ = false;
   /// The feed-forward's sample of channel ch on a measured frame z after a measured one, F the
   /// modes' transitions over the frame, lambda the blend's forgetting and a the feed-forward's
   /// low-pass: w_ff's regression on the combination's step, then each moving mode's error and the

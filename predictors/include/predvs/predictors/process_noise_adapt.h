@@ -121,6 +121,10 @@ double processNoiseParam(const Params& params, const std::string& key, double fa
 /// The `q_raise_ratio` parameter: c of the raise (file comment), 0 (no raise) or in [1, kQAutoRatioMax];
 /// default kDefaultQRaiseRatio. Throws std::invalid_argument naming the key for another value.
 double processNoiseRaiseRatio(const Params& params);
+/// The `q_white_rho` parameter: rho* of the whitening (file comment, "The whitening's target"), in
+/// [-kQWhiteRhoMax, kQWhiteRhoMax]; default `fallback`, the filter's. Throws std::invalid_argument
+/// naming the key outside.
+double processNoiseWhiteRho(const Params& params, double fallback);
 /// The per-channel state of the adaptation: the log scale l of q.
 class ProcessNoiseMatcher {
  public:
