@@ -76,11 +76,7 @@ std::vector<double> plotEnvelope(const std::vector<double>& x, const std::vector
   std::vector<bool> is_x;
   for (const EnvelopeColumn& c : columns) is_x.push_back(c.is_x);
   EnvelopeBuilder envelope(is_x, x.front(), x.back(), slices);
-  std::vector<double> row(columns.size());
-  for (size_t i = 0; i < x.size(); ++i) {
-    for (size_t c = 0; c < columns.size(); ++c) row[c] = columns[c].values[i];
-    envelope.add(x[i], row.data());
-  }
+  envelope.addBlock(x.data(), x.size(), columns.data());
   return envelope.table();
 }
 
@@ -102,32 +98,69 @@ size_t EnvelopeBuilder::sliceOf(double x) const {
   return b >= static_cast<double>(slices_ - 1) ? slices_ - 1 : static_cast<size_t>(std::max(0.0, b));
 }
 
-void EnvelopeBuilder::add(double x, const double* row) {
+namespace {
+
+/// Row r of a block's columns into out[0..width).
+void gatherRow(const EnvelopeColumn* columns, size_t width, size_t r, double* out) {
+  for (size_t c = 0; c < width; ++c) out[c] = columns[c].at(r);
+}
+
+/// The min and max of values[i0..i1) (plus shift when Shifted) into lo, hi and the row (counted from
+/// `count` at i0) where each was first reached; NaN cells skipped (a comparison with NaN is false).
+template <bool Shifted>
+void extremes(const double* values, double shift, size_t i0, size_t i1, size_t count, double& lo, double& hi,
+              size_t& lo_at, size_t& hi_at) {
+  double l = lo, h = hi;
+  size_t l_at = lo_at, h_at = hi_at;
+  for (size_t r = i0; r < i1; ++r) {
+    const double v = Shifted ? values[r] + shift : values[r];
+    if (v < l) {
+      l = v;
+      l_at = count + (r - i0);
+    }
+    if (v > h) {
+      h = v;
+      h_at = count + (r - i0);
+    }
+  }
+  lo = l;
+  hi = h;
+  lo_at = l_at;
+  hi_at = h_at;
+}
+
+}  // namespace
+
+void EnvelopeBuilder::addBlock(const double* x, size_t n, const EnvelopeColumn* columns) {
   const size_t width = is_x_.size();
-  const size_t b = sliceOf(x);
-  if (count_ > 0 && b != slice_) endSlice();
-  if (count_ == 0) {
-    slice_ = b;
+  size_t i = 0;
+  while (i < n) {
+    // Rows i..j-1: the block's run of rows in slice b (x is non-decreasing).
+    const size_t b = sliceOf(x[i]);
+    size_t j = i + 1;
+    while (j < n && sliceOf(x[j]) == b) ++j;
+    if (count_ > 0 && b != slice_) endSlice();
+    if (count_ == 0) {
+      slice_ = b;
+      for (size_t c = 0; c < width; ++c) {
+        lo_[c] = std::numeric_limits<double>::infinity();
+        hi_[c] = -lo_[c];
+      }
+    }
+    for (size_t r = i; r < j && count_ + (r - i) < 2; ++r)
+      gatherRow(columns, width, r, first_two_.data() + (count_ + (r - i)) * width);
+    gatherRow(columns, width, j - 1, last_.data());
     for (size_t c = 0; c < width; ++c) {
-      lo_[c] = std::numeric_limits<double>::infinity();
-      hi_[c] = -lo_[c];
+      const EnvelopeColumn& col = columns[c];
+      if (is_x_[c] || !col.values) continue;  // a time column keeps its first and last row; NaN is no extreme
+      if (col.shifted)
+        extremes<true>(col.values, col.shift, i, j, count_, lo_[c], hi_[c], lo_at_[c], hi_at_[c]);
+      else
+        extremes<false>(col.values, 0.0, i, j, count_, lo_[c], hi_[c], lo_at_[c], hi_at_[c]);
     }
+    count_ += j - i;
+    i = j;
   }
-  if (count_ < 2) std::copy(row, row + width, first_two_.begin() + static_cast<std::ptrdiff_t>(count_ * width));
-  std::copy(row, row + width, last_.begin());
-  for (size_t c = 0; c < width; ++c) {
-    // min and max with NaN skipped (a comparison with NaN is false); the first row of each kept
-    const double v = row[c];
-    if (v < lo_[c]) {
-      lo_[c] = v;
-      lo_at_[c] = count_;
-    }
-    if (v > hi_[c]) {
-      hi_[c] = v;
-      hi_at_[c] = count_;
-    }
-  }
-  ++count_;
 }
 
 void EnvelopeBuilder::endSlice() {

@@ -21,6 +21,8 @@
 #include "cache_line.h"
 #include "output_dir.h"
 
+#include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -67,10 +69,17 @@ std::vector<std::vector<size_t>> groupByPrefix(const std::vector<std::string>& n
 /// Dash type of the k-th curve of a group: solid, then dashed patterns.
 int dashType(size_t k);
 
-/// One column of a table given to plotEnvelope(): `rows` values (not owned).
+/// One column of a table given to plotEnvelope() or EnvelopeBuilder::addBlock(): its values, one per
+/// row (not owned), each plus `shift` when `shifted`; NaN in every row when `values` is null.
 struct EnvelopeColumn {
   const double* values = nullptr;
   bool is_x = false;  ///< true: a time column (first and last row of a slice); false: min and max
+  bool shifted = false;
+  double shift = 0.0;
+  /// Row r's value.
+  double at(size_t r) const {
+    return !values ? std::numeric_limits<double>::quiet_NaN() : shifted ? values[r] + shift : values[r];
+  }
 };
 
 /// The envelope of a table (see the file comment): x (finite, non-decreasing, one per row) decides
@@ -80,17 +89,21 @@ struct EnvelopeColumn {
 std::vector<double> plotEnvelope(const std::vector<double>& x, const std::vector<EnvelopeColumn>& columns,
                                  size_t slices);
 
-/// plotEnvelope() one row at a time, for a table that is never whole in memory (`predvs predict`
-/// streams its predictions in blocks of rows): add() the rows in order, then table() gives what
-/// plotEnvelope() gives on the whole table, bit for bit (tests/app/plot_envelope_test.cpp). Needs
-/// the first and last x up front (they fix the slices); keeps one slice's extremes and first two rows.
+/// plotEnvelope() a block of rows at a time, for a table that is never whole in memory (`predvs
+/// predict` streams its predictions in blocks of rows): addBlock() the blocks in order, then table()
+/// gives what plotEnvelope() gives on the whole table, bit for bit, for any cut into blocks
+/// (tests/app/plot_envelope_test.cpp). Needs the first and last x up front (they fix the slices);
+/// keeps one slice's extremes and first two rows. Its state is written once per run of a block's
+/// rows within one slice, not per row, and lies on lines of its own: it may be fed on one thread
+/// while others compute beside it (docs/PERFORMANCE.md, "Fifteenth pass").
 class alignas(kCacheLineBytes) EnvelopeBuilder {  // its state on lines of its own (cache_line.h)
  public:
   /// is_x[c]: column c is a time column (EnvelopeColumn::is_x); x_first, x_last as in plotEnvelope().
   EnvelopeBuilder(std::vector<bool> is_x, double x_first, double x_last, size_t slices);
-  /// The next row: its x and its is_x.size() values.
-  void add(double x, const double* row);
-  /// The thinned rows so far, row-major (ends the slice in progress: call after the last add()).
+  /// The next n rows: x[0..n) and, per column c (is_x.size() of them), columns[c]'s values[0..n)
+  /// (columns[c].is_x is not read: the constructor's is_x[c] holds).
+  void addBlock(const double* x, size_t n, const EnvelopeColumn* columns);
+  /// The thinned rows so far, row-major (ends the slice in progress: call after the last block).
   const std::vector<double>& table();
 
  private:

@@ -128,12 +128,14 @@ namespace {
 /// are independent (predictor.h), so this is channel c of the instance that runs every channel, bit
 /// for bit (PredictorProperty.EachChannelIsThatOfAOneChannelPredictor,
 /// tests/predictors/property_test.cpp). Called block after block of rows on the same instance.
+/// The measurement is viewed in place in the track's column, which no thread writes. (A copy in a
+/// 1-element VectorXd, allocated per block, was written on every row: the allocator could place it
+/// on a cache line beside the state of a predictor that the other thread updates on every row, and
+/// both threads' updates then ran up to five times slower; docs/PERFORMANCE.md, "Fifteenth pass".)
 void runChannel(Predictor& predictor, const double* t_s, const double* z, double horizon_s, size_t count,
                 double* out) {
-  Eigen::VectorXd zi(1);
   for (size_t i = 0; i < count; ++i) {
-    zi(0) = z[i];
-    predictor.update(t_s[i], zi);
+    predictor.update(t_s[i], Eigen::Map<const Eigen::VectorXd>(z + i, 1));
     out[i] = predictor.predictPosition(0, t_s[i] + horizon_s);
   }
 }
@@ -661,10 +663,10 @@ class CsvWriter : public BlockConsumer {
 /// The table predictions.png is drawn from (a BlockConsumer, one item per block): the first point's
 /// columns t_s u_px v_px t_target_s u_true_px v_true_px, then u_pred v_pred per predictor; every row
 /// up to kMaxPlotRows rows, else their envelope of kPlotSlices time slices (EnvelopeBuilder, plots.h).
-class alignas(kCacheLineBytes) PlotTable : public BlockConsumer {  // written on every row: lines of its own
+class alignas(kCacheLineBytes) PlotTable : public BlockConsumer {  // written on every row up to kMaxPlotRows: lines of its own
  public:
   PlotTable(const FeatureTrack& track, const PredictionReport& report)
-      : track_(track), report_(report), width_(6 + 2 * report.runs.size()), row_(width_) {
+      : track_(track), report_(report), width_(6 + 2 * report.runs.size()) {
     if (!envelope()) {
       rows_.reserve(track.size() * width_);
       return;
@@ -677,35 +679,27 @@ class alignas(kCacheLineBytes) PlotTable : public BlockConsumer {  // written on
   size_t width() const { return width_; }
   size_t items(const PredictionBlock&) const override { return 1; }
   void run(const PredictionBlock& blk, size_t) override {
-    // Everything a row reads but the columns, read once here: the report and the track may lie
-    // beside what the other thread writes, and a double read in the loop (the horizon) is read again
-    // on every row, since the row's stores could alias it.
+    const size_t runs = report_.runs.size(), n = blk.i1 - blk.i0;
     const bool truth = track_.hasTruth();
-    const double horizon_s = report_.horizon_s;
-    const size_t runs = report_.runs.size();
-    const double* t = track_.t_s.data();
-    const double* u = track_.u_px[0].data();
-    const double* v = track_.v_px[0].data();
-    const double* u_true = truth ? track_.u_true_px[0].data() : nullptr;
-    const double* v_true = truth ? track_.v_true_px[0].data() : nullptr;
-    double* row = row_.data();
-    EnvelopeBuilder* builder = builder_.get();
-    for (size_t i = blk.i0; i < blk.i1; ++i) {
-      row[0] = t[i];
-      row[1] = u[i];
-      row[2] = v[i];
-      row[3] = t[i] + horizon_s;
-      row[4] = truth ? u_true[i] : kNaN;
-      row[5] = truth ? v_true[i] : kNaN;
-      for (size_t k = 0; k < runs; ++k) {
-        row[6 + 2 * k] = blk.prediction(k, 0)[i - blk.i0];
-        row[7 + 2 * k] = blk.prediction(k, 1)[i - blk.i0];
-      }
-      if (builder)
-        builder->add(row[0], row);
-      else
-        rows_.insert(rows_.end(), row_.begin(), row_.end());
+    const double* t = track_.t_s.data() + blk.i0;
+    // The block's columns in the table's order (a null column is NaN in every row).
+    std::vector<EnvelopeColumn> columns(width_);
+    columns[0].values = t;
+    columns[1].values = track_.u_px[0].data() + blk.i0;
+    columns[2].values = track_.v_px[0].data() + blk.i0;
+    columns[3] = EnvelopeColumn{t, true, true, report_.horizon_s};
+    columns[4].values = truth ? track_.u_true_px[0].data() + blk.i0 : nullptr;
+    columns[5].values = truth ? track_.v_true_px[0].data() + blk.i0 : nullptr;
+    for (size_t k = 0; k < runs; ++k) {
+      columns[6 + 2 * k].values = blk.prediction(k, 0);
+      columns[7 + 2 * k].values = blk.prediction(k, 1);
     }
+    if (builder_) {
+      builder_->addBlock(t, n, columns.data());
+      return;
+    }
+    for (size_t i = 0; i < n; ++i)
+      for (size_t c = 0; c < width_; ++c) rows_.push_back(columns[c].at(i));
   }
   /// The table, row-major, width() numbers per row (after the last block).
   const std::vector<double>& table() { return builder_ ? builder_->table() : rows_; }
@@ -714,7 +708,6 @@ class alignas(kCacheLineBytes) PlotTable : public BlockConsumer {  // written on
   const FeatureTrack& track_;
   const PredictionReport& report_;
   size_t width_;
-  CacheLineVector<double> row_;
   std::vector<double> rows_;  // up to kMaxPlotRows rows (no envelope): its header is in this object's lines
   std::unique_ptr<EnvelopeBuilder> builder_;
 };

@@ -112,4 +112,46 @@ TEST(PlotEnvelope, AtMostTwoRowsPerSliceComeBackUnchanged) {
   }
 }
 
+TEST(PlotEnvelope, FedInBlocksOfAnySizeTheBuilderGivesTheWholeTablesEnvelope) {
+  // GIVEN 20,000 rows at jittered (sometimes repeated) times: a time column, a shifted time column,
+  // a noisy series with NaN cells, a column with no values (NaN in every row)
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  const size_t rows = 20000, slices = 700;
+  std::vector<double> x, noisy;
+  double t = 0.0;
+  for (size_t i = 0; i < rows; ++i) {
+    if (uni(rng) > 0.1) t += 0.01 + 0.02 * uni(rng);
+    x.push_back(t);
+    noisy.push_back(uni(rng) < 0.05 ? kNaN : std::sin(t) + 0.1 * uni(rng));
+  }
+  std::vector<predvs::EnvelopeColumn> columns(4);
+  columns[0] = {x.data(), true};
+  columns[1] = {noisy.data(), false};
+  columns[2] = {x.data(), true, true, 0.25};
+  columns[3] = {nullptr, false};
+  const std::vector<double> whole = predvs::plotEnvelope(x, columns, slices);
+  ASSERT_FALSE(whole.empty());
+  // WHEN a builder is fed the same rows in blocks of 1 row, 2 rows, a slice's size, and random sizes
+  for (const size_t fixed : {1u, 2u, 29u, 0u}) {
+    predvs::EnvelopeBuilder builder({true, false, true, false}, x.front(), x.back(), slices);
+    std::uniform_int_distribution<size_t> size_of(1, 500);
+    for (size_t i0 = 0; i0 < rows;) {
+      const size_t n = std::min(rows - i0, fixed > 0 ? fixed : size_of(rng));
+      std::vector<predvs::EnvelopeColumn> block = columns;
+      for (auto& c : block)
+        if (c.values) c.values += i0;
+      builder.addBlock(x.data() + i0, n, block.data());
+      i0 += n;
+    }
+    // THEN its table is the whole table's envelope, bit for bit
+    const std::vector<double>& fed = builder.table();
+    ASSERT_EQ(fed.size(), whole.size()) << fixed;
+    for (size_t i = 0; i < whole.size(); ++i) ASSERT_TRUE(sameBits(fed[i], whole[i])) << fixed << " cell " << i;
+  }
+  // AND the shifted column is the time plus its shift, the empty one NaN
+  EXPECT_EQ(whole[2], x.front() + 0.25);
+  EXPECT_TRUE(std::isnan(whole[3]));
+}
+
 }  // namespace
