@@ -42,9 +42,13 @@ IbvsTask::IbvsTask(const Params& params, const TaskContext& context)
     : PointTask(context),
       lambda_(params.get("lambda", 1.0)),
       interaction_(parseInteractionMatrixType(params.text("interaction", "current"))),
+      feedforward_damping_(params.get("feedforward_damping", kDefaultFeedforwardDamping)),
       impl_(std::make_unique<Impl>()) {
   if (!(lambda_ > 0.0) || !std::isfinite(lambda_))
     throw std::invalid_argument("task.lambda must be > 0, got " + std::to_string(lambda_));
+  if (!(feedforward_damping_ >= 0.0) || !(feedforward_damping_ <= 1.0))
+    throw std::invalid_argument("task.feedforward_damping must be in [0, 1], got " +
+                                std::to_string(feedforward_damping_));
   params.requireAllUsed("task 'ibvs'");
   const int m = context.command_space.size();
   if (m < 1) throw std::invalid_argument("task 'ibvs': the robot has no command");
@@ -124,6 +128,13 @@ Eigen::VectorXd IbvsTask::computeCommand(const TaskInput& in) {
   Eigen::VectorXd out(m);
   for (Eigen::Index i = 0; i < m; ++i) out(i) = u[static_cast<unsigned>(i)];
   if (in.target_rate.size() != 0) {
+    if (feedforward_damping_ > 0.0) {
+      // The damped inverse of L J_c (header), applied to the target rate in normalised units.
+      Eigen::VectorXd rate(2 * n);
+      for (Eigen::Index c = 0; c < 2 * n; ++c) rate(c) = in.target_rate(c) / (c % 2 ? cam.py : cam.px);
+      out -= dampedPseudoInverse(L_ * in.robot_jacobian, feedforward_damping_) * rate;
+      return out;
+    }
     // (L J_c)^+ as vpServo computed it, applied to the target rate in normalised units.
     const vpMatrix Jp = task.getTaskJacobianPseudoInverse();
     for (Eigen::Index r = 0; r < m; ++r) {
@@ -173,7 +184,18 @@ Eigen::VectorXd IbvsTask::commandOnPoints(const TaskInput& in, const std::vector
     J_px_.row(2 * i) = cam.px * J.row(2 * k);
     J_px_.row(2 * i + 1) = cam.py * J.row(2 * k + 1);
   }
+  if (feedforward_damping_ > 0.0) return -lambda_ * (Jp * e) - dampedPseudoInverse(J, feedforward_damping_) * ff;
   return -lambda_ * (Jp * e) - Jp * ff;
+}
+
+Eigen::MatrixXd IbvsTask::dampedPseudoInverse(const Eigen::MatrixXd& J, double damping) {
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& sv = svd.singularValues();
+  const double mu = damping * (sv.size() > 0 ? sv(0) : 0.0);
+  Eigen::VectorXd inv = Eigen::VectorXd::Zero(sv.size());
+  for (Eigen::Index i = 0; i < sv.size(); ++i)
+    if (sv(i) > 1e-6 * sv(0)) inv(i) = sv(i) / (sv(i) * sv(i) + mu * mu);
+  return svd.matrixV() * inv.asDiagonal() * svd.matrixU().transpose();
 }
 
 Eigen::Matrix<double, 2, 6> IbvsTask::pointInteraction(double x, double y, double Z) {

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <stdexcept>
 
 namespace predvs {
@@ -91,14 +92,71 @@ TEST(IbvsTask, RobotJacobianEntersTheLaw) {
 }
 
 TEST(IbvsTask, FeedForwardSubtractsPseudoInverseOfTargetRate) {
+  // GIVEN the papers' law: no damping in the feed-forward
   const Square q;
-  IbvsTask plain(ibvsParams(1.0, "desired"), q.context());
-  IbvsTask ff(ibvsParams(1.0, "desired"), q.context());
+  Params params = ibvsParams(1.0, "desired");
+  params.set("feedforward_damping", 0.0);
+  IbvsTask plain(params, q.context());
+  IbvsTask ff(params, q.context());
   const Eigen::VectorXd rate = (Eigen::VectorXd(8) << 0.01, 0.02, 0.01, 0.02, 0.01, 0.02, 0.01, 0.02).finished();
   const Eigen::VectorXd d = q.command(ff, rate) - q.command(plain);
   Eigen::MatrixXd Ld(8, 6);
   for (int i = 0; i < 4; ++i) Ld.middleRows<2>(2 * i) = IbvsTask::pointInteraction(q.sd(2 * i), q.sd(2 * i + 1), 0.5);
   EXPECT_NEAR((d + pinv(Ld) * rate).norm(), 0.0, 1e-8);
+}
+
+/// (J' J + mu^2 I)^-1 J' rate: the damped least-squares solution, by the normal equations.
+Eigen::VectorXd dampedSolve(const Eigen::MatrixXd& J, double kappa, const Eigen::VectorXd& rate) {
+  const double mu = kappa * Eigen::JacobiSVD<Eigen::MatrixXd>(J).singularValues()(0);
+  const Eigen::MatrixXd A = J.transpose() * J + mu * mu * Eigen::MatrixXd::Identity(J.cols(), J.cols());
+  return A.ldlt().solve(J.transpose() * rate);
+}
+
+TEST(IbvsTask, TheFeedForwardGoesThroughADampedInverseByDefault) {
+  // GIVEN the default task on the square (4 points 0.2 apart at 0.55 m: an ill-conditioned L)
+  const Square q;
+  IbvsTask plain(ibvsParams(1.0, "current"), q.context());
+  IbvsTask ff(ibvsParams(1.0, "current"), q.context());
+  EXPECT_EQ(ff.feedforwardDamping(), kDefaultFeedforwardDamping);
+  EXPECT_GT(kDefaultFeedforwardDamping, 0.0);
+  Eigen::MatrixXd L(8, 6);
+  for (int i = 0; i < 4; ++i) L.middleRows<2>(2 * i) = IbvsTask::pointInteraction(q.s(2 * i), q.s(2 * i + 1), q.Z(i));
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(L, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd sv = svd.singularValues();
+  ASSERT_GT(sv(0) / sv(5), 100.0);  // the translation-rotation ambiguity
+  // WHEN the target rate is any rate, the largest singular direction, or the smallest
+  const Eigen::VectorXd rate = (Eigen::VectorXd(8) << 0.01, -0.02, 0.03, 0.02, -0.01, 0.02, 0.01, 0.04).finished();
+  const Eigen::VectorXd big = svd.matrixU().col(0), small = svd.matrixU().col(5);
+  auto feedForward = [&](const Eigen::VectorXd& r) { return Eigen::VectorXd(q.command(ff, r) - q.command(plain)); };
+  // THEN the feed-forward is the damped least-squares solution, mu = kappa s_0
+  EXPECT_NEAR((feedForward(rate) + dampedSolve(L, kDefaultFeedforwardDamping, rate)).norm(), 0.0, 1e-8);
+  EXPECT_NEAR((IbvsTask::dampedPseudoInverse(L, 0.0) - pinv(L)).norm(), 0.0, 1e-8);
+  // AND a rate on the largest direction passes within 0.1 %, one on the smallest is cut over 10x
+  const double big_plain = (pinv(L) * big).norm(), small_plain = (pinv(L) * small).norm();
+  EXPECT_NEAR(feedForward(big).norm() / big_plain, 1.0, 1e-3);
+  EXPECT_LT(feedForward(small).norm() / small_plain, 0.1);
+}
+
+TEST(IbvsTask, WithAPointDroppedTheFeedForwardIsDampedOnTheOthers) {
+  // GIVEN the default task and a rate, with point 2 dropped (NaN)
+  const Square q;
+  IbvsTask plain(ibvsParams(1.0, "current"), q.context());
+  IbvsTask ff(ibvsParams(1.0, "current"), q.context());
+  Eigen::VectorXd s = q.s;
+  s.segment<2>(4).setConstant(std::numeric_limits<double>::quiet_NaN());
+  const Eigen::VectorXd rate = (Eigen::VectorXd(8) << 0.01, -0.02, 0.03, 0.02, -0.01, 0.02, 0.01, 0.04).finished();
+  const TaskInput with{0.0, 0.0, s, s, rate, q.Z, q.Jc, q.q, q.none}, without{0.0, 0.0, s, s, Eigen::VectorXd(), q.Z, q.Jc, q.q, q.none};
+  const Eigen::VectorXd d = ff.computeCommand(with) - plain.computeCommand(without);
+  // THEN the feed-forward is the damped solution on the three points left
+  Eigen::MatrixXd L(6, 6);
+  Eigen::VectorXd r(6);
+  int k = 0;
+  for (int i : {0, 1, 3}) {
+    L.middleRows<2>(2 * k) = IbvsTask::pointInteraction(q.s(2 * i), q.s(2 * i + 1), q.Z(i));
+    r.segment<2>(2 * k) = rate.segment<2>(2 * i);
+    ++k;
+  }
+  EXPECT_NEAR((d + dampedSolve(L, kDefaultFeedforwardDamping, r)).norm(), 0.0, 1e-8);
 }
 
 TEST(IbvsTask, Validation) {
@@ -111,6 +169,11 @@ TEST(IbvsTask, Validation) {
   EXPECT_THROW(makeTask("ibvz", Params{}, q.context()), std::invalid_argument);
   IbvsTask t(ibvsParams(1.0, "mean"), q.context());
   EXPECT_THROW(q.command(t, Eigen::VectorXd::Zero(3)), std::invalid_argument);
+  for (double bad : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    Params p = ibvsParams(1.0, "current");
+    p.set("feedforward_damping", bad);
+    EXPECT_THROW(IbvsTask(p, q.context()), std::invalid_argument) << bad;
+  }
   EXPECT_EQ(parseInteractionMatrixType("mean"), InteractionMatrixType::Mean);
   EXPECT_THROW(parseInteractionMatrixType("average"), std::invalid_argument);
 }

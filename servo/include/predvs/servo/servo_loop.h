@@ -56,7 +56,8 @@
 // P-controller's steady error is the lag (image speed) / lambda, which the delay hardly changes,
 // so forecasting the features to the effect time alone buys about 1 %; only the target-rate
 // feed-forward removes the lag. Its price is control effort: it passes the filter's velocity
-// noise to the robot.
+// noise to the robot (which `ibvs` keeps low by feeding the rate forward through a damped inverse,
+// ibvs_task.h).
 //
 // Error per step: Task::trackingError of the true features (point tasks: RMS over the points of
 // the pixel distance ||s_i - s*_i||); metrics.h defines the metrics over the run.

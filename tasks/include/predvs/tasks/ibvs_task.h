@@ -10,12 +10,27 @@
 // (vpServo::CURRENT / DESIRED / MEAN). The robot's command u comes through its camera Jacobian
 // J_c (6 x m, camera twist per unit command; identity for the free-flying camera), as vpServo's
 // EYEINHAND_L_cVe_eJe form with cVe = I and eJe = J_c:
-//     u = -lambda (L J_c)^+ e  -  (L J_c)^+ de/dt|_target
+//     u = -lambda (L J_c)^+ e  -  (L J_c)^#_kappa de/dt|_target
 // where the second (feed-forward) term is used when the loop gives a target rate: de/dt|_target is
 // the part of the feature velocity caused by the target's own motion (what remains when the camera
 // is still), which a P-controller otherwise follows with a steady lag of (image speed) / lambda.
 //
-// Parameters: lambda (1/s, default 1), interaction (current | desired | mean, default current).
+// The feed-forward's inverse is damped (task.feedforward_damping, kappa, default 0.02): with the thin
+// SVD L J_c = U diag(s_i) V', the target rate is mapped by V diag(s_i / (s_i^2 + mu^2)) U', mu =
+// kappa s_0 (s_0 the largest singular value; kappa = 0: the Moore-Penrose inverse, the papers' law,
+// which the paper scenarios pin). Why: a small square target makes L J_c ill-conditioned (4 points
+// 0.1 m apart at 0.5 m: singular values 4.48 down to 0.018, the translation-rotation ambiguity
+// vx / wy and vy / wx). A target's own motion lies almost wholly on the large singular directions
+// (a translation of the target plane: on s_0), but each channel's rate is estimated on its own, so
+// its noise falls on every direction alike, and the plain inverse multiplies the share on the
+// smallest ones by 1 / 0.018. The camera then swung between translating one way and rotating the
+// other, tick after tick, at the robot's velocity limits. kappa = 0.02 divides the gain of those
+// directions by about 26 and changes the gain of s_0's by 0.04 %, of s_0 / 8 by 2.5 %. The feedback
+// term is vpServo's own law, undamped. Figures: docs/PERFORMANCE.md "The feed-forward through a damped
+// inverse"; docs/MODELS.md §10.
+//
+// Parameters: lambda (1/s, default 1), interaction (current | desired | mean, default current),
+// feedforward_damping (kappa in [0, 1], default 0.02).
 // featureJacobian() is diag(px, py) L J_c with the L vpServo used.
 // Dropped points (NaN in TaskInput::used, the loop's lost.action: drop): vpServo's feature list is
 // fixed at construction, so with any point dropped the same law (the same L: current, desired or
@@ -41,12 +56,16 @@ enum class InteractionMatrixType { Current, Desired, Mean };
 InteractionMatrixType parseInteractionMatrixType(const std::string& name);
 std::string interactionMatrixTypeName(InteractionMatrixType type);
 
+/// task.feedforward_damping's default, kappa (header comment).
+constexpr double kDefaultFeedforwardDamping = 0.02;
+
 /// 6-vector camera velocity twist (vx, vy, vz, wx, wy, wz) in the camera frame (m/s, rad/s).
 using CameraTwist = Eigen::Matrix<double, 6, 1>;
 
 class IbvsTask : public PointTask {
  public:
-  /// Throws std::invalid_argument naming task.lambda / task.interaction or an unknown key.
+  /// Throws std::invalid_argument naming task.lambda / task.interaction / task.feedforward_damping or
+  /// an unknown key.
   IbvsTask(const Params& params, const TaskContext& context);
   ~IbvsTask() override;
 
@@ -64,6 +83,11 @@ class IbvsTask : public PointTask {
 
   /// Interaction matrix of one point at (x, y, Z) (the formula above).
   static Eigen::Matrix<double, 2, 6> pointInteraction(double x, double y, double Z);
+  /// The damped inverse V diag(s_i / (s_i^2 + mu^2)) U' of J = U diag(s_i) V' (thin SVD), mu =
+  /// damping * s_0 (the largest); singular values below 1e-6 s_0 are dropped, as in
+  /// vpMatrix::pseudoInverse(). damping = 0: the Moore-Penrose inverse.
+  static Eigen::MatrixXd dampedPseudoInverse(const Eigen::MatrixXd& J, double damping);
+  double feedforwardDamping() const { return feedforward_damping_; }
 
  private:
   /// The law on the points in `active` only (some point dropped; header comment).
@@ -72,6 +96,7 @@ class IbvsTask : public PointTask {
   struct Impl;
   double lambda_;
   InteractionMatrixType interaction_;
+  double feedforward_damping_;
   std::unique_ptr<Impl> impl_;
   Eigen::VectorXd error_;
   Eigen::MatrixXd L_, J_px_;
