@@ -516,8 +516,13 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       if (q_raise_) {
         const double before = ch.q_raise.scale();
         ch.q_raise.observe(ch.innovation.eps, S, dt);
-        // pow(s, 1) is s and pow(s, 0) is 1 exactly: the exponent's ends need no case of their own.
-        if (ch.q_raise.scale() != before) ch.q_raise_cv = std::pow(ch.q_raise.scale(), q_raise_cv_exponent_);
+        // The exponent damps raises only (imm.h, "The raise of q on each mode"): a fall below the
+        // defaults (the closed loop's whitening) lowers the CV mode as much as the CA mode. pow(s, 1)
+        // is s and pow(s, 0) is 1 exactly: the exponent's ends need no case of their own.
+        if (ch.q_raise.scale() != before) {
+          const double s = ch.q_raise.scale();
+          ch.q_raise_cv = s > 1.0 ? std::pow(s, q_raise_cv_exponent_) : s;
+        }
       }
       std::array<double, kMaxModes> w{};
       double sum = 0.0;

@@ -156,7 +156,14 @@
 // imm its lag (a weave of 3000 px/s^2 at 30 Hz, 2 px: CV forecast weight 0.92-0.98 for the whole
 // track, imm 1.5 times kf-ca's error). Measured on both track generators (docs/PERFORMANCE.md "imm
 // raises its CV mode less"); 0 (the CV mode never raised) won as much on the second generator and
-// cost more on make-track's drop grids.
+// cost more on make-track's drop grids. The exponent damps raises only: when the scale falls below 1
+// (the closed loop's whitening, below; `q: auto`) the CV mode's density falls by s as the CA mode's.
+// Why: falling by s^0.5, at the scales of 0.001-0.01 the whitening reaches on the default loop, kept
+// the CV mode's density 10-30 times higher, relative to its default, than the CA mode's, and on the
+// default loop's fast target imm stayed
+// 1.1-1.3 times kf-ca (4 of 12 held-out variants over 1.1; none with the CV mode lowered alike;
+// docs/PERFORMANCE.md "imm lowers its CV mode as much as its CA mode"). The open loop's raise never
+// falls below 1: the same bits there.
 // In a closed loop (`closed_loop: 1`, predictor.h) imm runs without its CP mode unless `cp` is
 // given. The loop's feed-forward takes imm's velocity (feedforwardVelocity()): CP's share of the
 // forecast weights scales it down (CP says v = 0), and mixing CP's position, which lags a moving
