@@ -10,6 +10,23 @@
 
 namespace predvs {
 
+namespace {
+
+/// `set offsets` that keep the data of a linear, autoscaled panel below its key: the key (top
+/// right, opaque) takes about 15 px per titled line plus 10 px of a plot area about ph - 90 px high,
+/// a fraction f of it, so the y range is extended upwards by g = f / (1 - f) of itself (at most 1).
+/// Before, the key hid the data under it (command.png's wz, near 0 in the last seconds).
+std::string keyHeadroom(const PlotPanel& p, int ph) {
+  const auto titled = std::count_if(p.lines.begin(), p.lines.end(), [](const PlotLine& l) { return !l.title.empty(); });
+  if (titled == 0 || p.log_y) return "set offsets 0, 0, 0, 0\n";
+  const double f = std::min(0.5, (15.0 * static_cast<double>(titled) + 10.0) / std::max(100.0, ph - 90.0));
+  std::ostringstream out;
+  out << "set offsets 0, 0, graph " << fixedNumber(f / (1.0 - f), 3) << ", 0\n";
+  return out.str();
+}
+
+}  // namespace
+
 void drawFigure(const StagedOutputDir& dir, const PlotFigure& f) {
   const size_t n = std::max<size_t>(1, f.panels.size());
   const size_t cols = f.columns > 0 ? f.columns : (n <= 3 ? 1 : 2);
@@ -31,6 +48,7 @@ void drawFigure(const StagedOutputDir& dir, const PlotFigure& f) {
        << "set title " << gnuplotQuote(f.panels.size() > 1 ? p.title : f.title + (p.title.empty() ? "" : ": " + p.title))
        << "\nset xlabel " << gnuplotQuote(p.xlabel) << "\nset ylabel " << gnuplotQuote(p.ylabel) << "\n";
     if (p.log_y) gp << "set logscale y\nset format y '%g'\n";
+    gp << keyHeadroom(p, ph);
     gp << p.setup << "plot ";
     for (size_t k = 0; k < p.lines.size(); ++k) {
       const PlotLine& l = p.lines[k];
