@@ -42,15 +42,10 @@ for f in $filters; do
 done
 
 mkdir -p "$out"
-run() {  # GRID, then compare's arguments
-  local grid=$1
-  shift
-  echo "closed-loop-white-target: $grid ($runs runs per cell)" >&2
-  "$bin" compare "$@" --runs "$runs" --set "predictors=[$list]" --out "$out/$grid" --no-plots >"$out/$grid.log" 2>&1 ||
-    { echo "closed-loop-white-target: error: $grid failed, see $out/$grid.log" >&2; exit 1; }
-}
-run scenarios --scenarios delay-study,ibvs-moving-target,e5-line,e5-circle,e8-ibvs,e8-vtc,e9-ibvs,e9-broyden
-run held-out --scenarios ibvs-moving-target --sweep noise.sigma=0.5,2 --sweep timing.base_period_s=0.0167,0.04,0.1 \
+script=closed-loop-white-target
+. "$(dirname "$0")/lib/compare-grid.sh"
+compare_grid scenarios --scenarios delay-study,ibvs-moving-target,e5-line,e5-circle,e8-ibvs,e8-vtc,e9-ibvs,e9-broyden
+compare_grid held-out --scenarios ibvs-moving-target --sweep noise.sigma=0.5,2 --sweep timing.base_period_s=0.0167,0.04,0.1 \
   --sweep target.trajectory.omega=0.5,1.5
 
 python3 - "$out" "$filters" <<'EOF'

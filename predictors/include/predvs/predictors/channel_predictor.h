@@ -252,6 +252,8 @@ namespace predvs {
 /// 0.1..0.3 s otherwise costs an extrapolation error far above hold's. 0.2 s is the longest
 /// 2-frame horizon of the 10..60 Hz envelope, so a single dropped frame at 10 Hz keeps 60 % of v.
 inline constexpr double kDefaultCoastTauS = 0.2;
+/// coast_tau_s in a closed loop (`closed_loop: 1`; coastTauParam).
+inline constexpr double kDefaultClosedLoopCoastTauS = 0.5;
 
 /// Default forgetting time constant (s) of the forecast's blend with hold (`hold_blend_tau_s`, file
 /// comment). About tau * rate one-frame forecasts make the weight: 60 at 10 Hz, so its standard error
@@ -770,8 +772,18 @@ struct HoldBlend : BlendWeight {
   double position(double f) const { return blend(z_hold, f); }
 };
 
-/// The `coast_tau_s` parameter (s, >= 0, default kDefaultCoastTauS; 0 = no coasting).
-inline double coastTauParam(const Params& params) { return params.get("coast_tau_s", kDefaultCoastTauS, 0.0, 1e6); }
+/// The `coast_tau_s` parameter (s, >= 0; 0 = no coasting). Default kDefaultCoastTauS, and
+/// kDefaultClosedLoopCoastTauS when the caller says `closed_loop: 1` (predictor.h): in a servo loop
+/// the velocity drives the camera through a gap, and a velocity that decays within 0.2 s stops the
+/// camera while the target goes on; the loop's own rule for a lost feature (lost.timeout_s, 1 s by
+/// default, and lost.action, servo/lost_feature_policy.h) takes over later. Not 0: a loop told to
+/// extrapolate through a long occlusion (e8-vtc-occlusion's 3 s) then has no brake, and the CA
+/// filters ran off (kf-ca 2.1, stkf 31 times the error with 0.2 s). Measured: docs/PERFORMANCE.md
+/// "Coasting in a closed loop".
+inline double coastTauParam(const Params& params) {
+  return params.get("coast_tau_s", closedLoopParam(params) ? kDefaultClosedLoopCoastTauS : kDefaultCoastTauS, 0.0,
+                    1e6);
+}
 /// The `coast_stop_fraction` parameter (>= 0, default kDefaultCoastStopFraction; 0 = off; file comment).
 inline double coastStopFractionParam(const Params& params) {
   return params.get("coast_stop_fraction", kDefaultCoastStopFraction, 0.0, 1e3);

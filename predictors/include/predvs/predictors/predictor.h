@@ -216,8 +216,9 @@ double horizonFramesParam(const Params& params);
 /// are white instead (the whitening; stkf matches their spread, as `q: auto`), unless the keys that
 /// set its density are given: the maneuvering tracks' density puts noise into the velocity, which
 /// reaches the robot on every tick, so it should be as low as the innovations allow; and imm leaves
-/// its constant-position mode out unless `cp` is given (imm.h). (docs/MODELS.md §15, "In a closed
-/// loop".) Throws std::invalid_argument naming the key for another value.
+/// its constant-position mode out unless `cp` is given (imm.h), and the filters coast through a gap
+/// more slowly (coast_tau_s 0.5 s instead of 0.2 unless given; channel_predictor.h coastTauParam). (docs/MODELS.md §15, "In a
+/// closed loop".) Throws std::invalid_argument naming the key for another value.
 bool closedLoopParam(const Params& params);
 
 }  // namespace predvs
