@@ -830,7 +830,9 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
   }
   const double dt = t_s - time();
   const std::array<double, kMaxModes>& w = forecastWeights(ch);
-  if (!(dt > 0.0)) return toEstimate(combine(ch.g, w));
+  // A zero horizon in a closed loop: the posteriors mixed by the feed-forward's weights, as its
+  // velocity (imm.h, "The feed-forward's velocity").
+  if (!(dt > 0.0)) return toEstimate(combine(ch.g, learn_feedforward_ ? feedforwardWeights(ch) : w));
   std::array<Gaussian<3>, kMaxModes> g;
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);

@@ -175,6 +175,23 @@ TEST(Imm, InAClosedLoopTheFeedforwardWeighsItsModesByTheirLowPassedSteps) {
   EXPECT_EQ(open.diagnostics().back().first, "fw_ca_0");
 }
 
+TEST(Imm, InAClosedLoopItsZeroHorizonStateIsTheFeedforwardsMixture) {
+  // GIVEN imm in a closed loop on a 40 px circle at 2 rad/s, 1 px noise, 25 Hz
+  ImmPredictor loop(1, Params{{"closed_loop", 1.0}});
+  std::mt19937 rng(4);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  for (int k = 0; k < 250; ++k) {
+    const double t = 0.04 * k;
+    loop.update(t, Eigen::Matrix<double, 1, 1>(40.0 * std::sin(2.0 * t) + noise(rng)));
+    // THEN at a zero horizon (the loop's query without vision delay, e8's) its state is one mixture:
+    // the velocity is the feed-forward's (the posteriors mixed by the feed-forward's weights), bit
+    // for bit, not the forecast's weights' (which give the CV mode 0.99 of e8-ibvs's position)
+    const ChannelEstimate e = loop.predict(0, t);
+    EXPECT_EQ(e.velocity(), loop.feedforwardVelocity(0, t)) << "t " << t;
+    EXPECT_EQ(e.position(), loop.predictPosition(0, t)) << "t " << t;
+  }
+}
+
 TEST(Imm, ModeChainIsStatedPerSecond) {
   // The transition matrix over dt is exp(Lambda dt) of a rate matrix: rows sum to one, it composes
   // (Pi(a + b) = Pi(a) Pi(b), so the chain is the same at any frame rate), its diagonal is

@@ -138,7 +138,8 @@
 // is followed within a few frames (imm_test.cpp: 0.13 s into a 400 px/s^2 acceleration) while weak
 // evidence accumulates to a clear choice. The floor also keeps a 1 % share of each other mode in
 // every forecast. The filter itself (mixing, mu) is the IMM above; a query at t <= t_last (zero
-// horizon) combines the posteriors with the forecast weights too. forecast_tau_s = 0 gives every
+// horizon) combines the posteriors with the forecast weights too (in a closed loop with the
+// feed-forward's weights: "The feed-forward's velocity", below). forecast_tau_s = 0 gives every
 // query combined with mu, as before issue 11 item 4 was closed.
 // Measured choices (docs/PERFORMANCE.md "IMM"): scoring the 2- or 3-frame forecasts instead of the
 // 1-frame ones, or the sum of the 1- and 2-frame scores, lost 5-11 of the 216 tracks (measured
@@ -181,7 +182,13 @@
 // forgetting sums S_j = sum lambda^(k-i) (Y - D_j)^2 are kept (lambda the blend's), and
 //   u_j = (min_i S_i / S_j)^16 / normalisation  (equal shares before the first sample; CP's 0),
 // so a mode's share halves for every 4.4 % of error more than the best one's. At a zero horizon
-// the posteriors' velocities are mixed by u, without w_ff (as the channel filters' zero horizon).
+// the posteriors' velocities are mixed by u, without w_ff (as the channel filters' zero horizon),
+// and in a closed loop so is the whole state predict() hands out there (position, covariance): the
+// loop's query without vision delay acts on that position (`servo.forecast: both`), and the forecast
+// weights, which rank one-frame forecasts, gave e8-ibvs's CV mode 0.99 of it while kf-ca's position
+// served the loop better (imm 1.22 times kf-ca on e8-ibvs, 1.13 with u; e8-vtc 1.24 -> 1.18 px;
+// the other 34 closed-loop cells of that measurement are the same bits; docs/PERFORMANCE.md "imm's
+// zero horizon in a closed loop").
 // u and w_ff are learnt only when imm is told it serves a closed loop (`closed_loop: 1`, predictor.h)
 // with the blend on: the feed-forward's one caller is the servo loop, and on `predict`'s 2-million-row
 // track the learning cost 0.13 s of CPU (imm alone 2.04 -> 2.17 s, docs/PERFORMANCE.md "A lagging
