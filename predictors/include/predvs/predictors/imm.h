@@ -201,7 +201,7 @@
 // cells, every predictor at its defaults; docs/PERFORMANCE.md "A lagging acceleration model in the
 // closed loop"): imm / min(kf-cv, kf-ca) over 1.1 on 2 cells (e5-line 1.14, e8-ibvs 1.16) instead of
 // 10 with the forecast weights and no w_ff, and 3 with w_ff alone (since the CV mode's exponent on
-// raises only and the zero horizon mixed by u, below: on 1 of 36 cells, e8-ibvs 1.13). A power of 4 left 4 over (e9-broyden's
+// raises only and the zero horizon mixed by u, above: on 1 of 36 cells, e8-ibvs 1.13). A power of 4 left 4 over (e9-broyden's
 // gains 6 and 7 too), 1000 (the better mode alone) 2 (e8-ibvs 1.18). Each mode whitened on its own
 // innovations instead of the shared scale made the modes kf-cv and kf-ca to 1 %, but then the
 // weights u chose the worse of the two on delay-study (1.18-1.34); the CV mode alone on its own
