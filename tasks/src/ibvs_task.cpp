@@ -18,6 +18,19 @@ namespace {
 constexpr EnumName<InteractionMatrixType> kInteractionTypes[] = {{InteractionMatrixType::Current, "current"},
                                                                  {InteractionMatrixType::Desired, "desired"},
                                                                  {InteractionMatrixType::Mean, "mean"}};
+
+/// V diag(s_i / (s_i^2 + mu^2)) U' of the thin SVD U diag(s_i) V', mu = damping s_0; 1 / s_i when
+/// damping = 0 (the Moore-Penrose inverse); singular values below 1e-6 s_0 are dropped, as
+/// vpMatrix::pseudoInverse() does (IbvsTask::dampedPseudoInverse()).
+Eigen::MatrixXd inverseFromSvd(const Eigen::JacobiSVD<Eigen::MatrixXd>& svd, double damping) {
+  const Eigen::VectorXd& sv = svd.singularValues();
+  const double mu = damping * (sv.size() > 0 ? sv(0) : 0.0);
+  Eigen::VectorXd inv = Eigen::VectorXd::Zero(sv.size());
+  for (Eigen::Index i = 0; i < sv.size(); ++i)
+    if (sv(i) > 1e-6 * sv(0)) inv(i) = damping > 0.0 ? sv(i) / (sv(i) * sv(i) + mu * mu) : 1.0 / sv(i);
+  return svd.matrixV() * inv.asDiagonal() * svd.matrixU().transpose();
+}
+
 }  // namespace
 
 InteractionMatrixType parseInteractionMatrixType(const std::string& name) {
@@ -122,7 +135,8 @@ Eigen::VectorXd IbvsTask::computeCommand(const TaskInput& in) {
   for (unsigned i = 0; i < e.size(); ++i) error_(i) = e[i];
   for (unsigned r = 0; r < L.getRows(); ++r)
     for (unsigned c = 0; c < L.getCols(); ++c) L_(r, c) = L[r][c];
-  J_px_ = L_ * in.robot_jacobian;
+  const Eigen::MatrixXd J = L_ * in.robot_jacobian;
+  J_px_ = J;
   for (Eigen::Index r = 0; r < 2 * n; ++r) J_px_.row(r) *= r % 2 ? cam.py : cam.px;
 
   Eigen::VectorXd out(m);
@@ -132,7 +146,7 @@ Eigen::VectorXd IbvsTask::computeCommand(const TaskInput& in) {
       // The damped inverse of L J_c (header), applied to the target rate in normalised units.
       Eigen::VectorXd rate(2 * n);
       for (Eigen::Index c = 0; c < 2 * n; ++c) rate(c) = in.target_rate(c) / (c % 2 ? cam.py : cam.px);
-      out -= dampedPseudoInverse(L_ * in.robot_jacobian, feedforward_damping_) * rate;
+      out -= dampedPseudoInverse(J, feedforward_damping_) * rate;
       return out;
     }
     // (L J_c)^+ as vpServo computed it, applied to the target rate in normalised units.
@@ -171,31 +185,21 @@ Eigen::VectorXd IbvsTask::commandOnPoints(const TaskInput& in, const std::vector
     L_.middleRows<2>(2 * i) = L.middleRows<2>(2 * k);
     error_.segment<2>(2 * i) = e.segment<2>(2 * k);
   }
-  // (L J_c)^+ as vpMatrix::pseudoInverse() forms it: singular values below 1e-6 of the largest are zeroed.
+  // (L J_c)^+ as vpMatrix::pseudoInverse() forms it, and the feed-forward's damped inverse, from one SVD.
   const Eigen::MatrixXd J = L * in.robot_jacobian;
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd& sv = svd.singularValues();
-  Eigen::VectorXd inv = Eigen::VectorXd::Zero(sv.size());
-  for (Eigen::Index i = 0; i < sv.size(); ++i)
-    if (sv(i) > 1e-6 * sv(0)) inv(i) = 1.0 / sv(i);
-  const Eigen::MatrixXd Jp = svd.matrixV() * inv.asDiagonal() * svd.matrixU().transpose();
+  const Eigen::MatrixXd Jp = inverseFromSvd(svd, 0.0);
   for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(active.size()); ++k) {
     const Eigen::Index i = active[static_cast<size_t>(k)];
     J_px_.row(2 * i) = cam.px * J.row(2 * k);
     J_px_.row(2 * i + 1) = cam.py * J.row(2 * k + 1);
   }
-  if (feedforward_damping_ > 0.0) return -lambda_ * (Jp * e) - dampedPseudoInverse(J, feedforward_damping_) * ff;
+  if (feedforward_damping_ > 0.0) return -lambda_ * (Jp * e) - inverseFromSvd(svd, feedforward_damping_) * ff;
   return -lambda_ * (Jp * e) - Jp * ff;
 }
 
 Eigen::MatrixXd IbvsTask::dampedPseudoInverse(const Eigen::MatrixXd& J, double damping) {
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd& sv = svd.singularValues();
-  const double mu = damping * (sv.size() > 0 ? sv(0) : 0.0);
-  Eigen::VectorXd inv = Eigen::VectorXd::Zero(sv.size());
-  for (Eigen::Index i = 0; i < sv.size(); ++i)
-    if (sv(i) > 1e-6 * sv(0)) inv(i) = sv(i) / (sv(i) * sv(i) + mu * mu);
-  return svd.matrixV() * inv.asDiagonal() * svd.matrixU().transpose();
+  return inverseFromSvd(Eigen::JacobiSVD<Eigen::MatrixXd>(J, Eigen::ComputeThinU | Eigen::ComputeThinV), damping);
 }
 
 Eigen::Matrix<double, 2, 6> IbvsTask::pointInteraction(double x, double y, double Z) {
