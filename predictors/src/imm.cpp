@@ -28,6 +28,9 @@ constexpr double kDefaultGapWeightPower = 0.5;
 constexpr double kDefaultForecastFloor = 0.01;
 /// Default power of the raise of q on the CV mode's density (imm.h, "The raise of q on each mode").
 constexpr double kDefaultQRaiseCvExponent = 0.5;
+/// Default time constant (s) of the low-pass by which the feed-forward's weights compare the modes'
+/// steps with the measured ones (`ff_weight_tau_s`; imm.h, "The feed-forward's velocity").
+constexpr double kDefaultFeedforwardWeightTauS = 2.0;
 /// Lowest calibration factor of a forecast variance (imm.h, "Calibration"): keeps v_j > 0 where a
 /// mode's forecasts are exact for long (a still target without noise: its mean ratio e^2 / s can
 /// reach 0), where log 0 and 0 / 0 would make its score NaN (which the floor's std::max then turns
@@ -141,6 +144,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       coast_cp_(params.get("coast_cp", kDefaultCoastCp, 0.0, 1.0)),
       gap_weight_power_(params.get("gap_weight_power", kDefaultGapWeightPower, 0.0, 1.0)),
       q_raise_cv_exponent_(params.get("q_raise_cv_exponent", kDefaultQRaiseCvExponent, 0.0, 1.0)),
+      ff_weight_tau_s_(params.get("ff_weight_tau_s", kDefaultFeedforwardWeightTauS, 1e-3, 1e6)),
       blend_per_mode_(params.get("blend_per_mode", 1.0, 0.0, 1.0) >= 0.5),
       mix_ca_(params.get("mix_ca", 0.0, 0.0, 1.0) >= 0.5),
       r_auto_(isAutoMeasurementNoise(params)) {
@@ -268,6 +272,7 @@ const ImmPredictor::PeriodModels& ImmPredictor::periodModels(double dt) const {
     e.keep = fc_tau_s_ > 0.0 ? std::exp(-dt / fc_tau_s_) : 0.0;
     e.blend_keep = blend_tau_s_ > 0.0 ? std::exp(-dt / blend_tau_s_) : 0.0;
     e.feedforward_keep = learn_feedforward_ ? std::exp(-dt / kFeedforwardTauS) : 0.0;  // read only then
+    e.ff_weight_keep = learn_feedforward_ ? std::exp(-dt / ff_weight_tau_s_) : 0.0;
     return e;
   });
 }
@@ -443,7 +448,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       }
       // the combination's step is not split (it is blended only with blend_per_mode 0)
       ch.blend.learn(d_step, 0.0, z(c) - ch.blend.z_hold, blend_keep, blend_sigmas_, false, blend_prior_);
-      if (learn_feedforward_) learnFeedforward(ch, z(c), F, blend_keep, fm.feedforward_keep);
+      if (learn_feedforward_) learnFeedforward(ch, z(c), F, blend_keep, fm.feedforward_keep, fm.ff_weight_keep);
       if (blend_frames_ > 1) learnLongerBlend(ch, t_s, z(c), blend_keep);
     }
     const bool started_gap = ch.last_measured && !measured;
@@ -660,7 +665,7 @@ double feedforwardShare(double r) {
 }  // namespace
 
 void ImmPredictor::learnFeedforward(Channel& ch, double z, const std::array<Mat<3>, kMaxModes>& F, double lambda,
-                                    double a) const {
+                                    double a, double a_w) const {
   // Each moving mode's one-frame step from its feed-forward start (the posterior of the last update,
   // still in ch.g), combined with the weights the feed-forward used over that frame.
   const int m = modeCount();
@@ -674,14 +679,17 @@ void ImmPredictor::learnFeedforward(Channel& ch, double z, const std::array<Mat<
     step[jj] = F[jj](0, 1) * x(1) + (modes_[jj].dim > 2 ? F[jj](0, 2) * x(2) : 0.0);
     d += u[jj] * step[jj];
   }
-  ch.feedforward.learn(d, z - ch.blend.z_hold, a, lambda);
-  // Each mode's low-passed step against the low-passed measured step, and the weights from their sums.
+  const double y = z - ch.blend.z_hold;
+  ch.feedforward.learn(d, y, a, lambda);
+  // Each mode's step against the measured step, both low-passed with ff_weight_tau_s (a_w), and the
+  // weights from the forgetting sums of their squared differences.
+  ch.ff_y = a_w * ch.ff_y + (1.0 - a_w) * y;
   double best = std::numeric_limits<double>::infinity();
   for (int j = 0; j < m; ++j) {
     const auto jj = static_cast<size_t>(j);
     if (modes_[jj].dim < 2) continue;
-    ch.ff_step[jj] = a * ch.ff_step[jj] + (1.0 - a) * step[jj];
-    const double e = ch.feedforward.y - ch.ff_step[jj];
+    ch.ff_step[jj] = a_w * ch.ff_step[jj] + (1.0 - a_w) * step[jj];
+    const double e = ch.ff_y - ch.ff_step[jj];
     ch.ff_sq[jj] = lambda * ch.ff_sq[jj] + e * e;
     best = std::min(best, ch.ff_sq[jj]);
   }

@@ -177,11 +177,18 @@
 // velocity"): sum_j u_j (F_j x_ff_j)(1) over the moving modes, times w_ff, with x_ff_j the mode's
 // feed-forward start (the CA mode's velocity not weighted by its significance) and w_ff learnt, as a
 // channel filter's, on the combination's one-frame step sum_j u_j d_j, d_j = (F_j x_ff_j)(0) - x_ff_j(0).
-// The weights u_j are the feed-forward's own: each moving mode's step low-passed with
-// kFeedforwardTauS, D_j, is compared with the low-passed measured step Y (w_ff's pair), the
-// forgetting sums S_j = sum lambda^(k-i) (Y - D_j)^2 are kept (lambda the blend's), and
+// The weights u_j are the feed-forward's own: each moving mode's step D_j and the measured step Y_w,
+// both low-passed with ff_weight_tau_s (default 2 s; w_ff's pair uses kFeedforwardTauS, 1 s), are
+// compared, the forgetting sums S_j = sum lambda^(k-i) (Y_w - D_j)^2 are kept (lambda the blend's), and
 //   u_j = (min_i S_i / S_j)^16 / normalisation  (equal shares before the first sample; CP's 0),
-// so a mode's share halves for every 4.4 % of error more than the best one's. At a zero horizon
+// so a mode's share halves for every 4.4 % of error more than the best one's. Why 2 s and not w_ff's
+// 1 s: the loop integrates the feed-forward over its own time constant (2 s at lambda 0.5), so a lag
+// that lasts is what it cannot undo, while noise it averages; over 1 s at 10 Hz under 5 px of noise
+// the CA mode's noisier steps still outweighed the CV mode's lag, and u gave e8-ibvs's image v
+// channels to the CV mode through the board's 10 s of deceleration (imm 1.13 times kf-ca; with the
+// CA mode's velocity alone 0.91). 2 s: e8-ibvs 0.96 times kf-ca, e8-vtc 1.18 -> 1.13 px, the other
+// closed-loop cells within -1 % .. +2 % (e5-circle); 1.5-4 s alike, 0.5 s far worse
+// (docs/PERFORMANCE.md "imm's feed-forward weights over two seconds"). At a zero horizon
 // the posteriors' velocities are mixed by u, without w_ff (as the channel filters' zero horizon),
 // and in a closed loop so is the whole state predict() hands out there (position, covariance): the
 // loop's query without vision delay acts on that position (`servo.forecast: both`), and the forecast
@@ -201,7 +208,8 @@
 // cells, every predictor at its defaults; docs/PERFORMANCE.md "A lagging acceleration model in the
 // closed loop"): imm / min(kf-cv, kf-ca) over 1.1 on 2 cells (e5-line 1.14, e8-ibvs 1.16) instead of
 // 10 with the forecast weights and no w_ff, and 3 with w_ff alone (since the CV mode's exponent on
-// raises only and the zero horizon mixed by u, above: on 1 of 36 cells, e8-ibvs 1.13). A power of 4 left 4 over (e9-broyden's
+// raises only and the zero horizon mixed by u, above: on 1 of 36 cells, e8-ibvs 1.13; since u's
+// 2 s low-pass, on none). A power of 4 left 4 over (e9-broyden's
 // gains 6 and 7 too), 1000 (the better mode alone) 2 (e8-ibvs 1.18). Each mode whitened on its own
 // innovations instead of the shared scale made the modes kf-cv and kf-ca to 1 %, but then the
 // weights u chose the worse of the two on delay-study (1.18-1.34); the CV mode alone on its own
@@ -225,6 +233,8 @@
 // 0 = the forecast weights score with the model's s_j, above), forecast_floor
 // (relative weight, default 0.01, in [1e-12, 0.5]); coast_cp (in [0, 1], default 0; above);
 // mix_ca (0 or 1, default 0; above); gap_weight_power (in [0, 1], default 0.5; above);
+// ff_weight_tau_s (s, in [0.001, 1e6], default 2: the low-pass of the feed-forward's weights u in a
+// closed loop; above);
 // shrink_sigmas and shrink_v_sigmas (the CA
 // mode's forecast weighting, kf-ca's keys and defaults: 2 and 2; 0 = unweighted). hold_blend_tau_s (s,
 // default kDefaultHoldBlendTauS; 0 = off): the
@@ -345,12 +355,14 @@ class ImmPredictor : public Predictor {
     StartupNoiseEstimator r_est;
     HoldBlend blend;  ///< the blend with hold (channel_predictor.h)
     /// The feed-forward (file comment, "The feed-forward's velocity"): w_ff's regression on the
-    /// combination's one-frame step, each moving mode's low-passed one-frame step D_j and the
-    /// forgetting sum of (Y - D_j)^2 (Y the low-passed measured step, feedforward.y), and the
-    /// weights the feed-forward combines the modes with (equal shares of the moving modes until the
-    /// first sample; CP's is 0).
+    /// combination's one-frame step, each moving mode's one-frame step low-passed with
+    /// ff_weight_tau_s, D_j, and the forgetting sum of (Y_w - D_j)^2 (Y_w = ff_y, the measured step
+    /// low-passed alike), and the weights the feed-forward combines the modes with (equal shares of
+    /// the moving modes until the first sample; CP's is 0).
     FeedforwardWeight feedforward;
     std::array<double, kMaxModes> ff_step{}, ff_sq{}, ff_w{};
+    /// The measured step low-passed with ff_weight_tau_s, against which the weights judge ff_step.
+    double ff_y = 0.0;
     bool last_measured = false;
     /// The raise of q (process_noise_adapt.h); its scale stays 1 unless q_raise_ is set.
     ProcessNoiseMatcher q_raise;
@@ -423,6 +435,7 @@ class ImmPredictor : public Predictor {
   double coast_cp_;  ///< coast_cp: factor on the CP mode's forecast weight on an unmeasured frame while coasting
   double gap_weight_power_;  ///< gap_weight_power: the power of the forecast weights on a frame without a measurement
   double q_raise_cv_exponent_;  ///< q_raise_cv_exponent: the CV mode's density rises as the raise to this power
+  double ff_weight_tau_s_;  ///< ff_weight_tau_s: the low-pass of the feed-forward's weights' steps (s)
   /// blend_per_mode: with the blend on, each mode's forecast is blended with hold by its own weight
   /// before the combination, and the forecast weights score the blended one-frame forecasts.
   bool blend_per_mode_;
@@ -461,10 +474,11 @@ class ImmPredictor : public Predictor {
     return learn_feedforward_ ? ch.ff_w : forecastWeights(ch);
   }
   /// The feed-forward's sample of channel ch on a measured frame z after a measured one, F the
-  /// modes' transitions over the frame, lambda the blend's forgetting and a the feed-forward's
-  /// low-pass: w_ff's regression on the combination's step, then each moving mode's error and the
-  /// modes' weights (file comment, "The feed-forward's velocity").
-  void learnFeedforward(Channel& ch, double z, const std::array<Mat<3>, kMaxModes>& F, double lambda, double a) const;
+  /// modes' transitions over the frame, lambda the blend's forgetting, a w_ff's low-pass and a_w the
+  /// weights' (ff_weight_tau_s): w_ff's regression on the combination's step, then each moving
+  /// mode's error and the modes' weights (file comment, "The feed-forward's velocity").
+  void learnFeedforward(Channel& ch, double z, const std::array<Mat<3>, kMaxModes>& F, double lambda, double a,
+                        double a_w) const;
   /// ch.fw from ch.logw: exp(power logw_j), normalised (power < 1 on a frame without a measurement).
   void normaliseForecastWeights(Channel& ch, double power = 1.0) const;
   bool r_auto_;
@@ -483,7 +497,7 @@ class ImmPredictor : public Predictor {
   struct PeriodModels {
     ModeMatrix chain;
     std::array<Mat<3>, kMaxModes> F, Q;
-    double keep = 0.0, blend_keep = 0.0, feedforward_keep = 0.0;
+    double keep = 0.0, blend_keep = 0.0, feedforward_keep = 0.0, ff_weight_keep = 0.0;
   };
   ModeMatrix computeChain(double dt) const;
   const PeriodModels& periodModels(double dt) const;

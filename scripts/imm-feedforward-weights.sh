@@ -1,0 +1,67 @@
+#!/bin/bash
+# imm's feed-forward weights in a closed loop (ff_weight_tau_s; predictors/.../imm.h "The
+# feed-forward's velocity"; docs/PERFORMANCE.md "imm's feed-forward weights over two seconds"):
+# imm at its defaults and with ff_weight_tau_s TAU (default 1, the low-pass before), beside kf-cv and
+# kf-ca, in one `predvs compare` run per grid, so on the same seeds. Grids: the 24 closed-loop
+# scenario cells and 12 held-out variants of closed-loop-white-target.sh, and the occlusion grids of
+# closed-loop-coasting.sh (ibvs-moving-target with one occlusion of 0.5 and 2 s, 8 cells each; the
+# rendered twin; e8-vtc-occlusion). Prints per grid the geometric mean (min-max) of
+# rmse(imm) / rmse(imm with TAU), and for both the item-4 criterion: the cells where imm is over
+# 1.1 times the better of kf-cv and kf-ca.
+#
+#   scripts/imm-feedforward-weights.sh [-r RUNS] [-o OUT] [-t TAU] BIN
+#
+# RUNS: runs per cell (default 10); OUT: where the leaderboards go (default /tmp/imm-feedforward-weights).
+set -euo pipefail
+
+runs=10
+out=/tmp/imm-feedforward-weights
+tau=1
+usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+while getopts "r:o:t:h" opt; do
+  case $opt in
+    r) runs=$OPTARG ;;
+    o) out=$OPTARG ;;
+    t) tau=$OPTARG ;;
+    *) usage ;;
+  esac
+done
+shift $((OPTIND - 1))
+[ $# -eq 1 ] || usage
+bin=$1
+[ -x "$bin" ] || { echo "imm-feedforward-weights: error: $bin is not an executable" >&2; exit 2; }
+
+list="kf-cv, kf-ca, imm, {name: imm-tau, type: imm, params: {ff_weight_tau_s: $tau}}"
+mkdir -p "$out"
+script=imm-feedforward-weights
+. "$(dirname "$0")/lib/compare-grid.sh"
+compare_grid scenarios --scenarios delay-study,ibvs-moving-target,e5-line,e5-circle,e8-ibvs,e8-vtc,e9-ibvs,e9-broyden
+compare_grid held-out --scenarios ibvs-moving-target --sweep noise.sigma=0.5,2 --sweep timing.base_period_s=0.0167,0.04,0.1 \
+  --sweep target.trajectory.omega=0.5,1.5
+for L in 0.5 2; do
+  compare_grid "occlusion-$L" --scenarios ibvs-moving-target --set "occlusions=[{start_s: 12, end_s: $(python3 -c "print(12 + $L)")}]" \
+    --sweep noise.sigma=0.5,2 --sweep timing.base_period_s=0.0167,0.04 --sweep target.trajectory.omega=0.5,1.5
+done
+compare_grid rendered-twin --scenarios ibvs-rendered-dots --set 'source={type: geometric}' --sweep noise.sigma=0.038,0.5
+compare_grid e8-vtc-occlusion --scenarios e8-vtc-occlusion
+
+python3 - "$out" "$tau" <<'PY'
+import csv, math, os, sys
+out, tau = sys.argv[1], sys.argv[2]
+grids = ["scenarios", "held-out", "occlusion-0.5", "occlusion-2", "rendered-twin", "e8-vtc-occlusion"]
+gm = lambda xs: math.exp(sum(map(math.log, xs)) / len(xs))
+print(f"{'grid':17s} {'cells':>5s} {'imm / imm-tau: gmean (min-max)':>31s} | imm over 1.1 x min(kf-cv, kf-ca): default; tau {tau}")
+for g in grids:
+    t = {}
+    with open(os.path.join(out, g, "leaderboard.csv")) as f:
+        for row in csv.DictReader(f):
+            if row["metric"] == "rmse":
+                t[(row["variant"], row["predictor"])] = float(row["mean"])
+    cells = sorted({v for (v, p) in t})
+    r = [t[(v, "imm")] / t[(v, "imm-tau")] for v in cells]
+    over = lambda p: [f"{v} {t[(v, p)] / min(t[(v, 'kf-cv')], t[(v, 'kf-ca')]):.2f}" for v in cells
+                      if t[(v, p)] > 1.1 * min(t[(v, "kf-cv")], t[(v, "kf-ca")])]
+    a, b = over("imm"), over("imm-tau")
+    print(f"{g:17s} {len(cells):5d} {gm(r):13.3f} ({min(r):.3f}-{max(r):.3f}) | {len(a)}{': ' + ', '.join(a) if a else ''}; "
+          f"{len(b)}{': ' + ', '.join(b) if b else ''}")
+PY
