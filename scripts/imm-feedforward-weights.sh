@@ -3,9 +3,11 @@
 # feed-forward's velocity"; docs/PERFORMANCE.md "imm's feed-forward weights over two seconds"):
 # imm at its defaults and with ff_weight_tau_s TAU (default 1, the low-pass before), beside kf-cv and
 # kf-ca, in one `predvs compare` run per grid, so on the same seeds. Grids: the 24 closed-loop
-# scenario cells and 12 held-out variants of closed-loop-white-target.sh, and the occlusion grids of
-# closed-loop-coasting.sh (ibvs-moving-target with one occlusion of 0.5 and 2 s, 8 cells each; the
-# rendered twin; e8-vtc-occlusion). Prints per grid the geometric mean (min-max) of
+# scenario cells and 12 held-out variants of closed-loop-white-target.sh; 18 variants of the two
+# loops without vision delay (e8-ibvs and e8-vtc over 1 / 2 / 5 px and 30 / 20 / 10 Hz; 5 px at 10 Hz
+# are the scenarios themselves); and
+# the occlusion grids of closed-loop-coasting.sh (ibvs-moving-target with one occlusion of 0.5 and
+# 2 s, 8 cells each; the rendered twin; e8-vtc-occlusion). Prints per grid the geometric mean (min-max) of
 # rmse(imm) / rmse(imm with TAU), and for both the item-4 criterion: the cells where imm is over
 # 1.1 times the better of kf-cv and kf-ca.
 #
@@ -17,7 +19,7 @@ set -euo pipefail
 runs=10
 out=/tmp/imm-feedforward-weights
 tau=1
-usage() { sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 while getopts "r:o:t:h" opt; do
   case $opt in
     r) runs=$OPTARG ;;
@@ -38,6 +40,7 @@ script=imm-feedforward-weights
 compare_grid scenarios --scenarios delay-study,ibvs-moving-target,e5-line,e5-circle,e8-ibvs,e8-vtc,e9-ibvs,e9-broyden
 compare_grid held-out --scenarios ibvs-moving-target --sweep noise.sigma=0.5,2 --sweep timing.base_period_s=0.0167,0.04,0.1 \
   --sweep target.trajectory.omega=0.5,1.5
+compare_grid e8-variants --scenarios e8-ibvs,e8-vtc --sweep noise.sigma=1,2,5 --sweep timing.base_period_s=0.0333,0.05,0.1
 for L in 0.5 2; do
   compare_grid "occlusion-$L" --scenarios ibvs-moving-target --set "occlusions=[{start_s: 12, end_s: $(python3 -c "print(12 + $L)")}]" \
     --sweep noise.sigma=0.5,2 --sweep timing.base_period_s=0.0167,0.04 --sweep target.trajectory.omega=0.5,1.5
@@ -48,7 +51,7 @@ compare_grid e8-vtc-occlusion --scenarios e8-vtc-occlusion
 python3 - "$out" "$tau" <<'PY'
 import csv, math, os, sys
 out, tau = sys.argv[1], sys.argv[2]
-grids = ["scenarios", "held-out", "occlusion-0.5", "occlusion-2", "rendered-twin", "e8-vtc-occlusion"]
+grids = ["scenarios", "held-out", "e8-variants", "occlusion-0.5", "occlusion-2", "rendered-twin", "e8-vtc-occlusion"]
 gm = lambda xs: math.exp(sum(map(math.log, xs)) / len(xs))
 print(f"{'grid':17s} {'cells':>5s} {'imm / imm-tau: gmean (min-max)':>31s} | imm over 1.1 x min(kf-cv, kf-ca): default; tau {tau}")
 for g in grids:
