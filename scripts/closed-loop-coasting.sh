@@ -36,12 +36,7 @@ for f in $filters; do list="$list, $f, {name: $f-tau, type: $f, params: {coast_t
 mkdir -p "$out"
 script=closed-loop-coasting
 . "$(dirname "$0")/lib/compare-grid.sh"
-for L in 0.2 0.5 1 2; do
-  compare_grid "occlusion-$L" --scenarios ibvs-moving-target --set "occlusions=[{start_s: 12, end_s: $(python3 -c "print(12 + $L)")}]" \
-    --sweep noise.sigma=0.5,2 --sweep timing.base_period_s=0.0167,0.04 --sweep target.trajectory.omega=0.5,1.5
-done
-compare_grid rendered-twin --scenarios ibvs-rendered-dots --set 'source={type: geometric}' --sweep noise.sigma=0.038,0.5
-compare_grid e8-vtc-occlusion --scenarios e8-vtc-occlusion
+occlusion_grids 0.2 0.5 1 2
 
 python3 - "$out" "$filters" <<'PY'
 import csv, math, os, sys

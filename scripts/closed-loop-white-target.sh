@@ -44,9 +44,7 @@ done
 mkdir -p "$out"
 script=closed-loop-white-target
 . "$(dirname "$0")/lib/compare-grid.sh"
-compare_grid scenarios --scenarios delay-study,ibvs-moving-target,e5-line,e5-circle,e8-ibvs,e8-vtc,e9-ibvs,e9-broyden
-compare_grid held-out --scenarios ibvs-moving-target --sweep noise.sigma=0.5,2 --sweep timing.base_period_s=0.0167,0.04,0.1 \
-  --sweep target.trajectory.omega=0.5,1.5
+closed_loop_grids
 
 python3 - "$out" "$filters" <<'EOF'
 import csv, math, sys

@@ -37,16 +37,9 @@ list="kf-cv, kf-ca, imm, {name: imm-tau, type: imm, params: {ff_weight_tau_s: $t
 mkdir -p "$out"
 script=imm-feedforward-weights
 . "$(dirname "$0")/lib/compare-grid.sh"
-compare_grid scenarios --scenarios delay-study,ibvs-moving-target,e5-line,e5-circle,e8-ibvs,e8-vtc,e9-ibvs,e9-broyden
-compare_grid held-out --scenarios ibvs-moving-target --sweep noise.sigma=0.5,2 --sweep timing.base_period_s=0.0167,0.04,0.1 \
-  --sweep target.trajectory.omega=0.5,1.5
+closed_loop_grids
 compare_grid e8-variants --scenarios e8-ibvs,e8-vtc --sweep noise.sigma=1,2,5 --sweep timing.base_period_s=0.0333,0.05,0.1
-for L in 0.5 2; do
-  compare_grid "occlusion-$L" --scenarios ibvs-moving-target --set "occlusions=[{start_s: 12, end_s: $(python3 -c "print(12 + $L)")}]" \
-    --sweep noise.sigma=0.5,2 --sweep timing.base_period_s=0.0167,0.04 --sweep target.trajectory.omega=0.5,1.5
-done
-compare_grid rendered-twin --scenarios ibvs-rendered-dots --set 'source={type: geometric}' --sweep noise.sigma=0.038,0.5
-compare_grid e8-vtc-occlusion --scenarios e8-vtc-occlusion
+occlusion_grids 0.5 2
 
 python3 - "$out" "$tau" <<'PY'
 import csv, math, os, sys
