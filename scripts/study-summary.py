@@ -3,9 +3,9 @@
 (predictor, track) pairs that do not beat hold (ratio_to_hold >= 1) per grid and in all, the
 geometric mean of the ratios to hold per grid, the tracks on which imm is above 1.1 times the
 smaller of kf-cv's and kf-ca's RMSE (issue 11 item 4; when those three ran), and the tracks on
-which imm does not beat hold.
+which imm does not beat hold. With --only NAME the losses and means are NAME's alone.
 
-    scripts/study-summary.py DIR [DIR ...]
+    scripts/study-summary.py [--only NAME] DIR [DIR ...]
 """
 import csv
 import math
@@ -15,7 +15,7 @@ import sys
 GRIDS = ["g1", "g2", "g3", "g4", "g5", "g6", "g7", "v8", "v9", "v10"]
 
 
-def summary(d):
+def summary(d, only=None):
     losses, means, imm_miss, imm_hold = [], [], 0, 0
     for g in GRIDS:
         path = os.path.join(d, g, "study.csv")
@@ -26,7 +26,7 @@ def summary(d):
             for r in csv.DictReader(f):
                 key = (r["kind"], r["rate_hz"], r["noise_px"], r["seed"], r.get("draw", "0"))
                 tracks.setdefault(key, {})[r["predictor"]] = float(r["rmse_truth_px"])
-                if r["predictor"] != "hold":
+                if r["predictor"] != "hold" and only in (None, r["predictor"]):
                     x = float(r["ratio_to_hold"])
                     logs.append(math.log(x))
                     loss += x >= 1.0
@@ -45,7 +45,12 @@ def summary(d):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) < 2:
+    args, only = sys.argv[1:], None
+    if args[:1] == ["--only"]:
+        if len(args) < 2:
+            sys.exit(__doc__)
+        only, args = args[1], args[2:]
+    if not args:
         sys.exit(__doc__)
-    for d in sys.argv[1:]:
-        print(summary(d))
+    for d in args:
+        print(summary(d, only))

@@ -144,6 +144,7 @@ ImmPredictor::ImmPredictor(int channels, const Params& params)
       coast_cp_(params.get("coast_cp", kDefaultCoastCp, 0.0, 1.0)),
       gap_weight_power_(params.get("gap_weight_power", kDefaultGapWeightPower, 0.0, 1.0)),
       q_raise_cv_exponent_(params.get("q_raise_cv_exponent", kDefaultQRaiseCvExponent, 0.0, 1.0)),
+      q_raise_from_ca_(params.get("q_raise_from_ca", 1.0, 0.0, 1.0) >= 0.5),
       ff_weight_tau_s_(params.get("ff_weight_tau_s", kDefaultFeedforwardWeightTauS, 1e-3, 1e6)),
       blend_per_mode_(params.get("blend_per_mode", 1.0, 0.0, 1.0) >= 0.5),
       mix_ca_(params.get("mix_ca", 0.0, 0.0, 1.0) >= 0.5),
@@ -506,6 +507,7 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
       for (int j = 0; j < m; ++j) xbar += cbar[static_cast<size_t>(j)] * mixed[static_cast<size_t>(j)].x(0);
       double S = 0.0, maxll = -std::numeric_limits<double>::infinity();
       std::array<double, kMaxModes> loglik{};
+      Innovation ca_innovation;  // the CA mode's own, which the raise observes (q_raise_from_ca)
       for (int j = 0; j < m; ++j) {
         const auto jj = static_cast<size_t>(j);
         const double d = mixed[jj].x(0) - xbar;
@@ -516,11 +518,14 @@ void ImmPredictor::update(double t_s, const Eigen::Ref<const Eigen::VectorXd>& z
                                          : measurementUpdate(mixed[jj], z(c), R);
         loglik[jj] = -0.5 * (kLog2Pi + std::log(in.S) + in.eps * in.eps / in.S);
         maxll = std::max(maxll, loglik[jj]);
+        if (j == ca) ca_innovation = in;
       }
       ch.innovation = Innovation{z(c) - xbar, S, true};
       if (q_raise_) {
         const double before = ch.q_raise.scale();
-        ch.q_raise.observe(ch.innovation.eps, S, dt);
+        // On the CA mode's own innovation (imm.h, "The raise of q on each mode"), or the combination's.
+        const Innovation& seen = q_raise_from_ca_ ? ca_innovation : ch.innovation;
+        ch.q_raise.observe(seen.eps, seen.S, dt);
         // The exponent damps raises only (imm.h, "The raise of q on each mode"): a fall below the
         // defaults (the closed loop's whitening) lowers the CV mode as much as the CA mode. pow(s, 1)
         // is s and pow(s, 0) is 1 exactly: the exponent's ends need no case of their own.

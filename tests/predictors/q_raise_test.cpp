@@ -198,6 +198,26 @@ TEST(QRaise, ImmRaisesItsCvModeLessThanItsCaMode) {
   EXPECT_THROW(makePredictor("kf-ca", 1, Params{{"q_raise_cv_exponent", 0.5}}), std::invalid_argument);
 }
 
+TEST(QRaise, ImmRaisesOnItsCaModesOwnInnovation) {
+  // GIVEN the weave at 10, 30 and 60 Hz, where kf-ca (raised on its own innovation) is the better
+  // single model
+  for (const double T : {0.1, 1.0 / 30.0, 1.0 / 60.0}) {
+    const double kf_ca = weave("kf-ca", {}, T).rmse_px;
+    // WHEN imm's raise observes its CA mode's own innovation (the default), and the combination's
+    // moment-matched innovation (q_raise_from_ca 0, imm before the key)
+    const double own = weave("imm", {}, T).rmse_px;
+    const double combined = weave("imm", {{"q_raise_from_ca", 0.0}}, T).rmse_px;
+    std::printf("[ q raise ] %2.0f Hz: imm %.3f (raised on the combination %.3f) of kf-ca's %.2f px\n", 1.0 / T,
+                own / kf_ca, combined / kf_ca, kf_ca);
+    // THEN imm is closer to kf-ca: its CA mode, which starts from its own posterior, is raised as
+    // kf-ca raises itself
+    EXPECT_LT(own, combined) << 1.0 / T;
+  }
+  // AND the key is 0 or 1, imm's only
+  EXPECT_THROW(makePredictor("imm", 1, Params{{"q_raise_from_ca", 2.0}}), std::invalid_argument);
+  EXPECT_THROW(makePredictor("kf-ca", 1, Params{{"q_raise_from_ca", 1.0}}), std::invalid_argument);
+}
+
 /// imm (1 channel) told `closed_loop: 1` on a slow ramp (5 px/s, 1 px noise, 25 Hz, 30 s), with
 /// `extra` params: its 2-frame forecasts and feed-forward velocities after each update.
 std::vector<double> immClosedLoopRamp(const Params& extra) {

@@ -150,8 +150,18 @@
 // (210-211 of 216). Weighting with mu propagated by the chain over h (an earlier choice) mixes in
 // the full-horizon extrapolation of a mode the target would only switch to part-way: E2 1.20.
 // The raise of q on each mode (q_raise_cv_exponent, default 0.5; 1 = both modes alike, as before):
-// the raise (process_noise_adapt.h, one scale s per channel, from the combined innovation) multiplies
-// the CA mode's density by s and the CV mode's by s^q_raise_cv_exponent. Why: a manoeuvre the
+// the raise (process_noise_adapt.h, one scale s per channel) multiplies the CA mode's density by s
+// and the CV mode's by s^q_raise_cv_exponent. s observes the CA mode's own innovation eps_CA, S_CA
+// (q_raise_from_ca, default 1; 0 = the combination's moment-matched innovation, as before), in the
+// open loop's raise and the closed loop's whitening alike. Why: the CA mode starts from its own
+// posterior (mix_ca 0, above), so observed on its own innovation it is raised, and whitened, as
+// kf-ca raises and whitens itself: the single model it stands for. The combined innovation mixes in
+// the CV mode's lag (or, in a closed loop where mu favours the CV mode, is nearly the CV mode's
+// own), and the CA mode's density followed that instead. Measured (docs/PERFORMANCE.md "imm's raise
+// on its CA mode's own innovation"): imm over 1.1 times the better of kf-cv and kf-ca on the second
+// generator 6 -> 1 and 3 -> 0 of 576 tracks (seeds 1-4, 5-8), on make-track's ten grids 50 -> 48,
+// 5 frames ahead 81 -> 74 and 11 -> 6; its error 2-4 % lower on the closed-loop grids (none worse
+// than +1.6 %). Why: a manoeuvre the
 // defaults were not sized for is the CA mode's to carry; raised as much, the CV mode follows it too,
 // with a lag that one-frame forecasts hide under the noise, keeps the forecast weight and gives
 // imm its lag (a weave of 3000 px/s^2 at 30 Hz, 2 px: CV forecast weight 0.92-0.98 for the whole
@@ -213,13 +223,15 @@
 // gains 6 and 7 too), 1000 (the better mode alone) 2 (e8-ibvs 1.18). Each mode whitened on its own
 // innovations instead of the shared scale made the modes kf-cv and kf-ca to 1 %, but then the
 // weights u chose the worse of the two on delay-study (1.18-1.34); the CV mode alone on its own
-// whitening lost 6 of 12 held-out variants of the default loop (up to 2.84 times).
+// whitening lost 6 of 12 held-out variants of the default loop (up to 2.84 times). The one shared
+// scale observing the CA mode's innovation (q_raise_from_ca, above) is what is kept.
 // Parameters (px and s): q_cp (px^2/s, default 2), q_cv (px^2/s^3, default kDefaultQCv), q_ca
 // (px^2/s^5, default kDefaultQCa; when neither q_cv nor q_ca is given and the blend with hold is
-// on, both are raised, per channel, while the combined innovation is more than q_raise_ratio
-// (default 2; 0 = no raise) times its predicted variance: process_noise_adapt.h; the CV mode by
-// the raise to the power q_raise_cv_exponent, above; in a closed loop, `closed_loop: 1`, the same
-// scale is moved until the combined innovations are white instead, down as well as up:
+// on, both are raised, per channel, while the CA mode's innovation (the combined one with
+// q_raise_from_ca 0, above) is more than q_raise_ratio (default 2; 0 = no raise) times its
+// predicted variance: process_noise_adapt.h; the CV mode by the raise to the power
+// q_raise_cv_exponent, above; in a closed loop, `closed_loop: 1`, the same scale is moved until
+// those innovations are white instead, down as well as up:
 // process_noise_adapt.h, predictor.h closedLoopParam; q_white_rho, the whiteness aimed at, default
 // kDefaultQWhiteRhoAcceleration: process_noise_adapt.h, "The whitening's target"),
 // alpha (1/s, default 0: CA; > 0: Singer), r (px^2; default `auto`,
@@ -232,7 +244,8 @@
 // single models; forecast_tau_s (s, default 30; 0 = forecast with mu), forecast_calibration (1;
 // 0 = the forecast weights score with the model's s_j, above), forecast_floor
 // (relative weight, default 0.01, in [1e-12, 0.5]); coast_cp (in [0, 1], default 0; above);
-// mix_ca (0 or 1, default 0; above); gap_weight_power (in [0, 1], default 0.5; above);
+// mix_ca (0 or 1, default 0; above); q_raise_from_ca (0 or 1, default 1; above);
+// gap_weight_power (in [0, 1], default 0.5; above);
 // ff_weight_tau_s (s, in [0.001, 1e6], default 2: the low-pass of the feed-forward's weights u in a
 // closed loop; above);
 // shrink_sigmas and shrink_v_sigmas (the CA
@@ -435,6 +448,9 @@ class ImmPredictor : public Predictor {
   double coast_cp_;  ///< coast_cp: factor on the CP mode's forecast weight on an unmeasured frame while coasting
   double gap_weight_power_;  ///< gap_weight_power: the power of the forecast weights on a frame without a measurement
   double q_raise_cv_exponent_;  ///< q_raise_cv_exponent: the CV mode's density rises as the raise to this power
+  /// q_raise_from_ca: the raise (the whitening in a closed loop) observes the CA mode's own innovation,
+  /// as kf-ca's observes its own (false: the combination's moment-matched innovation).
+  bool q_raise_from_ca_;
   double ff_weight_tau_s_;  ///< ff_weight_tau_s: the low-pass of the feed-forward's weights' steps (s)
   /// blend_per_mode: with the blend on, each mode's forecast is blended with hold by its own weight
   /// before the combination, and the forecast weights score the blended one-frame forecasts.
