@@ -161,7 +161,7 @@
 // on its CA mode's own innovation"): imm over 1.1 times the better of kf-cv and kf-ca on the second
 // generator 6 -> 1 and 3 -> 0 of 576 tracks (seeds 1-4, 5-8), on make-track's ten grids 50 -> 48,
 // 5 frames ahead 81 -> 74 and 11 -> 6; its error 2-4 % lower on the closed-loop grids (none worse
-// than +1.6 %). Why: a manoeuvre the
+// than +1.6 %). Why the CV mode is raised less: a manoeuvre the
 // defaults were not sized for is the CA mode's to carry; raised as much, the CV mode follows it too,
 // with a lag that one-frame forecasts hide under the noise, keeps the forecast weight and gives
 // imm its lag (a weave of 3000 px/s^2 at 30 Hz, 2 px: CV forecast weight 0.92-0.98 for the whole
