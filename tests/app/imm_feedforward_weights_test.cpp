@@ -40,8 +40,9 @@ TEST_F(ImmFeedforwardWeights, OnTheE8LoopsImmKeepsWithinTenPercentOfItsBetterSin
     // AND no worse than with the 1 s low-pass (measured 0.85 and 0.96 times)
     EXPECT_LT(at(v, "imm"), at(v, "imm-1s"));
   }
-  // AND on e8-ibvs the longer low-pass is what keeps imm there: with 1 s its weights gave the CV mode
-  // the image's v channels and imm was 1.13 times kf-ca (measured 2.72-2.75 px against 2.32 with 2 s)
+  // AND on e8-ibvs the longer low-pass is what keeps imm there: with 1 s its weights left the image's
+  // u channels to the CV mode through the board's deceleration and imm was 1.13 times kf-ca
+  // (measured 2.72-2.75 px against 2.32 with 2 s)
   EXPECT_LT(at("e8-ibvs", "imm"), 0.9 * at("e8-ibvs", "imm-1s"));
 }
 

@@ -194,9 +194,12 @@
 // so a mode's share halves for every 4.4 % of error more than the best one's. Why 2 s and not w_ff's
 // 1 s: the loop integrates the feed-forward over its own time constant (2 s at lambda 0.5), so a lag
 // that lasts is what it cannot undo, while noise it averages; over 1 s at 10 Hz under 5 px of noise
-// the CA mode's noisier steps still outweighed the CV mode's lag, and u gave e8-ibvs's image v
-// channels to the CV mode through the board's 10 s of deceleration (imm 1.13 times kf-ca; with the
-// CA mode's velocity alone 0.91). 2 s: e8-ibvs 0.96 times kf-ca, e8-vtc 1.18 -> 1.13 px, the other
+// the CA mode's noisier steps still outweighed the CV mode's lag: on e8-ibvs u left the image's u
+// channels to the CV mode through the board's 10 s of deceleration and gave them to the CA mode only
+// once its speed had reversed (CA share 0.02-0.33 before 10 s, 0.17-0.68 at 10 s; imm 1.13 times
+// kf-ca; with the CA mode's velocity alone 0.91); over 2 s the CA mode gets 0.1-0.5 of them during
+// the deceleration and 0.70-0.99 at 10 s (the v channels stay with the CV mode either way).
+// 2 s: e8-ibvs 0.96 times kf-ca, e8-vtc 1.18 -> 1.13 px, the other
 // closed-loop cells within -1 % .. +2 % (e5-circle); 1.5-4 s alike, 0.5 s far worse
 // (docs/PERFORMANCE.md "imm's feed-forward weights over two seconds"). At a zero horizon
 // the posteriors' velocities are mixed by u, without w_ff (as the channel filters' zero horizon),
