@@ -6,7 +6,8 @@
 GIVEN a small `predvs track-study` grid written where scripts/study-grids.sh puts its first grid
 (DIR/g1/study.csv), 5 frames ahead with the blend on two horizons (some losses to hold), WHEN
 study-summary sums it up, THEN its loss count is the one track-study prints (tracks less wins, over
-the predictors), and a directory without any grid is refused in one line with a non-zero exit.
+the predictors), with --only NAME NAME's alone, and a directory without any grid is refused in one
+line with a non-zero exit.
 """
 import os
 import re
@@ -27,7 +28,8 @@ def main():
                  "--out", os.path.join(work, "g1")] + two)
     # the table under "beats hold", up to the "ratio =" line: "kf-cv   7/8   0.87 ..." (wins / tracks)
     table = r.stdout[r.stdout.index("beats hold"):r.stdout.index("ratio =")]
-    printed = sum(int(m.group(2)) - int(m.group(1)) for m in re.finditer(r"^\S+\s+(\d+)/(\d+)\s", table, re.M))
+    rows = {m.group(1): int(m.group(3)) - int(m.group(2)) for m in re.finditer(r"^(\S+)\s+(\d+)/(\d+)\s", table, re.M)}
+    printed = sum(rows.values())
     s = checked([sys.executable, SCRIPT, work])
     m = re.search(r"losses (\d+) \(in all (\d+); grids g1\)", s.stdout)
     failures = []
@@ -37,6 +39,13 @@ def main():
         failures.append(f"{m.group(2)} losses against track-study's {printed}")
     elif printed == 0:
         failures.append("no loss on the grid: the check would not tell a wrong count")
+    for name in ("kf-cv", "imm"):
+        o = checked([sys.executable, SCRIPT, "--only", name, work])
+        m = re.search(r"losses (\d+) \(in all (\d+); grids g1\)", o.stdout)
+        if not m or int(m.group(2)) != rows.get(name, -1):
+            failures.append(f"--only {name}: {o.stdout!r} against track-study's {rows.get(name)}")
+    if sum(1 for n in ("kf-cv", "imm") if rows.get(n)) == 0:
+        failures.append("neither kf-cv nor imm loses on the grid: --only would not tell a wrong count")
     empty = os.path.join(work, "empty")
     os.makedirs(empty, exist_ok=True)
     if not refused_in_one_line(run([sys.executable, SCRIPT, empty]), "study.csv"):
