@@ -842,10 +842,10 @@ ChannelEstimate ImmPredictor::predict(int channel, double t_s) const {
     return e;
   }
   const double dt = t_s - time();
+  // A zero horizon: the posteriors mixed by the feed-forward's weights, as its velocity (in a closed
+  // loop its own, u; else the forecast's: imm.h, "The feed-forward's velocity").
+  if (!(dt > 0.0)) return toEstimate(combine(ch.g, feedforwardWeights(ch)));
   const std::array<double, kMaxModes>& w = forecastWeights(ch);
-  // A zero horizon in a closed loop: the posteriors mixed by the feed-forward's weights, as its
-  // velocity (imm.h, "The feed-forward's velocity").
-  if (!(dt > 0.0)) return toEstimate(combine(ch.g, learn_feedforward_ ? feedforwardWeights(ch) : w));
   std::array<Gaussian<3>, kMaxModes> g;
   for (int j = 0; j < modeCount(); ++j) {
     const auto jj = static_cast<size_t>(j);
