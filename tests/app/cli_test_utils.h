@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <unistd.h>
@@ -59,6 +60,15 @@ inline std::vector<std::vector<std::string>> csvRows(const std::string& csv) {
     rows.push_back(cells);
   }
   return rows;
+}
+
+/// The mean column of a `predvs compare` leaderboard.csv, keyed "variant/predictor/metric" (rows
+/// without a mean left out).
+inline std::map<std::string, double> leaderboardMeans(const std::string& csv_path) {
+  std::map<std::string, double> out;
+  for (const auto& f : csvRows(slurp(csv_path)))
+    if (f.size() >= 6 && !f[5].empty()) out[f[1] + "/" + f[2] + "/" + f[3]] = std::stod(f[5]);
+  return out;
 }
 
 /// The JSON document in the file at `path` (throws if it is missing or malformed).

@@ -20,14 +20,6 @@ using namespace predvs::apptest;  // run(), CliRun, slurp(), ScratchDirTest (cli
 
 namespace {
 
-/// Rows of leaderboard.csv as "variant/predictor/metric" -> mean.
-std::map<std::string, double> means(const std::string& csv_path) {
-  std::map<std::string, double> out;
-  for (const auto& f : csvRows(slurp(csv_path)))
-    if (f.size() >= 6 && !f[5].empty()) out[f[1] + "/" + f[2] + "/" + f[3]] = std::stod(f[5]);
-  return out;
-}
-
 class CompareSweepTest : public ScratchDirTest {
  protected:
   CompareSweepTest() : ScratchDirTest("predvs_compare_sweep_test") {}
@@ -54,7 +46,7 @@ TEST_F(CompareSweepTest, FileSweepGivesOneVariantPerValueAndTheValueChangesTheRu
   const CliRun r = run(a);
   ASSERT_EQ(r.code, 0) << r.err;
   // THEN there is one variant per value, named <scenario>@<last path segment>=<value>
-  const auto m = means(out + "/leaderboard.csv");
+  const auto m = leaderboardMeans(out + "/leaderboard.csv");
   for (const char* v : {"0", "1", "2"})
     EXPECT_EQ(m.count(std::string("tiny-delay@delay_frames=") + v + "/hold/rmse"), 1u) << v;
   // AND the delay reaches the runs: hold (the last delivered sample) falls further behind the
@@ -94,7 +86,7 @@ TEST_F(CompareSweepTest, AVariantIsTheScenarioWithTheValueSet) {
                 .code,
             0);
   // THEN the variant at 2 has exactly the numbers of the --set run (same seeds, same loading)
-  const auto swept = means(path("sweep/leaderboard.csv")), set = means(path("set/leaderboard.csv"));
+  const auto swept = leaderboardMeans(path("sweep/leaderboard.csv")), set = leaderboardMeans(path("set/leaderboard.csv"));
   int compared = 0;
   for (const auto& kv : set) {
     const std::string key = "tiny-delay@delay_frames=2" + kv.first.substr(kv.first.find('/'));
@@ -114,7 +106,7 @@ TEST_F(CompareSweepTest, SweepOptionReplacesTheFilesSweep) {
                 .code,
             0);
   // THEN only the noise values are variants (the file's delay sweep is gone), named @sigma=
-  const auto m = means(path("a/leaderboard.csv"));
+  const auto m = leaderboardMeans(path("a/leaderboard.csv"));
   EXPECT_EQ(m.count("tiny-delay@sigma=0/kf-cv/rmse"), 1u);
   EXPECT_EQ(m.count("tiny-delay@sigma=3/kf-cv/rmse"), 1u);
   for (const auto& kv : m) EXPECT_EQ(kv.first.find("delay_frames"), std::string::npos) << kv.first;
@@ -160,7 +152,7 @@ TEST_F(CompareSweepTest, PredictorParameterSweepChangesThatPredictor) {
       }
   EXPECT_EQ(qs, (std::vector<double>{0.1, 1000.0}));
   // AND kf-cv's numbers change with q while hold's do not
-  const auto m = means(out + "/leaderboard.csv");
+  const auto m = leaderboardMeans(out + "/leaderboard.csv");
   EXPECT_NE(m.at("tiny-delay@q=0.1/kf-cv/rmse"), m.at("tiny-delay@q=1000/kf-cv/rmse"));
   EXPECT_EQ(m.at("tiny-delay@q=0.1/hold/rmse"), m.at("tiny-delay@q=1000/hold/rmse"));
 }
@@ -182,7 +174,7 @@ TEST_F(CompareSweepTest, NoiseSigmaSweepKeepsItsNamesAndPlot) {
   const CliRun r = run(a);
   ASSERT_EQ(r.code, 0) << r.err;
   // THEN the variants are <scenario>@sigma=<value> (2.0 printed as 2), with the MSE columns
-  const auto m = means(out + "/leaderboard.csv");
+  const auto m = leaderboardMeans(out + "/leaderboard.csv");
   EXPECT_EQ(m.count("tiny-e6@sigma=0/kf-cv/pos_mse_x_i"), 1u);
   EXPECT_EQ(m.count("tiny-e6@sigma=2/kf-cv/vel_mse_d_x"), 1u);
   EXPECT_NE(r.out.find("tiny-e6@sigma=2"), std::string::npos);

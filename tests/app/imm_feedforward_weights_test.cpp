@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <map>
 #include <string>
-#include <utility>
 
 using namespace predvs::apptest;
 
@@ -27,13 +26,11 @@ TEST_F(ImmFeedforwardWeights, OnTheE8LoopsImmKeepsWithinTenPercentOfItsBetterSin
                         "predictors=[kf-cv, kf-ca, imm, {name: imm-1s, type: imm, params: {ff_weight_tau_s: 1}}]",
                         "--no-plots", "--out", path("cmp")});
   ASSERT_EQ(r.code, 0) << r.err;
-  std::map<std::pair<std::string, std::string>, double> rmse;
-  for (const auto& row : csvRows(slurp(path("cmp") + "/leaderboard.csv")))
-    if (row.size() > 5 && row[3] == "rmse") rmse[{row[1], row[2]}] = std::stod(row[5]);
-  auto at = [&](const std::string& v, const std::string& p) { return rmse[{v, p}]; };
+  const std::map<std::string, double> mean = leaderboardMeans(path("cmp") + "/leaderboard.csv");
+  auto at = [&](const std::string& v, const std::string& p) { return mean.at(v + "/" + p + "/rmse"); };
   for (const char* v : {"e8-ibvs", "e8-vtc"}) {
     SCOPED_TRACE(v);
-    ASSERT_TRUE(rmse.count({v, "imm-1s"}));
+    ASSERT_TRUE(mean.count(std::string(v) + "/imm-1s/rmse"));
     const double best = std::min(at(v, "kf-cv"), at(v, "kf-ca"));
     // THEN imm is within 10 % of the better of kf-cv and kf-ca (item 4; measured 0.96 and 0.82 times)
     EXPECT_LT(at(v, "imm"), 1.1 * best);
