@@ -8,6 +8,7 @@
 # with exit status 2.
 #   closed_loop_defaults_test.sh PREDVS OUT
 set -euo pipefail
+. "$(dirname "$0")/script_test.sh"
 predvs=$1
 out=$2
 script=$(dirname "$0")/../../scripts/closed-loop-defaults.sh
@@ -30,10 +31,5 @@ rows=$(bash "$script" -r 1 -s e5-line -o "$out/p" -p "hold, {name: cv-auto, type
 # -p without hold: the rmse alone, '-' for the ratio to hold
 row=$(bash "$script" -r 1 -s e5-line -o "$out/nohold" -p "kf-cv" "$predvs" 2>/dev/null | awk '$1 == "e5-line"')
 echo "$row" | awk '{ exit !($2 == "kf-cv" && $3 + 0 > 0 && $4 == "-") }' || { echo "FAIL: -p kf-cv gave '$row'" >&2; exit 1; }
-set +e
-bash "$script" -o "$out/bad" /nonexistent/predvs 2>"$out/bad.err"
-status=$?
-set -e
-[ "$status" -eq 2 ] || { echo "FAIL: a missing binary exits with $status, not 2" >&2; exit 1; }
-grep -q "/nonexistent/predvs is not an executable" "$out/bad.err" || { echo "FAIL: the error does not name the path" >&2; exit 1; }
+refuses_a_missing_binary "$script" "$out"
 echo "closed_loop_defaults_test: OK"

@@ -6,6 +6,7 @@
 # error with exit status 2.
 #   imm_closed_loop_test.sh PREDVS OUT
 set -euo pipefail
+. "$(dirname "$0")/script_test.sh"
 predvs=$1
 out=$2
 script=$(dirname "$0")/../../scripts/imm-closed-loop.sh
@@ -19,10 +20,5 @@ done
 other=$(bash "$script" -r 1 -p "ff_weight_tau_s: 1" -o "$out/other" "$predvs" 2>/dev/null)
 echo "$other" | awk '$1 == "e8-variants" { exit ($4 == "(1.000-1.000)") }' ||
   { echo "FAIL: ff_weight_tau_s 1 changed nothing on the e8 variants" >&2; exit 1; }
-set +e
-bash "$script" -o "$out/bad" /nonexistent/predvs 2>"$out/bad.err"
-status=$?
-set -e
-[ "$status" -eq 2 ] || { echo "FAIL: a missing binary exits with $status, not 2" >&2; exit 1; }
-grep -q "/nonexistent/predvs is not an executable" "$out/bad.err" || { echo "FAIL: the error does not name the path" >&2; exit 1; }
+refuses_a_missing_binary "$script" "$out"
 echo "imm_closed_loop_test: OK"
