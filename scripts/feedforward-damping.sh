@@ -37,12 +37,10 @@ bin=$1
 [ "${dampings%%,*}" = 0 ] || { echo "feedforward-damping: error: the first damping of -k must be 0 (the reference)" >&2; exit 2; }
 
 mkdir -p "$out"
-for k in ${dampings//,/ }; do
-  echo "feedforward-damping: task.feedforward_damping=$k" >&2
-  "$bin" compare --scenarios "$scenarios" --runs "$runs" --set "predictors=[$predictors]" \
-    --set "task.feedforward_damping=$k" --out "$out/$k" --no-plots >"$out/$k.log" 2>&1 ||
-    { echo "feedforward-damping: error: compare failed, see $out/$k.log" >&2; exit 1; }
-done
+script=feedforward-damping
+list=$predictors
+. "$(dirname "$0")/lib/compare-grid.sh"
+for k in ${dampings//,/ }; do compare_grid "$k" --scenarios "$scenarios" --set "task.feedforward_damping=$k"; done
 
 python3 - "$out" "$dampings" <<'EOF'
 import csv, math, sys

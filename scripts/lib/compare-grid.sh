@@ -1,6 +1,7 @@
 # predvs — sourced by the closed-loop study scripts (closed-loop-white-target.sh,
-# closed-loop-coasting.sh, imm-closed-loop.sh): one `predvs compare` run per grid, every grid
-# on the same predictor list, so every variant of a grid runs on the same seeds; and the grids they share.
+# closed-loop-coasting.sh, imm-closed-loop.sh, feedforward-damping.sh): one `predvs compare` run per
+# grid, every grid on the same predictor list, so every variant of a grid runs on the same seeds; and
+# the grids they share.
 #
 #   compare_grid GRID COMPARE_ARGS...
 #
