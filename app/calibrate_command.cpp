@@ -105,6 +105,7 @@ void plotResiduals(const CameraCalibrationResult& r, const StagedOutputDir& dir)
 }  // namespace
 
 void runCalibrateCamera(const CalibrateCameraOptions& o, std::ostream& out, std::ostream& err) {
+  StagedOutputDir::checkReplaceable(o.out_dir, {o.images});
   PatternSpec spec;
   spec.kind = parsePatternKind(o.pattern);
   spec.rows = o.rows;
@@ -329,6 +330,7 @@ double onTicks(double lag_s, double base_s) { return std::max(0.0, std::round(la
 }  // namespace
 
 void runCalibrateLatency(const CalibrateLatencyOptions& o, std::ostream& out, std::ostream&) {
+  StagedOutputDir::checkReplaceable(o.out_dir, {o.log, o.camera});
   if (!(o.max_delay_s > 0.0)) throw std::invalid_argument("--max-delay-s: expected a time > 0 (s)");
   if (!(o.window_s > 0.0)) throw std::invalid_argument("--window-s: expected a time > 0 (s)");
   if (o.plots) requireGnuplot();

@@ -9,6 +9,7 @@
 #include "output_dir.h"
 #include "parallel_runs.h"
 #include "report.h"
+#include "scenario_file.h"
 #include "scenario_override.h"
 #include "scenario_run.h"
 
@@ -318,6 +319,10 @@ void runCampaign(const CompareOptions& o, std::ostream& out, std::ostream& err) 
   if (world.size > 1 && o.shard_count > 0)
     throw std::invalid_argument("--shard: not under mpirun (a shard is one process; mpirun spreads a whole campaign)");
   const Plan plan = makePlan(o);
+  std::vector<std::string> inputs = o.inputs;
+  for (const std::string& s : o.scenarios)
+    if (s != "all") inputs.push_back(resolveScenario(s));
+  StagedOutputDir::checkReplaceable(o.out_dir, inputs);
   const bool sharded = o.shard_count > 0;
   if (o.plots && !sharded) requireGnuplot();
   const std::vector<Job> jobs = planJobs(plan);
@@ -445,6 +450,7 @@ void runCampaign(const CompareOptions& o, std::ostream& out, std::ostream& err) 
 void runMergeCommand(const MergeOptions& mo, std::ostream& out, std::ostream& err) {
   const auto start = std::chrono::steady_clock::now();
   if (mo.dirs.empty()) throw std::invalid_argument("merge: expected the shard directories");
+  StagedOutputDir::checkReplaceable(mo.out_dir, mo.dirs);
   struct Shard {
     std::string dir;
     nlohmann::json manifest;

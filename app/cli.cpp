@@ -5,6 +5,7 @@
 #include "compare_command.h"
 #include "fit_command.h"
 #include "number_text.h"
+#include "output_dir.h"
 #include "scenario_file.h"
 #include "scenario_inputs.h"
 #include "scenario_override.h"
@@ -87,6 +88,7 @@ struct TrackArgs {
 };
 
 int runTrack(const TrackArgs& a, const std::string& command_line, std::ostream& out, std::ostream& err) {
+  StagedOutputDir::checkReplaceable(a.out_dir, {a.images});
   TrackOptions o;
   o.images = a.images;
   o.source = a.source;
@@ -432,6 +434,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
         co.seed = static_cast<unsigned long>(parseIntegerArg("--seed", cmp_seed, 0, 2147483647L));
       }
       co.overrides = fileOverrides(cmp_set_file, cmp_camera, cmp_camera_name, compare->count("--camera-name") > 0);
+      co.inputs = {cmp_set_file, cmp_camera, cmp_params_file};
       if (!cmp_params_file.empty()) paramsFileOverrides(cmp_params_file, co.overrides);
       for (const auto& text : cmp_sets) co.overrides.push_back(parseScenarioOverride(text));
       for (const auto& text : cmp_sweeps) co.sweeps.push_back(parseSweepOption(text));
@@ -454,6 +457,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       so.seed = static_cast<unsigned long>(parseIntegerArg("--seed", seed_text, 0, 2147483647L));
     }
     so.overrides = fileOverrides(servo_set_file, servo_camera, servo_camera_name, servo->count("--camera-name") > 0);
+    so.inputs = {servo_set_file, servo_camera, servo_params_file};
     if (!servo_params_file.empty()) paramsFileOverrides(servo_params_file, so.overrides);
     for (const auto& text : servo_sets) so.overrides.push_back(parseScenarioOverride(text));
     so.command_line = command_line;

@@ -96,6 +96,7 @@ namespace predvs {
 
 struct CompareOptions {
   std::vector<std::string> scenarios;   ///< names or .yaml paths; {"all"} = every scenario file
+  std::vector<std::string> inputs;      ///< the files given (--set-file, --camera, --params): not under --out
   std::vector<std::string> predictors;  ///< names; {"all"} = registry; empty = each scenario's list
   int runs = 0;                         ///< > 0 overrides every scenario's runs
   bool seed_given = false;

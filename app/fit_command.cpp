@@ -95,6 +95,7 @@ void printFit(const NoiseFitResult& fit, std::ostream& out) {
 }
 
 int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
+  StagedOutputDir::checkReplaceable(a.out, {a.input, a.params_file});
   if (!isPredictor(a.predictor)) throw std::invalid_argument("--predictor: unknown predictor '" + a.predictor + "'");
   try {
     fitParameters(a.predictor);

@@ -1,6 +1,7 @@
 #include "output_dir.h"
 
 #include <atomic>
+#include <fstream>
 #include <stdexcept>
 #include <system_error>
 #include <unistd.h>
@@ -13,14 +14,51 @@ std::string uniqueSuffix() {
   static std::atomic<int> counter{0};
   return std::to_string(::getpid()) + "-" + std::to_string(counter++);
 }
+
+/// Whether `p` is `dir` or below it (both made absolute and normal, links resolved where they exist).
+bool isAtOrBelow(const fs::path& p, const fs::path& dir) {
+  std::error_code ec;
+  const fs::path a = fs::weakly_canonical(fs::absolute(p), ec);
+  const fs::path d = fs::weakly_canonical(fs::absolute(dir), ec);
+  auto ai = a.begin();
+  for (auto di = d.begin(); di != d.end(); ++di, ++ai) {
+    if (di->empty()) continue;  // a trailing separator
+    if (ai == a.end() || *ai != *di) return false;
+  }
+  return true;
+}
+
+fs::path outTarget(fs::path target) {
+  if (target.empty()) throw std::invalid_argument("--out: expected a directory path, got an empty string");
+  if (target.filename().empty()) target = target.parent_path();  // "dir/" -> "dir"
+  return target;
+}
 }  // namespace
 
-StagedOutputDir::StagedOutputDir(const fs::path& target) : target_(target) {
-  if (target_.empty()) throw std::invalid_argument("--out: expected a directory path, got an empty string");
-  if (target_.filename().empty()) target_ = target_.parent_path();  // "dir/" -> "dir"
+void StagedOutputDir::checkReplaceable(const fs::path& target, const std::vector<std::string>& inputs) {
+  const fs::path given = outTarget(target);
+  fs::path t = given;
   std::error_code ec;
-  if (fs::exists(target_, ec) && !fs::is_directory(target_, ec))
-    throw std::invalid_argument("--out: '" + target_.string() + "' exists and is not a directory");
+  if (fs::is_symlink(t, ec) && fs::is_directory(t, ec)) t = fs::canonical(t, ec);
+  if (fs::exists(t, ec) && !fs::is_directory(t, ec))
+    throw std::invalid_argument("--out: '" + given.string() + "' exists and is not a directory");
+  const auto refuse = [&](const std::string& what) {
+    throw std::invalid_argument("--out: '" + given.string() + "' " + what +
+                                ", which replacing it would delete: choose another --out");
+  };
+  if (fs::is_directory(t, ec)) {
+    if (!fs::is_empty(t, ec) && !fs::exists(t / kOutputMarker, ec))
+      refuse(std::string("is a directory predvs did not write (no ") + kOutputMarker + " in it)");
+    if (isAtOrBelow(fs::current_path(ec), t)) refuse("holds the working directory");
+  }
+  for (const std::string& in : inputs)
+    if (!in.empty() && isAtOrBelow(in, t)) refuse("holds the input '" + in + "'");
+}
+
+StagedOutputDir::StagedOutputDir(const fs::path& target) : target_(outTarget(target)) {
+  checkReplaceable(target_, {});
+  std::error_code ec;
+  if (fs::is_symlink(target_, ec) && fs::is_directory(target_, ec)) target_ = fs::canonical(target_, ec);
 
   fs::path parent = target_.parent_path();
   if (parent.empty()) parent = ".";
@@ -33,7 +71,15 @@ StagedOutputDir::StagedOutputDir(const fs::path& target) : target_(target) {
   if (ec) throw std::runtime_error("--out: cannot create directory '" + parent.string() + "': " + ec.message());
   staging_ = parent / ("." + target_.filename().string() + ".tmp-" + uniqueSuffix());
   fs::create_directory(staging_, ec);
-  if (ec) throw std::runtime_error("--out: cannot create directory '" + staging_.string() + "': " + ec.message());
+  if (ec) throw std::runtime_error("--out: cannot create directory '" + target_.string() + "' (staged in '" +
+                                   staging_.string() + "'): " + ec.message());
+  std::ofstream marker(staging_ / kOutputMarker);
+  marker << "written by predvs; a later predvs run may replace this directory\n";
+  if (!marker) {
+    fs::remove_all(staging_, ec);
+    if (!created_root_.empty()) fs::remove_all(created_root_, ec);
+    throw std::runtime_error("--out: cannot write in '" + staging_.string() + "'");
+  }
 }
 
 StagedOutputDir::~StagedOutputDir() {

@@ -23,6 +23,9 @@ void runScenarioCommand(const ScenarioRunOptions& o, std::ostream& out, std::ost
   choosePredictors(sc, o.predictors, "--predictors");
   if (o.plots) requireGnuplot();
   const std::string out_dir = o.out_dir.empty() ? "out/" + sc.name : o.out_dir;
+  std::vector<std::string> inputs = o.inputs;
+  inputs.push_back(path);
+  StagedOutputDir::checkReplaceable(out_dir, inputs);
   if (!sc.sweeps.empty())
     err << "predvs: " << sc.name << ": the sweep over " << sweepKeysText(sc.sweeps)
         << " is not run by `predvs servo`, which runs the scenario with the value its file gives; run the sweep with "

@@ -51,6 +51,7 @@ namespace predvs {
 
 struct ScenarioRunOptions {
   std::string scenario = "ibvs-moving-target";  ///< name in data/scenarios or a .yaml path
+  std::vector<std::string> inputs;               ///< the files given (--set-file, --camera, --params): not under --out
   std::vector<std::string> predictors;           ///< overrides the scenario's list when not empty
   bool seed_given = false;
   unsigned long seed = 0;                        ///< overrides the scenario's seed when seed_given

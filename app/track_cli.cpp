@@ -57,6 +57,7 @@ void applyParamsFile(const std::string& file, std::vector<PredictorSpec>& specs)
 
 int runPredict(const PredictArgs& a, const std::string& command_line, std::ostream& out) {
   // Validate every argument before touching the file system.
+  StagedOutputDir::checkReplaceable(a.out_dir, {a.input, a.params_file});
   std::vector<PredictorSpec> specs = predictorSpecs(a.predictor);
   if (!a.params_file.empty()) applyParamsFile(a.params_file, specs);
   for (const auto& kv : a.params) {

@@ -55,11 +55,16 @@ int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
   const ManeuverTrack track = generateManeuverTrack(c);
 
   namespace fs = std::filesystem;
-  const fs::path target(a.out);
   std::error_code ec;
+  // A link is written through (the file it names is replaced); a device, pipe or socket is refused:
+  // the temporary file renamed over it would replace the node itself.
+  const fs::path target = fs::is_symlink(a.out, ec) ? fs::weakly_canonical(fs::path(a.out), ec) : fs::path(a.out);
   if (fs::is_directory(target, ec)) throw std::invalid_argument("--out: '" + a.out + "' is a directory, expected a file path");
+  if (fs::exists(target, ec) && !fs::is_regular_file(target, ec))
+    throw std::invalid_argument("--out: '" + a.out + "' exists and is not a regular file");
   const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (!fs::is_directory(parent, ec)) throw std::invalid_argument("--out: directory '" + parent.string() + "' does not exist");
+  if (!fs::is_directory(parent, ec))
+    throw std::invalid_argument("--out: '" + parent.string() + "' " + (fs::exists(parent, ec) ? "is not a directory" : "does not exist"));
   const fs::path tmp = parent / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
   {
     std::ofstream csv(tmp);
@@ -90,6 +95,7 @@ int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
 }
 
 int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err) {
+  if (!a.out.empty()) StagedOutputDir::checkReplaceable(a.out, {});
   std::vector<ManeuverKind> kinds;
   if (a.kinds.empty() || (a.kinds.size() == 1 && a.kinds[0] == "all"))
     kinds = maneuverKinds();

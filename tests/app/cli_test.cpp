@@ -22,6 +22,8 @@
 #include <random>
 #include <sstream>
 
+#include <sys/stat.h>
+
 namespace fs = std::filesystem;
 using namespace predvs::apptest;  // run(), CliRun, slurp(), ScratchDirTest (cli_test_utils.h)
 
@@ -172,12 +174,85 @@ TEST_F(CliTest, RejectsUnknownOptionAndMissingRequired) {
 TEST_F(CliTest, FailureKeepsAnExistingGoodDirectory) {
   // GIVEN a previous good output directory WHEN a run fails THEN it is untouched
   const std::string out = path("out");
-  fs::create_directories(out);
-  std::ofstream(out + "/keep.txt") << "previous results\n";
+  ASSERT_EQ(run(predictArgs(lineTrack(), out)).code, 0);
+  const std::string before = slurp(out + "/predictions.csv");
   const CliRun r = run(predictArgs(write("c.csv", "t,u,v\n0,1,x\n"), out));
   EXPECT_EQ(r.code, 2);
-  EXPECT_TRUE(fs::exists(out + "/keep.txt"));
+  EXPECT_EQ(slurp(out + "/predictions.csv"), before);
+}
+
+// The rules of StagedOutputDir::checkReplaceable (app/output_dir.h): only what predvs wrote is
+// replaced, never a directory that holds the run's input or the working directory.
+TEST_F(CliTest, RefusesToReplaceADirectoryItDidNotWrite) {
+  const std::string out = path("mine");
+  fs::create_directories(out);
+  std::ofstream(out + "/notes.txt") << "the user's\n";
+  const CliRun r = run(predictArgs(lineTrack(), out));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--out: '" + out + "' is a directory predvs did not write (no .predvs-output in it)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(slurp(out + "/notes.txt"), "the user's\n");
   EXPECT_FALSE(fs::exists(out + "/predictions.csv"));
+  // AND an empty directory is taken
+  fs::create_directories(path("empty"));
+  EXPECT_EQ(run(predictArgs(lineTrack(), path("empty"))).code, 0);
+  EXPECT_TRUE(fs::exists(path("empty") + "/.predvs-output"));
+}
+
+TEST_F(CliTest, RefusesAnOutThatHoldsTheInput) {
+  // GIVEN an output directory of predvs's that the user put a track in
+  const std::string out = path("out");
+  ASSERT_EQ(run(predictArgs(lineTrack(), out)).code, 0);
+  fs::copy_file(lineTrack(), out + "/track.csv");
+  // WHEN it is both the input's directory and --out THEN the run is refused before it starts
+  const CliRun r = run(predictArgs(out + "/track.csv", out));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("holds the input '" + out + "/track.csv'"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(out + "/track.csv"));
+  // AND merge may not write over one of its shards
+  const CliRun m = run({"merge", "--out", out, out});
+  EXPECT_EQ(m.code, 2);
+  EXPECT_NE(m.err.find("holds the input '" + out + "'"), std::string::npos) << m.err;
+  EXPECT_TRUE(fs::exists(out + "/track.csv"));
+}
+
+TEST_F(CliTest, RefusesAnOutThatHoldsTheWorkingDirectory) {
+  const std::string out = path("out");
+  ASSERT_EQ(run(predictArgs(lineTrack(), out)).code, 0);
+  fs::create_directories(out + "/sub");
+  const fs::path cwd = fs::current_path();
+  fs::current_path(out + "/sub");
+  const CliRun r = run(predictArgs(path("track.csv"), out));
+  fs::current_path(cwd);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("holds the working directory"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_directory(out + "/sub"));
+}
+
+TEST_F(CliTest, OutThroughALinkReplacesTheDirectoryItNames) {
+  const std::string real = path("real"), link = path("link");
+  ASSERT_EQ(run(predictArgs(lineTrack(), real)).code, 0);
+  fs::create_directory_symlink(real, link);
+  ASSERT_EQ(run(predictArgs(lineTrack(), link)).code, 0);
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_TRUE(fs::exists(real + "/predictions.csv"));
+}
+
+TEST_F(CliTest, MakeTrackWritesThroughALinkAndRefusesAPipe) {
+  // GIVEN a link to a file WHEN make-track writes to the link THEN the file it names holds the track
+  const std::string real = write("real.csv", "old\n"), link = path("link.csv");
+  fs::create_symlink(real, link);
+  ASSERT_EQ(run({"make-track", "--duration-s", "1", "--out", link}).code, 0);
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(slurp(real).rfind("t,u,v,u_true,v_true\n", 0), 0u);
+  // AND a pipe (like a device) is refused and left as it is, not replaced by a file
+  const std::string fifo = path("fifo.csv");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const CliRun r = run({"make-track", "--duration-s", "1", "--out", fifo});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--out: '" + fifo + "' exists and is not a regular file"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_fifo(fifo));
 }
 
 TEST_F(CliTest, FailureBeforeStagingCreatesNoParents) {
@@ -301,9 +376,11 @@ TEST_F(CliTest, PredictAllComparesEveryPredictor) {
 }
 
 TEST_F(CliTest, SuccessfulRunReplacesPreviousDirectory) {
+  // GIVEN a directory an earlier run wrote, with a file added since
   const std::string out = path("out");
-  fs::create_directories(out);
+  ASSERT_EQ(run(predictArgs(lineTrack(), out)).code, 0);
   std::ofstream(out + "/stale.txt") << "old\n";
+  // WHEN a run succeeds into it THEN it holds that run's files only
   ASSERT_EQ(run(predictArgs(lineTrack(), out)).code, 0);
   EXPECT_FALSE(fs::exists(out + "/stale.txt"));
   EXPECT_TRUE(fs::exists(out + "/predictions.csv"));

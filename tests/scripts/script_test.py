@@ -1,6 +1,7 @@
 """What the tests of scripts/ share: the script under test, a command run, and the arguments
 (PREDVS WORKDIR) every such test takes."""
 import os
+import shutil
 import subprocess
 import sys
 
@@ -39,9 +40,11 @@ def finish(failures, summary=None):
 
 
 def arguments():
-    """PREDVS and WORKDIR from the command line; WORKDIR is made."""
+    """PREDVS and WORKDIR from the command line; WORKDIR is made anew (a scratch directory of the
+    build: what an earlier run left there, predvs would refuse to replace)."""
     if len(sys.argv) != 3:
         sys.exit(f"usage: {os.path.basename(sys.argv[0])} PREDVS WORKDIR")
     predvs, work = sys.argv[1], sys.argv[2]
-    os.makedirs(work, exist_ok=True)
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
     return predvs, work
