@@ -227,6 +227,7 @@ struct ParsedLog {
 };
 
 ParsedLog readServoLog(const CalibrateLatencyOptions& o) {
+  if (fs::is_directory(o.log)) throw std::invalid_argument(o.log + ": is a directory, expected a servo log (CSV)");
   std::ifstream in(o.log);
   if (!in) throw std::invalid_argument(o.log + ": cannot open the log");
   std::string line;

@@ -22,6 +22,8 @@ std::string resolveScenario(const std::string& name_or_path) {
   std::error_code ec;
   if (name_or_path.empty()) throw std::invalid_argument("--scenario: expected a scenario name or a .yaml path");
   if (fs::is_regular_file(name_or_path, ec)) return name_or_path;
+  if (fs::is_directory(name_or_path, ec))
+    throw std::invalid_argument("--scenario: '" + name_or_path + "' is a directory, expected a .yaml file");
   const bool looks_like_path = name_or_path.find('/') != std::string::npos ||
                                fs::path(name_or_path).extension() == ".yaml" ||
                                fs::path(name_or_path).extension() == ".yml";

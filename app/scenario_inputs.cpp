@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -60,6 +61,8 @@ std::vector<ScenarioOverride> cameraOverrides(const std::string& file, const std
 }
 
 std::vector<ScenarioOverride> setFileOverrides(const std::string& file) {
+  if (std::filesystem::is_directory(file))
+    throw std::invalid_argument("--set-file " + file + ": is a directory, expected a YAML file");
   std::ifstream in(file);
   if (!in) throw std::invalid_argument("--set-file " + file + ": cannot open the file");
   YAML::Node doc;

@@ -158,7 +158,12 @@ class FileText {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) throwAt(path, 0, "cannot open the file for reading (expected a CSV with columns t,u,v or t,point,u,v)");
     struct stat st {};
-    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+    const bool stated = ::fstat(fd, &st) == 0;
+    if (stated && S_ISDIR(st.st_mode)) {
+      ::close(fd);
+      throwAt(path, 0, "is a directory, expected a CSV with columns t,u,v or t,point,u,v");
+    }
+    if (stated && S_ISREG(st.st_mode) && st.st_size > 0) {
       void* p = ::mmap(nullptr, static_cast<size_t>(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
       if (p != MAP_FAILED) {
         map_ = p;

@@ -6,6 +6,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <iterator>
 #include <fstream>
 #include <iostream>
@@ -67,6 +68,7 @@ VispCameraFile loadVispCameraXml(const std::string& path, const std::string& nam
                                  vpCameraParameters::vpCameraParametersProjType model) {
   std::string text;
   {
+    if (std::filesystem::is_directory(path)) throw std::invalid_argument(path + ": is a directory, expected a camera file (XML)");
     std::ifstream in(path);
     if (!in) throw std::invalid_argument(path + ": cannot open the camera file");
     text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());

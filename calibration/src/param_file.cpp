@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
@@ -14,6 +15,7 @@
 namespace predvs {
 
 std::vector<ParamFileEntry> readParamFile(const std::string& path) {
+  if (std::filesystem::is_directory(path)) throw std::invalid_argument(path + ": is a directory, expected a parameter file (YAML)");
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);

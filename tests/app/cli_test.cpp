@@ -375,6 +375,25 @@ TEST_F(CliTest, PredictAllComparesEveryPredictor) {
   EXPECT_FALSE(fs::exists(out + "/predictions.png"));
 }
 
+TEST_F(CliTest, ADirectoryWhereAFileIsExpectedIsNamed) {
+  const std::string dir = path("dir"), out = path("out"), track = lineTrack();
+  fs::create_directories(dir);
+  const std::vector<std::vector<std::string>> commands = {
+      {"predict", "--input", dir, "--predictor", "hold", "--delay-frames", "1", "--out", out},
+      {"predict", "--input", track, "--predictor", "hold", "--delay-frames", "1", "--params", dir, "--out", out},
+      {"servo", "--scenario", dir + "/", "--out", out},
+      {"servo", "--set-file", dir, "--out", out},
+      {"servo", "--camera", dir, "--out", out},
+      {"calibrate", "latency", "--log", dir, "--out", out}};
+  for (const auto& c : commands) {
+    const CliRun r = run(c);
+    EXPECT_EQ(r.code, 2) << c[0] << " " << c[1];
+    EXPECT_NE(r.err.find(dir), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("is a directory, expected a"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
 TEST_F(CliTest, SuccessfulRunReplacesPreviousDirectory) {
   // GIVEN a directory an earlier run wrote, with a file added since
   const std::string out = path("out");
