@@ -4,6 +4,7 @@
 #include "cli_args.h"
 #include "fit_command.h"
 #include "gnuplot.h"
+#include "number_text.h"
 #include "output_dir.h"
 #include "parallel_for.h"
 #include "predict_command.h"
@@ -197,6 +198,13 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   if (a.fit && !a.fit_split.empty() && fit_rows < track.size()) files.score_from = fit_rows;
   StagedOutputDir dir(a.out_dir);
   const PredictionReport report = predictToFiles(track, specs, horizon_s, files, dir, jobs);
+  if (std::all_of(report.runs.begin(), report.runs.end(),
+                  [](const PredictionRun& r) { return r.vs_measurement.n == 0 && r.vs_truth.n == 0; }))
+    throw std::invalid_argument(fileLocation(a.input, 0,
+                                             "no prediction " + csvNumber(horizon_s) + " s ahead can be scored on its " +
+                                                 std::to_string(track.size()) + " rows" +
+                                                 (files.score_from > 0 ? " after --fit-split" : "") +
+                                                 " (--delay-frames, --horizon-s)"));
   dir.commit();
 
   out << fit_log.str();

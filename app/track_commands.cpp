@@ -202,6 +202,13 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     double ratio;
     std::string variant;  ///< with --fit: the structural variant the fit kept (e.g. model=ca), else empty
   };
+  const auto trackKey = [](const Row& r) {
+    std::ostringstream k;
+    k << r.kind << " " << r.rate_hz << " Hz " << r.noise_px << " px #" << r.seed;
+    if (r.draw > 0) k << "/d" << r.draw;
+    return k.str();
+  };
+
   std::vector<ManeuverTrackConfig> configs;
   for (ManeuverKind kind : kinds)
     for (double rate : a.rates_hz)
@@ -259,6 +266,16 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
       if (name == "hold") hold_rmse = sc.rmse_truth_px;
       per_track[i].push_back({maneuverKindName(c.kind), c.rate_hz, c.noise_px, static_cast<long>(c.seed), static_cast<long>(c.draw), name, sc,
                               sc.rmse_truth_px / hold_rmse, variant});
+      if (name != "hold") continue;
+      if (sc.n == 0)
+        throw std::invalid_argument("track " + trackKey(per_track[i].back()) + ": no prediction " +
+                                    std::to_string(a.delay_frames) + " frames ahead is scored on its " +
+                                    std::to_string(track.size()) + " frames (--duration-s, --delay-frames" +
+                                    (a.fit ? ", --fit-split" : "") + ")");
+      if (!(hold_rmse > 0.0))
+        throw std::invalid_argument("track " + trackKey(per_track[i].back()) +
+                                    ": hold predicts the truth exactly (no noise, no horizon), so there is no ratio to "
+                                    "hold (--noise, --delay-frames)");
     }
   };
   if (a.jobs == 1) {
@@ -272,13 +289,6 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   std::vector<Row> rows;
   for (auto& v : per_track) rows.insert(rows.end(), v.begin(), v.end());
   // "kind rate Hz noise px #seed", "/dD" after the seed for a draw D > 0: a track's name and key.
-  const auto trackKey = [](const Row& r) {
-    std::ostringstream k;
-    k << r.kind << " " << r.rate_hz << " Hz " << r.noise_px << " px #" << r.seed;
-    if (r.draw > 0) k << "/d" << r.draw;
-    return k.str();
-  };
-
   // Summary per predictor.
   size_t w = 9;
   for (const auto& n : names) w = std::max(w, n.size());

@@ -394,6 +394,29 @@ TEST_F(CliTest, ADirectoryWhereAFileIsExpectedIsNamed) {
   }
 }
 
+TEST_F(CliTest, NothingToScoreIsAnError) {
+  // predict: a horizon past the track's end
+  const CliRun p = run({"predict", "--input", lineTrack(20), "--predictor", "kf-cv", "--delay-frames", "25", "--no-plots",
+                        "--out", path("out")});
+  EXPECT_EQ(p.code, 2);
+  EXPECT_NE(p.err.find("no prediction 1 s ahead can be scored on its 20 rows"), std::string::npos) << p.err;
+  EXPECT_FALSE(fs::exists(path("out")));
+  // track-study: a track shorter than the horizon, and one that hold predicts exactly
+  const std::vector<std::string> one = {"track-study", "--kinds", "turns", "--rates", "30", "--seeds", "1",
+                                        "--predictors", "hold,kf-cv"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = one;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run(args);
+  };
+  const CliRun s = with({"--noise", "1", "--duration-s", "0.05"});
+  EXPECT_EQ(s.code, 2);
+  EXPECT_NE(s.err.find("track turns 30 Hz 1 px #1: no prediction 2 frames ahead is scored"), std::string::npos) << s.err;
+  const CliRun z = with({"--noise", "0", "--drop", "0", "--delay-frames", "0"});
+  EXPECT_EQ(z.code, 2);
+  EXPECT_NE(z.err.find("hold predicts the truth exactly"), std::string::npos) << z.err;
+}
+
 TEST_F(CliTest, SuccessfulRunReplacesPreviousDirectory) {
   // GIVEN a directory an earlier run wrote, with a file added since
   const std::string out = path("out");
