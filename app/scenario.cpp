@@ -30,7 +30,8 @@ auto withLocation(const std::string& file, int line, const KeyLines& keys, F&& f
     const std::string msg = e.what();
     int where = line;
     for (const auto& kv : keys)
-      if (msg.find("'" + kv.first + "'") != std::string::npos) {
+      if (msg.find("'" + kv.first + "'") != std::string::npos ||
+          (kv.first.find('.') != std::string::npos && msg.find(kv.first) != std::string::npos)) {
         where = kv.second;
         break;
       }
@@ -66,11 +67,13 @@ Params readParams(const YAML::Node& node, const std::string& file, const std::st
       if (text.empty() || *end != '\0' || end == text.c_str()) {
         params.setText(key, text);
         if (lines) lines->emplace_back(key, yamlLine(kv.first));
+        if (lines) lines->emplace_back(section + "." + key, yamlLine(kv.first));  // "task.interaction ..."
         continue;
       }
     }
     params.set(key, yamlNumber(kv.second, file, "'" + section + "." + key + "'"));
     if (lines) lines->emplace_back(key, yamlLine(kv.first));
+    if (lines) lines->emplace_back(section + "." + key, yamlLine(kv.first));  // "task.lambda must be > 0"
   }
   return params;
 }

@@ -460,6 +460,11 @@ TEST_F(CliTest, ServoRejectsUnknownKeysWithTheirLine) {
   // open-loop keys in a closed-loop file
   expectError(run({"servo", "--scenario", shortClosedLoop("trajectory: {type: line}\n"), "--out", out}),
               "short.yaml:8: unknown key 'trajectory' for a closed-loop scenario", out);
+  // a task's own check of a value (its message names task.KEY, unquoted) points at that key's line
+  expectError(run({"servo", "--scenario", shortClosedLoop("task:\n  interaction: current\n  lambda: -1\n"), "--out", out}),
+              "short.yaml:10: task.lambda must be > 0", out);
+  expectError(run({"servo", "--scenario", shortClosedLoop("task:\n  lambda: 1\n  interaction: bogus\n"), "--out", out}),
+              "short.yaml:10: task.interaction must be", out);
 }
 
 TEST_F(CliTest, ServoRejectsBadValues) {
