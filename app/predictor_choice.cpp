@@ -27,7 +27,7 @@ PredictorChoice parsePredictorChoice(const std::string& text, const std::string&
     c.labelled = true;
     c.label = head.substr(0, eq);
     c.type = head.substr(eq + 1);
-    if (const std::string why = predictorLabelProblem(c.label); !why.empty()) throw std::invalid_argument(where + why);
+    if (const std::string why = predictorLabelProblem(c.label, c.type); !why.empty()) throw std::invalid_argument(where + why);
   }
   if (c.type.empty())
     throw std::invalid_argument(where + "expected [LABEL=]TYPE[:KEY=VALUE...], the predictor TYPE is missing");
@@ -57,11 +57,13 @@ PredictorChoice parsePredictorChoice(const std::string& text, const std::string&
   return c;
 }
 
-std::string predictorLabelProblem(const std::string& label) {
+std::string predictorLabelProblem(const std::string& label, const std::string& type) {
   if (label.empty()) return "empty predictor label";
   for (char ch : label)
     if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_')
       return "predictor label '" + label + "': expected letters, digits, '-' and '_' only";
+  if (!type.empty() && label != type && isPredictor(label))
+    return "predictor label '" + label + "' is the name of another predictor: choose a label of its own for " + type;
   return "";
 }
 

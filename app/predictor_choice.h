@@ -31,7 +31,8 @@ PredictorChoice parsePredictorChoice(const std::string& text, const std::string&
 
 /// Why `label` cannot name a predictor entry ("" when it can): it must be non-empty and made of
 /// letters, digits, '-' and '_' (it appears in file names, `--set predictors.LABEL...` paths and
-/// the `--predictors` syntax, whose separators are ',', ':' and '=').
-std::string predictorLabelProblem(const std::string& label);
+/// the `--predictors` syntax, whose separators are ',', ':' and '='). With `type`: nor may it be
+/// the name of another registered predictor (`hold=kf-cv` would show kf-cv's figures as hold's).
+std::string predictorLabelProblem(const std::string& label, const std::string& type = "");
 
 }  // namespace predvs

@@ -184,7 +184,7 @@ std::vector<ScenarioPredictor> readPredictors(YamlSection& root, int channels) {
       s.finish();
     }
     if (p.type.empty()) p.type = p.name;
-    if (const std::string why = predictorLabelProblem(p.name); !why.empty())
+    if (const std::string why = predictorLabelProblem(p.name, p.type); !why.empty())
       throwAt(file, p.line, "'predictors': " + why);
     if (!seen.insert(p.name).second)
       throwAt(file, p.line, "'predictors': predictor '" + p.name + "' listed twice (give the second one its own "

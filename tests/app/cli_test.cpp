@@ -417,6 +417,23 @@ TEST_F(CliTest, NothingToScoreIsAnError) {
   EXPECT_NE(z.err.find("hold predicts the truth exactly"), std::string::npos) << z.err;
 }
 
+TEST_F(CliTest, ALabelMayNotBeAnotherPredictorsName) {
+  // `hold=kf-cv` would print kf-cv's figures as hold's, and "vs hold" against them
+  const std::string out = path("out");
+  expectError(run({"servo", "--scenario", shortClosedLoop(), "--predictors", "hold=kf-cv,kf-ca", "--no-plots", "--out", out}),
+              "--predictors 'hold=kf-cv': predictor label 'hold' is the name of another predictor", out);
+  expectError(run({"predict", "--input", lineTrack(), "--predictor", "kf-cv=hold", "--delay-frames", "1", "--out", out}),
+              "predictor label 'kf-cv' is the name of another predictor", out);
+  expectError(run({"servo", "--scenario", write("l.yaml", "kind: closed-loop\npredictors: [hold, {name: kf-ca, type: kf-cv}]\n"),
+                   "--out", out}),
+              "l.yaml:2: 'predictors': predictor label 'kf-ca' is the name of another predictor", out);
+  // AND a predictor labelled with its own name is that predictor
+  EXPECT_EQ(run({"predict", "--input", lineTrack(), "--predictor", "kf-cv=kf-cv:r=3", "--delay-frames", "1", "--no-plots",
+                 "--out", out})
+                .code,
+            0);
+}
+
 TEST_F(CliTest, SuccessfulRunReplacesPreviousDirectory) {
   // GIVEN a directory an earlier run wrote, with a file added since
   const std::string out = path("out");
