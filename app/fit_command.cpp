@@ -103,9 +103,15 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
     throw std::invalid_argument(std::string("--predictor: ") + e.what());
   }
   Params base;
-  if (!a.params_file.empty())
+  if (!a.params_file.empty()) {
+    bool named = false;
     for (const auto& s : readParamsFile(a.params_file))
-      if (s.name == a.predictor) base = s.params;
+      if (s.name == a.predictor) {
+        base = s.params;
+        named = true;
+      }
+    if (!named) throw std::invalid_argument("--params " + a.params_file + ": has no entry for " + a.predictor);
+  }
   for (const auto& kv : a.params) {
     const auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0) throw std::invalid_argument("--param: expected KEY=VALUE, got '" + kv + "'");

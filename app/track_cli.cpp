@@ -158,6 +158,8 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   std::ostringstream fit_log;
   if (a.fit && a.fit_split.empty()) fit_options = inSampleFitOptions(fit_options);  // every row is scored
   if (a.no_warm_start && !a.fit) throw std::invalid_argument("--no-warm-start: needs --fit");
+  if (a.no_warm_start && !a.fit_split.empty())
+    throw std::invalid_argument("--no-warm-start: not with --fit-split (the warm start is used in sample only)");
   if (a.fit) {
     // The predictors that seed others' fits (the fixed KFs) first, the others warm started from
     // their fitted values (noise_fit.h fitOrder, NoiseFitOptions::seed_fits); printed in the
@@ -441,6 +443,12 @@ std::optional<int> TrackSubcommands::run(const std::string& command_line, std::o
   }
   if (s.track_study->parsed()) {
     TrackStudyArgs a = s.track_study_args;
+    // The fit's options do nothing without --fit, and the warm start is used only when the fit is
+    // scored in sample (--fit-split 1): refused, as predict refuses them.
+    for (const char* o : {"--fit-split", "--fit-objective", "--fit-starts", "--fit-select-holdout", "--no-warm-start"})
+      if (!a.fit && s.track_study->count(o) > 0) throw std::invalid_argument(std::string(o) + ": needs --fit");
+    if (a.no_warm_start && a.fit_split < 1.0)
+      throw std::invalid_argument("--no-warm-start: needs --fit-split 1 (the warm start is used in sample only)");
     a.kinds = splitList(s.ts_kinds);
     a.predictors = splitList(s.ts_predictors);
     a.rates_hz.clear();

@@ -121,8 +121,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     types.insert(types.begin(), "hold");
     inline_params.insert(inline_params.begin(), Params{});
   } else {
-    const auto k = static_cast<size_t>(hold_at - names.begin());
-    if (types[k] != "hold") throw std::invalid_argument("--predictors: the label 'hold' is hold's own");
+    const auto k = static_cast<size_t>(hold_at - names.begin());  // hold's own (predictorLabelProblem)
     std::rotate(names.begin(), names.begin() + static_cast<long>(k), names.begin() + static_cast<long>(k) + 1);
     std::rotate(types.begin(), types.begin() + static_cast<long>(k), types.begin() + static_cast<long>(k) + 1);
     std::rotate(inline_params.begin(), inline_params.begin() + static_cast<long>(k),
@@ -133,6 +132,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     return it == names.end() ? label : types[static_cast<size_t>(it - names.begin())];
   };
   if (a.seeds < 1) throw std::invalid_argument("--seeds: expected an integer >= 1");
+  if (a.seed < 0) throw std::invalid_argument("--seed: expected an integer >= 0");
   if (a.draws < 1) throw std::invalid_argument("--draws: expected an integer >= 1");
   checkGlitchArgs(a.glitch_prob, a.glitch_px);
   if (a.delay_frames < 0) throw std::invalid_argument("--delay-frames: expected an integer >= 0");
@@ -147,6 +147,8 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
       throw std::invalid_argument("--param: expected PREDICTOR.KEY=VALUE, got '" + kv + "'");
     const std::string name = kv.substr(0, dot), key = kv.substr(dot + 1, eq - dot - 1), text = kv.substr(eq + 1);
     if (!isPredictor(typeOf(name))) throw std::invalid_argument("--param " + kv + ": unknown predictor '" + name + "'");
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      throw std::invalid_argument("--param " + kv + ": predictor '" + name + "' is not being run (--predictors)");
     double v = 0.0;
     switch (classifyParamText(text, &v)) {
       case ParamText::Number: fixed[name].set(key, v); break;

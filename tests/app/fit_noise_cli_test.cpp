@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <string>
 
 namespace predvs {
@@ -39,6 +40,15 @@ TEST_F(FitNoiseCli, MakeTrackWritesPredictInputWithTruth) {
   expectError(run({"make-track", "--kind", "spiral", "--out", path("x.csv")}), "unknown track kind 'spiral'");
   EXPECT_FALSE(std::filesystem::exists(path("x.csv")));
   expectError(run({"make-track", "--rate-hz", "0", "--out", path("x.csv")}), "--rate-hz");
+}
+
+TEST_F(FitNoiseCli, AParamsFileWithoutAnEntryForThePredictorIsRefused) {
+  const std::string f = track();
+  const std::string params = path("imm.yaml");
+  std::ofstream(params) << "predictors:\n  - {name: imm, params: {q_cv: 5}}\n";
+  expectError(run({"fit-noise", "--input", f, "--predictor", "kf-cv", "--params", params, "--out", path("fit")}),
+              "--params " + params + ": has no entry for kf-cv");
+  EXPECT_FALSE(std::filesystem::exists(path("fit")));
 }
 
 TEST_F(FitNoiseCli, FitNoiseWritesAParamsFileThatPredictAccepts) {

@@ -62,10 +62,32 @@ TEST_F(TrackStudyLabels, OnePredictorUnderTwoLabelsIsTheSameAsWithParam) {
 
 TEST_F(TrackStudyLabels, ListsThatCannotRunAreRefused) {
   const std::string none = path("none");
-  expectError(run({"track-study", "--predictors", "kf-cv,kf-cv=kf-ca", "--out", none}), "--predictors: 'kf-cv' is listed twice", none);
+  expectError(run({"track-study", "--predictors", "kf-cv,kf-cv=kf-cv:r=3", "--out", none}), "--predictors: 'kf-cv' is listed twice", none);
   expectError(run({"track-study", "--predictors", "kf-cv,x=nope", "--out", none}), "unknown predictor 'nope'", none);
-  expectError(run({"track-study", "--predictors", "hold=kf-cv", "--out", none}), "the label 'hold' is hold's own", none);
+  expectError(run({"track-study", "--predictors", "hold=kf-cv", "--out", none}), "predictor label 'hold' is the name of another predictor", none);
   expectError(run({"track-study", "--predictors", "k2=kf-cv:zz=1", "--out", none}), "zz", none);
+}
+
+TEST_F(TrackStudyLabels, OptionsThatWouldDoNothingAreRefused) {
+  // as predict refuses them: the fit's options without --fit, the warm start where it is not used,
+  // a parameter of a predictor not run, a seed make-track could not reproduce
+  const std::string none = path("none");
+  const std::vector<std::string> one = {"track-study", "--kinds", "turns", "--rates", "30", "--seeds", "1", "--out", none};
+  const auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = one;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run(args);
+  };
+  expectError(with({"--fit-split", "0.3"}), "--fit-split: needs --fit", none);
+  expectError(with({"--fit-objective", "likelihood"}), "--fit-objective: needs --fit", none);
+  expectError(with({"--fit-starts", "2"}), "--fit-starts: needs --fit", none);
+  expectError(with({"--fit-select-holdout", "0.5"}), "--fit-select-holdout: needs --fit", none);
+  expectError(with({"--fit", "--no-warm-start"}), "--no-warm-start: needs --fit-split 1", none);
+  expectError(with({"--predictors", "hold,kf-cv", "--param", "kf-ca.q=5"}), "predictor 'kf-ca' is not being run", none);
+  expectError(with({"--seed", "-1"}), "--seed: expected an integer >= 0", none);
+  expectError(run({"predict", "--input", write("t.csv", "t,u,v\n0,1,2\n0.1,1,2\n0.2,1,2\n"), "--predictor", "kf-cv",
+                   "--delay-frames", "1", "--fit", "--fit-split", "0.5", "--no-warm-start", "--out", none}),
+              "--no-warm-start: not with --fit-split", none);
 }
 
 TEST_F(TrackStudyLabels, DrawsRunEachMotionWithItsOwnNoiseAndDrops) {
