@@ -137,6 +137,10 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
     throw std::invalid_argument(std::string("--objective: ") + e.what());
   }
   if (a.horizon_frames < 0) throw std::invalid_argument("--horizon-frames: expected an integer >= 0");
+  // 0 frames ahead the prediction is scored against the measurement it was just given: the fit
+  // would chase the noise (q without bound), not predict.
+  if (a.horizon_frames < 1 && opt.objective == FitObjective::Prediction)
+    throw std::invalid_argument("--horizon-frames: expected an integer >= 1 with --objective prediction");
   if (a.starts < 1 || a.starts > 50) throw std::invalid_argument("--starts: expected an integer in [1, 50]");
   const FeatureTrack track = readFeatureTrack(a.input);
   if (track.size() < 2) throw std::invalid_argument(a.input + ": need at least two data rows to measure the frame period");

@@ -42,12 +42,15 @@ TEST_F(FitNoiseCli, MakeTrackWritesPredictInputWithTruth) {
   expectError(run({"make-track", "--rate-hz", "0", "--out", path("x.csv")}), "--rate-hz");
 }
 
-TEST_F(FitNoiseCli, AParamsFileWithoutAnEntryForThePredictorIsRefused) {
+TEST_F(FitNoiseCli, AParamsFileWithoutTheirEntryAndAZeroPredictionHorizonAreRefused) {
   const std::string f = track();
   const std::string params = path("imm.yaml");
   std::ofstream(params) << "predictors:\n  - {name: imm, params: {q_cv: 5}}\n";
   expectError(run({"fit-noise", "--input", f, "--predictor", "kf-cv", "--params", params, "--out", path("fit")}),
               "--params " + params + ": has no entry for kf-cv");
+  expectError(run({"fit-noise", "--input", f, "--predictor", "kf-cv", "--objective", "prediction", "--horizon-frames", "0",
+                   "--out", path("fit")}),
+              "--horizon-frames: expected an integer >= 1 with --objective prediction");
   EXPECT_FALSE(std::filesystem::exists(path("fit")));
 }
 
