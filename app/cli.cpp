@@ -421,13 +421,8 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
         co.shard_count = shard.count;
       }
       if (!cmp_stop_after.empty()) co.stop_after = static_cast<int>(parseIntegerArg("--stop-after", cmp_stop_after, 1, 100000000));
-      co.scenarios = splitList(cmp_scenarios);
-      if (co.scenarios.empty()) throw std::invalid_argument("--scenarios: expected a comma-separated list of scenarios or 'all'");
-      if (compare->count("--predictors")) {
-        co.predictors = splitList(cmp_predictors);
-        if (co.predictors.empty())
-          throw std::invalid_argument("--predictors: expected a comma-separated list of predictor names or 'all'");
-      }
+      co.scenarios = splitList("--scenarios", cmp_scenarios);
+      if (compare->count("--predictors")) co.predictors = splitList("--predictors", cmp_predictors);
       if (!cmp_runs.empty()) co.runs = static_cast<int>(parseIntegerArg("--runs", cmp_runs, 1, 100000));
       if (!cmp_seed.empty()) {
         co.seed_given = true;
@@ -448,10 +443,8 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
     }
     // servo
     so.plots = !servo_no_plots;
-    for (const auto& text : splitList(predictors_csv)) parsePredictorChoice(text, "--predictors");
-    if (!predictors_csv.empty() && splitList(predictors_csv).empty())
-      throw std::invalid_argument("--predictors: expected a comma-separated list of predictor names");
-    so.predictors = splitList(predictors_csv);
+    if (servo->count("--predictors")) so.predictors = splitList("--predictors", predictors_csv);
+    for (const auto& text : so.predictors) parsePredictorChoice(text, "--predictors");
     if (!seed_text.empty()) {
       so.seed_given = true;
       so.seed = static_cast<unsigned long>(parseIntegerArg("--seed", seed_text, 0, 2147483647L));

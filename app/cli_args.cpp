@@ -51,13 +51,17 @@ long parseIntegerArg(const std::string& option, const std::string& text, long lo
   return static_cast<long>(v);
 }
 
-std::vector<std::string> splitList(const std::string& s) {
+std::vector<std::string> splitList(const std::string& option, const std::string& s) {
+  if (s.empty()) throw std::invalid_argument(option + ": expected a comma-separated list, got ''");
   std::vector<std::string> out;
-  std::stringstream in(s);
-  std::string item;
-  while (std::getline(in, item, ','))
-    if (!item.empty()) out.push_back(item);
-  return out;
+  size_t start = 0;
+  for (;;) {
+    const size_t comma = s.find(',', start);
+    out.push_back(s.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (out.back().empty()) throw std::invalid_argument(option + ": an empty element in '" + s + "'");
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
 }
 
 std::string commandLine(const std::vector<std::string>& args) {

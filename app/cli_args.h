@@ -21,8 +21,9 @@ std::string oneLine(std::string s);
 double parseNumberArg(const std::string& option, const std::string& text);
 /// An integer in [lo, hi] from an argument; errors name the option and the range.
 long parseIntegerArg(const std::string& option, const std::string& text, long lo, long hi);
-/// The non-empty elements of a comma list.
-std::vector<std::string> splitList(const std::string& s);
+/// The elements of the comma list `s` given to `option`; throws std::invalid_argument naming the
+/// option for an empty list or an empty element ("a,,b", "a,").
+std::vector<std::string> splitList(const std::string& option, const std::string& s);
 
 /// "predvs ARG ARG ..." with shell quoting where needed (recorded in summary.json).
 std::string commandLine(const std::vector<std::string>& args);

@@ -223,7 +223,7 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
 }  // namespace
 
 std::vector<PredictorSpec> predictorSpecs(const std::string& text) {
-  return parsePredictorSpecs("--predictor", text == "all" ? std::vector<std::string>{"all"} : splitList(text));
+  return parsePredictorSpecs("--predictor", text == "all" ? std::vector<std::string>{"all"} : splitList("--predictor", text));
 }
 
 struct TrackSubcommands::State {
@@ -449,12 +449,12 @@ std::optional<int> TrackSubcommands::run(const std::string& command_line, std::o
       if (!a.fit && s.track_study->count(o) > 0) throw std::invalid_argument(std::string(o) + ": needs --fit");
     if (a.no_warm_start && a.fit_split < 1.0)
       throw std::invalid_argument("--no-warm-start: needs --fit-split 1 (the warm start is used in sample only)");
-    a.kinds = splitList(s.ts_kinds);
-    a.predictors = splitList(s.ts_predictors);
+    a.kinds = splitList("--kinds", s.ts_kinds);
+    a.predictors = splitList("--predictors", s.ts_predictors);
     a.rates_hz.clear();
-    for (const auto& r : splitList(s.ts_rates)) a.rates_hz.push_back(parseNumberArg("--rates", r));
+    for (const auto& r : splitList("--rates", s.ts_rates)) a.rates_hz.push_back(parseNumberArg("--rates", r));
     a.noises_px.clear();
-    for (const auto& r : splitList(s.ts_noise)) a.noises_px.push_back(parseNumberArg("--noise", r));
+    for (const auto& r : splitList("--noise", s.ts_noise)) a.noises_px.push_back(parseNumberArg("--noise", r));
     a.command_line = command_line;
     return runTrackStudy(a, out, err);
   }

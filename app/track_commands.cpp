@@ -101,6 +101,15 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     kinds = maneuverKinds();
   else
     for (const auto& k : a.kinds) kinds.push_back(parseManeuverKind(k));
+  // A grid axis given a value twice would count its tracks twice.
+  const auto once = [](const auto& values, const std::string& option) {
+    for (size_t i = 0; i < values.size(); ++i)
+      if (std::find(values.begin(), values.begin() + static_cast<long>(i), values[i]) != values.begin() + static_cast<long>(i))
+        throw std::invalid_argument(option + ": a value listed twice");
+  };
+  once(kinds, "--kinds");
+  once(a.rates_hz, "--rates");
+  once(a.noises_px, "--noise");
   // names: the label of each entry (the registry name unless LABEL= was given), types: its
   // registry predictor, inline: its KEY=VALUE (parsePredictorSpecs, predict_command.h).
   std::vector<std::string> names, types;

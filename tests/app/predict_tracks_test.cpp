@@ -231,7 +231,8 @@ TEST_F(PredictTracksTest, PredictorCommaList) {
   expectError(predict(in, none, "kf-cv,nope"), "--predictor: unknown predictor 'nope'", none);
   expectError(predict(in, none, "kf-cv,kf-cv"), "--predictor: 'kf-cv' is listed twice", none);
   expectError(predict(in, none, "all,kf-cv"), "--predictor: 'all' stands alone", none);
-  expectError(predict(in, none, ","), "--predictor: expected NAME", none);
+  expectError(predict(in, none, ","), "--predictor: an empty element in ','", none);
+  expectError(predict(in, none, "kf-cv,"), "--predictor: an empty element in 'kf-cv,'", none);
 }
 
 /// The u_pred column of `name` in predictions.csv (its text per row).

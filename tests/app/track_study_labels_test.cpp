@@ -85,6 +85,11 @@ TEST_F(TrackStudyLabels, OptionsThatWouldDoNothingAreRefused) {
   expectError(with({"--fit", "--no-warm-start"}), "--no-warm-start: needs --fit-split 1", none);
   expectError(with({"--predictors", "hold,kf-cv", "--param", "kf-ca.q=5"}), "predictor 'kf-ca' is not being run", none);
   expectError(with({"--seed", "-1"}), "--seed: expected an integer >= 0", none);
+  // a grid axis with a value twice (its tracks counted twice), an empty list or element
+  expectError(run({"track-study", "--kinds", "turns,turns", "--out", none}), "--kinds: a value listed twice", none);
+  expectError(run({"track-study", "--rates", "30,30.0", "--out", none}), "--rates: a value listed twice", none);
+  expectError(run({"track-study", "--kinds", "", "--out", none}), "--kinds: expected a comma-separated list, got ''", none);
+  expectError(run({"track-study", "--noise", "1,", "--out", none}), "--noise: an empty element in '1,'", none);
   expectError(run({"predict", "--input", write("t.csv", "t,u,v\n0,1,2\n0.1,1,2\n0.2,1,2\n"), "--predictor", "kf-cv",
                    "--delay-frames", "1", "--fit", "--fit-split", "0.5", "--no-warm-start", "--out", none}),
               "--no-warm-start: not with --fit-split", none);
