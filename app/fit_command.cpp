@@ -14,6 +14,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -112,9 +113,11 @@ int runFitNoise(const FitNoiseArgs& a, std::ostream& out) {
       }
     if (!named) throw std::invalid_argument("--params " + a.params_file + ": has no entry for " + a.predictor);
   }
+  std::set<std::string> given;
   for (const auto& kv : a.params) {
     const auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0) throw std::invalid_argument("--param: expected KEY=VALUE, got '" + kv + "'");
+    if (!given.insert(kv.substr(0, eq)).second) throw std::invalid_argument("--param " + kv.substr(0, eq) + ": given twice");
     const std::string text = kv.substr(eq + 1);
     double v = 0.0;
     switch (classifyParamText(text, &v)) {

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -61,11 +62,14 @@ int runPredict(const PredictArgs& a, const std::string& command_line, std::ostre
   StagedOutputDir::checkReplaceable(a.out_dir, {a.input, a.params_file});
   std::vector<PredictorSpec> specs = predictorSpecs(a.predictor);
   if (!a.params_file.empty()) applyParamsFile(a.params_file, specs);
+  std::set<std::string> given;  // PREDICTOR.KEY of every --param, which may come once
   for (const auto& kv : a.params) {
     const auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0)
       throw std::invalid_argument("--param: expected [PREDICTOR.]KEY=VALUE, got '" + kv + "'");
     std::string key = kv.substr(0, eq);
+    if (!given.insert(key.find('.') == std::string::npos ? specs.front().shownName() + "." + key : key).second)
+      throw std::invalid_argument("--param " + key + ": given twice");
     const std::string text = kv.substr(eq + 1);
     double number = 0.0;
     const bool word = classifyParamText(text, &number) == ParamText::Word;  // model=cv

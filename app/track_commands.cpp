@@ -155,6 +155,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     if (eq == std::string::npos || dot == std::string::npos || dot > eq)
       throw std::invalid_argument("--param: expected PREDICTOR.KEY=VALUE, got '" + kv + "'");
     const std::string name = kv.substr(0, dot), key = kv.substr(dot + 1, eq - dot - 1), text = kv.substr(eq + 1);
+    if (fixed[name].has(key)) throw std::invalid_argument("--param " + kv.substr(0, eq) + ": given twice");
     if (!isPredictor(typeOf(name))) throw std::invalid_argument("--param " + kv + ": unknown predictor '" + name + "'");
     if (std::find(names.begin(), names.end(), name) == names.end())
       throw std::invalid_argument("--param " + kv + ": predictor '" + name + "' is not being run (--predictors)");

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iomanip>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -31,12 +32,14 @@ std::vector<ParamFileEntry> readParamFile(const std::string& path) {
     if (kv.first.as<std::string>() != "predictors")
       throw std::invalid_argument(at(kv.first) + "unknown key '" + kv.first.as<std::string>() + "' (expected predictors)");
   std::vector<ParamFileEntry> entries;
+  std::set<std::string> names;
   for (const auto& e : root["predictors"]) {
     if (!e.IsMap() || !e["name"] || !e["name"].IsScalar())
       throw std::invalid_argument(at(e) + "expected {name: PREDICTOR, params: {KEY: VALUE, ...}}");
     ParamFileEntry s;
     s.name = e["name"].as<std::string>();
     if (!isPredictor(s.name)) throw std::invalid_argument(at(e) + "unknown predictor '" + s.name + "'");
+    if (!names.insert(s.name).second) throw std::invalid_argument(at(e) + "predictor '" + s.name + "' listed twice");
     for (const auto& kv : e) {
       const std::string key = kv.first.as<std::string>();
       if (key != "name" && key != "params")
@@ -44,8 +47,11 @@ std::vector<ParamFileEntry> readParamFile(const std::string& path) {
     }
     if (e["params"]) {
       if (!e["params"].IsMap()) throw std::invalid_argument(at(e["params"]) + "'params' must be a mapping KEY: VALUE");
+      std::set<std::string> keys;
       for (const auto& kv : e["params"]) {
         const std::string key = kv.first.as<std::string>();
+        if (!keys.insert(key).second)
+          throw std::invalid_argument(at(kv.first) + "parameter '" + key + "' of " + s.name + " given twice");
         const std::string text = kv.second.IsScalar() ? kv.second.as<std::string>() : "";
         double v = 0.0;
         const ParamText kind = classifyParamText(text, &v);

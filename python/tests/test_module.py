@@ -118,7 +118,7 @@ def test_params_file_errors_name_the_file_and_line(tmp_path):
     with pytest.raises(ValueError, match=f"{missing}: cannot open the parameter file"):
         predvs.read_params(str(missing))
     bad = tmp_path / "bad.yaml"
-    bad.write_text("predictors:\n  - {name: kf-cv, params: {q: 1}}\n  - {name: kf-cv, params: {qq: 2}}\n")
+    bad.write_text("predictors:\n  - {name: kf-ca, params: {q: 1}}\n  - {name: kf-cv, params: {qq: 2}}\n")
     with pytest.raises(ValueError, match=f"{bad}:3: unknown parameter 'qq' for predictor 'kf-cv'"):
         predvs.read_params(str(bad))
     out = tmp_path / "out.yaml"

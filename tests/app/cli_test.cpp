@@ -484,6 +484,24 @@ TEST_F(CliTest, ServoRejectsUnknownKeysWithTheirLine) {
               "short.yaml:10: task.interaction must be", out);
 }
 
+TEST_F(CliTest, AKeyOrParameterGivenTwiceIsRefused) {
+  // YAML leaves a key given twice to the reader; yaml-cpp would keep the first silently
+  const std::string out = path("out");
+  expectError(run({"servo", "--scenario", shortClosedLoop("duration_s: 3\n"), "--out", out}),
+              "short.yaml:8: 'duration_s' given twice", out);
+  expectError(run({"servo", "--scenario", shortClosedLoop("task: {lambda: 1, lambda: 2}\n"), "--out", out}),
+              "short.yaml:8: 'task.lambda' given twice", out);
+  // and on the command line
+  const std::string t = lineTrack();
+  expectError(run({"predict", "--input", t, "--predictor", "kf-cv", "--delay-frames", "1", "--param", "q=5", "--param",
+                   "kf-cv.q=6", "--out", out}),
+              "--param kf-cv.q: given twice", out);
+  expectError(run({"track-study", "--predictors", "hold,kf-cv", "--param", "kf-cv.q=5", "--param", "kf-cv.q=6", "--out", out}),
+              "--param kf-cv.q: given twice", out);
+  expectError(run({"fit-noise", "--input", t, "--predictor", "kf-cv", "--param", "r=1", "--param", "r=2", "--out", out}),
+              "--param r: given twice", out);
+}
+
 TEST_F(CliTest, ServoRejectsBadValues) {
   const std::string out = path("out");
   const std::string f1 = write("a.yaml", "kind: closed-loop\nduration_s: abc\npredictors: [hold]\n");

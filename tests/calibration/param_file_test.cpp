@@ -50,8 +50,13 @@ TEST(ParamFile, TextReadsBackWithNumbersAndAuto) {
 TEST(ParamFile, ErrorsNameTheFileAndLine) {
   const auto missing = (std::filesystem::temp_directory_path() / "predvs_param_file_test_none.yaml").string();
   EXPECT_EQ(errorOf(missing), missing + ": cannot open the parameter file");
-  const auto key = writeTemp("key.yaml", "predictors:\n  - {name: kf-cv, params: {q: 1}}\n  - {name: kf-cv, params: {qq: 2}}\n");
+  const auto key = writeTemp("key.yaml", "predictors:\n  - {name: kf-ca, params: {q: 1}}\n  - {name: kf-cv, params: {qq: 2}}\n");
   EXPECT_EQ(errorOf(key), key + ":3: unknown parameter 'qq' for predictor 'kf-cv'");
+  // a predictor or a parameter given twice (the reader would keep one silently)
+  const auto twice = writeTemp("twice.yaml", "predictors:\n  - {name: kf-cv, params: {q: 1}}\n  - {name: kf-cv, params: {q: 2}}\n");
+  EXPECT_EQ(errorOf(twice), twice + ":3: predictor 'kf-cv' listed twice");
+  const auto key2 = writeTemp("key2.yaml", "predictors:\n  - {name: kf-cv, params: {q: 1, q: 2}}\n");
+  EXPECT_EQ(errorOf(key2), key2 + ":2: parameter 'q' of kf-cv given twice");
   const auto word = writeTemp("word.yaml", "predictors:\n  - {name: kf-cv, params: {q: fast}}\n");
   EXPECT_EQ(errorOf(word), word + ":2: parameter 'q' expects a number or 'auto', got 'fast'");  // kf-cv's own word check
   const auto notword = writeTemp("notword.yaml", "predictors:\n  - {name: kf-cv, params: {q: 1x}}\n");
