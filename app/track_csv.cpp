@@ -52,7 +52,7 @@ void splitCsvView(std::string_view line, std::vector<std::string_view>& cells) {
 }
 
 /// parseCell on a trimmed view. Fast path: std::from_chars (no allocation, locale-free); anything
-/// it does not take whole as a finite value (a leading '+', hex, inf/nan, out of range, junk) goes
+/// it does not take whole as a finite normal value (a leading '+', hex, inf/nan, out of range, junk) goes
 /// through parseCell, so accepted values and error messages are exactly parseCell's.
 double parseCellView(std::string_view cell, const std::string& file, int line, const std::string& column,
                      bool allow_empty) {
@@ -60,7 +60,7 @@ double parseCellView(std::string_view cell, const std::string& file, int line, c
     double value = 0.0;
     const auto r = std::from_chars(cell.data(), cell.data() + cell.size(), value);
     if (r.ec == std::errc() && r.ptr == cell.data() + cell.size() && std::isfinite(value) &&
-        (value == 0.0 || std::fabs(value) >= std::numeric_limits<double>::min()))  // strtod: ERANGE on subnormals
+        (value == 0.0 || std::fabs(value) >= std::numeric_limits<double>::min()))  // subnormals: parseCell
       return value;
   }
   return parseCell(std::string(cell), file, line, column, allow_empty);
@@ -89,11 +89,12 @@ double parseCell(const std::string& raw, const std::string& file, int line, cons
   }
   const char* begin = cell.c_str();
   char* end = nullptr;
-  errno = 0;
   const double value = std::strtod(begin, &end);
-  if (end == begin || *end != '\0')
+  // strtod also reads hexadecimal ("0x10" is 16): a CSV of decimals does not mean it.
+  if (end == begin || *end != '\0' || cell.find_first_of("xX") != std::string::npos)
     throwAt(file, line, "column '" + column + "': expected a number, got '" + cell + "'");
-  if (!std::isfinite(value) || errno == ERANGE)
+  // An underflow (1e-320, a subnormal, or 0) is a finite number; an overflow is +-inf.
+  if (!std::isfinite(value))
     throwAt(file, line, "column '" + column + "': expected a finite number, got '" + cell + "'");
   return value;
 }
