@@ -25,11 +25,16 @@
 namespace predvs {
 namespace {
 
-/// The checks of --glitch P and --glitch-px G (make-track and track-study).
-void checkGlitchArgs(double prob, double px) {
-  if (!(prob >= 0.0 && prob <= 0.5)) throw std::invalid_argument("--glitch: expected a probability in [0, 0.5]");
-  if (!(px > 0.0 && std::isfinite(px))) throw std::invalid_argument("--glitch-px: expected a size > 0 px");
+/// The checks of the generator's options shared by make-track and track-study, naming the option
+/// (the generator's own checks would name its config keys).
+void checkGeneratorArgs(double duration_s, double drop_prob, double glitch_prob, double glitch_px) {
+  if (!(duration_s > 0.0 && duration_s <= 1e6)) throw std::invalid_argument("--duration-s: expected a duration in (0, 1e6] s");
+  if (!(drop_prob >= 0.0 && drop_prob <= 0.5)) throw std::invalid_argument("--drop: expected a probability in [0, 0.5]");
+  if (!(glitch_prob >= 0.0 && glitch_prob <= 0.5)) throw std::invalid_argument("--glitch: expected a probability in [0, 0.5]");
+  if (!(glitch_px > 0.0 && std::isfinite(glitch_px))) throw std::invalid_argument("--glitch-px: expected a size > 0 px");
 }
+
+bool validNoisePx(double s) { return s >= 0.0 && std::isfinite(s); }
 
 }  // namespace
 
@@ -37,12 +42,10 @@ int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
   ManeuverTrackConfig c;
   c.kind = parseManeuverKind(a.kind);
   if (!(a.rate_hz >= 1.0 && a.rate_hz <= 1000.0)) throw std::invalid_argument("--rate-hz: expected a rate in [1, 1000] Hz");
-  if (!(a.noise_px >= 0.0)) throw std::invalid_argument("--noise-px: expected a standard deviation >= 0 px");
-  if (!(a.duration_s > 0.0 && a.duration_s <= 1e6)) throw std::invalid_argument("--duration-s: expected a duration in (0, 1e6] s");
-  if (!(a.drop_prob >= 0.0 && a.drop_prob <= 0.5)) throw std::invalid_argument("--drop: expected a probability in [0, 0.5]");
+  if (!validNoisePx(a.noise_px)) throw std::invalid_argument("--noise-px: expected a finite standard deviation >= 0 px");
+  checkGeneratorArgs(a.duration_s, a.drop_prob, a.glitch_prob, a.glitch_px);
   if (a.seed < 0) throw std::invalid_argument("--seed: expected an integer >= 0");
   if (a.draw < 0) throw std::invalid_argument("--draw: expected an integer >= 0");
-  checkGlitchArgs(a.glitch_prob, a.glitch_px);
   if (a.out.empty()) throw std::invalid_argument("--out: expected a file path");
   c.rate_hz = a.rate_hz;
   c.noise_px = a.noise_px;
@@ -143,12 +146,12 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   if (a.seeds < 1) throw std::invalid_argument("--seeds: expected an integer >= 1");
   if (a.seed < 0) throw std::invalid_argument("--seed: expected an integer >= 0");
   if (a.draws < 1) throw std::invalid_argument("--draws: expected an integer >= 1");
-  checkGlitchArgs(a.glitch_prob, a.glitch_px);
+  checkGeneratorArgs(a.duration_s, a.drop_prob, a.glitch_prob, a.glitch_px);
   if (a.delay_frames < 0) throw std::invalid_argument("--delay-frames: expected an integer >= 0");
   for (double r : a.rates_hz)
     if (!(r >= 1.0 && r <= 1000.0)) throw std::invalid_argument("--rates: expected rates in [1, 1000] Hz");
   for (double s : a.noises_px)
-    if (!(s >= 0.0)) throw std::invalid_argument("--noise: expected standard deviations >= 0 px");
+    if (!validNoisePx(s)) throw std::invalid_argument("--noise: expected finite standard deviations >= 0 px");
   std::map<std::string, Params> fixed;
   for (const auto& kv : a.params) {
     const auto eq = kv.find('='), dot = kv.find('.');
@@ -263,7 +266,15 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
     if (a.fit)
       for (size_t j : fitOrder(types, fitted)) {
         if (types[j] == "hold") continue;
-        const NoiseFitResult fit = fitNoise(types[j], fitted[j], head, fo);
+        NoiseFitResult fit;
+        try {
+          fit = fitNoise(types[j], fitted[j], head, fo);
+        } catch (const std::invalid_argument& e) {
+          const Row named{maneuverKindName(c.kind), c.rate_hz, c.noise_px, static_cast<long>(c.seed),
+                          static_cast<long>(c.draw), names[j], {}, 0.0, ""};
+          throw std::invalid_argument("track " + trackKey(named) + ": --fit " + names[j] + ": " + e.what() +
+                                      " (--duration-s, --fit-split)");
+        }
         fitted[j] = fit.params;
         variants[j] = fit.variant;  // the structure, then the forecast variant (if one was kept)
         if (!fit.forecast_variant.empty()) variants[j] += (variants[j].empty() ? "" : ",") + fit.forecast_variant;

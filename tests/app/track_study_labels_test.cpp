@@ -95,6 +95,19 @@ TEST_F(TrackStudyLabels, OptionsThatWouldDoNothingAreRefused) {
               "--no-warm-start: not with --fit-split", none);
 }
 
+TEST_F(TrackStudyLabels, ErrorsNameTheOptionAndTheTrack) {
+  // the generator's checks would name its config keys (drop_prob, duration_s): the option is named
+  const std::string none = path("none");
+  expectError(run({"track-study", "--drop", "2", "--out", none}), "--drop: expected a probability in [0, 0.5]", none);
+  expectError(run({"track-study", "--duration-s", "0", "--out", none}), "--duration-s: expected a duration", none);
+  expectError(run({"track-study", "--noise", "-1", "--out", none}), "--noise: expected finite standard deviations >= 0 px", none);
+  expectError(run({"make-track", "--noise-px", "inf", "--out", path("x.csv")}), "--noise-px: expected a finite");
+  // a fit that cannot run names the track and the predictor
+  expectError(run({"track-study", "--fit", "--duration-s", "1", "--kinds", "turns", "--rates", "10", "--noise", "1",
+                   "--seeds", "1", "--predictors", "hold,kf-cv", "--out", none}),
+              "track turns 10 Hz 1 px #1: --fit kf-cv: noise fit: the track has 5 measured rows", none);
+}
+
 TEST_F(TrackStudyLabels, DrawsRunEachMotionWithItsOwnNoiseAndDrops) {
   // GIVEN one bursts motion at 60 Hz with 5 % drops, in three draws of its noise and drops
   const std::string dir = path("draws");
