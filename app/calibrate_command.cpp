@@ -115,8 +115,11 @@ void runCalibrateCamera(const CalibrateCameraOptions& o, std::ostream& out, std:
   spec.tag_size_m = o.tag_size_m;
   if (spec.rows < 2 || spec.cols < 2) throw std::invalid_argument("--rows/--cols: expected at least 2 each");
   if (!(spec.spacing_m > 0.0)) throw std::invalid_argument("--spacing: expected a length > 0 (m)");
-  if (o.diameter_m < 0.0 || (spec.kind == PatternKind::Circles && o.diameter_m >= o.spacing_m))
-    throw std::invalid_argument("--diameter: expected 0 < diameter < spacing (m)");
+  // 0 is "not given" (the defaults); a value given must be of the pattern's kind and in range
+  if (o.diameter_m != 0.0 && spec.kind != PatternKind::Circles) throw std::invalid_argument("--diameter: only with --pattern circles");
+  if (o.tag_size_m != 0.0 && spec.kind != PatternKind::AprilTag)
+    throw std::invalid_argument("--tag-size: only with --pattern apriltag");
+  if (o.diameter_m < 0.0 || o.diameter_m >= o.spacing_m) throw std::invalid_argument("--diameter: expected 0 < diameter < spacing (m)");
   if (o.tag_size_m < 0.0 || o.tag_size_m > o.spacing_m) throw std::invalid_argument("--tag-size: expected 0 < size <= spacing (m)");
   if (o.name.empty() || o.name.find_first_of("<>&\"' ") != std::string::npos)
     throw std::invalid_argument("--name: expected a camera name without spaces or XML characters");

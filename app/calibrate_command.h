@@ -47,8 +47,8 @@ struct CalibrateCameraOptions {
   std::string pattern = "circles";
   int rows = 6, cols = 6;
   double spacing_m = 0.03;
-  double diameter_m = 0.0;
-  double tag_size_m = 0.0;
+  double diameter_m = 0.0;  ///< circles; 0 = not given (2/3 of the spacing)
+  double tag_size_m = 0.0;  ///< apriltag; 0 = not given (0.8 of the spacing)
   std::string name = "camera";
   std::string out_dir = "out/calibration/camera";
   bool plots = true;

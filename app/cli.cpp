@@ -47,6 +47,13 @@ void listSection(std::ostream& out, const std::string& title, const Rows& rows) 
   for (const auto& r : rows) out << "  " << std::left << std::setw(static_cast<int>(w)) << r.name << "  " << r.summary << "\n";
 }
 
+/// A CLI11 check: a length > 0 (m) ("" when it is one, else why not).
+std::string positiveLength(const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  return end != text.c_str() && *end == '\0' && v > 0.0 && std::isfinite(v) ? "" : "expected a length > 0 (m), got '" + text + "'";
+}
+
 int runList(std::ostream& out) {
   listSection(out, "Predictors (predvs predict --predictor NAME, scenario `predictors:` lists):", predictorRegistry());
   listSection(out, "\nTasks, control laws (closed-loop scenario `task: {type: NAME, ...}`):", taskRegistry());
@@ -360,8 +367,12 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   cal_camera->add_option("--rows", cc.rows, "dots, inner corners or tags per column")->capture_default_str();
   cal_camera->add_option("--cols", cc.cols, "per row")->capture_default_str();
   cal_camera->add_option("--spacing", cc.spacing_m, "centre (corner) spacing in metres")->capture_default_str()->type_name("M");
-  cal_camera->add_option("--diameter", cc.diameter_m, "circles: dot diameter in metres (default 2/3 of the spacing)")->type_name("M");
-  cal_camera->add_option("--tag-size", cc.tag_size_m, "apriltag: tag side in metres (default 0.8 of the spacing)")->type_name("M");
+  cal_camera->add_option("--diameter", cc.diameter_m, "circles: dot diameter in metres (default 2/3 of the spacing)")
+      ->type_name("M")
+      ->check(positiveLength);
+  cal_camera->add_option("--tag-size", cc.tag_size_m, "apriltag: tag side in metres (default 0.8 of the spacing)")
+      ->type_name("M")
+      ->check(positiveLength);
   cal_camera->add_option("--name", cc.name, "camera name in camera.xml")->capture_default_str();
   cal_camera->add_option("--out", cc.out_dir, "output directory, replaced only when the run succeeds")->capture_default_str()->type_name("DIR");
   cal_camera->add_flag("--no-plots", cc_no_plots, "do not draw residuals.png (no gnuplot needed)");

@@ -95,6 +95,14 @@ TEST_F(Calibrate, CameraBadInputs) {
               path("o3"));
   expectError(run({"calibrate", "camera", "--images", path("nothing-*.png"), "--out", path("o4")}), "no file matches", path("o4"));
   expectError(run({"calibrate", "camera", "--images", path("two"), "--pattern", "dots", "--out", path("o5")}), "--pattern", path("o5"));
+  // a pattern size given must be > 0 and of the pattern's kind (0 meant the default, silently)
+  expectError(run({"calibrate", "camera", "--images", path("two"), "--diameter", "0", "--out", path("o6")}),
+              "--diameter: expected a length > 0 (m), got '0'", path("o6"));
+  expectError(run({"calibrate", "camera", "--images", path("two"), "--tag-size", "0.02", "--out", path("o6")}),
+              "--tag-size: only with --pattern apriltag", path("o6"));
+  expectError(run({"calibrate", "camera", "--images", path("two"), "--pattern", "chessboard", "--diameter", "0.01", "--out",
+                   path("o6")}),
+              "--diameter: only with --pattern circles", path("o6"));
 }
 
 TEST_F(Calibrate, LatencyOfAServoLogFeedsTheServo) {
