@@ -270,7 +270,7 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
                       "several parameter sets, e.g. kf-cv,kf-cv-r5=kf-cv:r=5")
       ->required()
       ->type_name("NAME[,NAME...]");
-  auto* h = predict->add_option("--horizon-s", pa.horizon_s, "prediction horizon in seconds (>= 0)")->type_name("S");
+  auto* h = predict->add_option("--horizon-s", pa.horizon_s, "prediction horizon in seconds (>= 0); give this or --delay-frames")->type_name("S");
   auto* d = predict->add_option("--delay-frames", pa.delay_frames,
                                 "prediction horizon in frames: H times the median frame period of the input (the predictors "
                                 "are told it as horizon_frames, and learn their blend with hold on the horizons up to it)")
@@ -359,12 +359,14 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
   MakeTrackArgs& mta = s_->make_track_args;
   CLI::App* make_track = s_->make_track = app.add_subcommand("make-track", "Write one generated maneuvering track (truth kept) as a predict input CSV");
   make_track->footer("Kinds: smooth, turns, stops, bursts, zigzag, hand (servo/include/predvs/servo/maneuver_tracks.h). "
-                     "Writes FILE with t,u,v,u_true,v_true; an empty u,v cell is a dropped frame.");
+                     "Writes FILE with t,u,v,u_true,v_true (through a link; an existing device or pipe is refused); an "
+                     "empty u,v cell is a dropped frame.\nErrors: one line 'predvs: error: ...' on stderr, exit status 2, "
+                     "FILE not written.");
   make_track->add_option("--kind", mta.kind, "motion kind")->capture_default_str()->type_name("KIND");
-  make_track->add_option("--rate-hz", mta.rate_hz, "frame rate in Hz")->capture_default_str()->type_name("HZ");
+  make_track->add_option("--rate-hz", mta.rate_hz, "frame rate in Hz, 1 to 1000")->capture_default_str()->type_name("HZ");
   make_track->add_option("--noise-px", mta.noise_px, "Gaussian noise std per coordinate, px")->capture_default_str()->type_name("PX");
   make_track->add_option("--duration-s", mta.duration_s, "duration in s")->capture_default_str()->type_name("S");
-  make_track->add_option("--drop", mta.drop_prob, "probability of a dropped frame; with probability drop/5 an occlusion of 0.1-0.3 s begins")->capture_default_str()->type_name("P");
+  make_track->add_option("--drop", mta.drop_prob, "probability of a dropped frame, 0 to 0.5; with probability drop/5 an occlusion of 0.1-0.3 s begins")->capture_default_str()->type_name("P");
   make_track->add_option("--seed", mta.seed, "random seed")->capture_default_str()->type_name("N");
   make_track->add_option("--draw", mta.draw, "draw of the noise and the dropped frames over the motion of --seed: 0 = the track's own, D > 0 another independent one (the same truth)")->capture_default_str()->type_name("D");
   make_track->add_option("--glitch", mta.glitch_prob, "probability that a measured frame is a tracker glitch: u, v displaced by --glitch-px for that frame only (own random stream: noise and drops unchanged)")->capture_default_str()->type_name("P");
