@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -79,6 +80,34 @@ std::string commandLine(const std::vector<std::string>& args) {
   return s;
 }
 
+namespace {
+/// The first "-x" / "--name[=value]" of `args` that no command of the parsed chain (`app` and the
+/// subcommands it went into) knows, or "". CLI11 reports a missing required option before an unknown
+/// one, so `predict --inptu t.csv` said "--input is required": the misspelling is the news.
+std::vector<CLI::App*> parsedChain(CLI::App& app) {
+  std::vector<CLI::App*> chain{&app};
+  for (;;) {
+    const auto subs = chain.back()->get_subcommands();
+    if (subs.empty()) return chain;
+    chain.push_back(subs.front());
+  }
+}
+
+std::string unknownOption(CLI::App& app, const std::vector<std::string>& args) {
+  const std::vector<CLI::App*> chain = parsedChain(app);
+  for (const std::string& a : args) {
+    if (a == "--") break;
+    if (a.size() < 2 || a[0] != '-' || std::isdigit(static_cast<unsigned char>(a[1])) || a[1] == '.') continue;
+    const std::string name = a.substr(0, a.find('='));
+    const bool known = std::any_of(chain.begin(), chain.end(), [&](CLI::App* c) {
+      return c->get_option_no_throw(name) != nullptr || name == "-h" || name == "--help";
+    });
+    if (!known) return name;
+  }
+  return "";
+}
+}  // namespace
+
 int parseAndRun(CLI::App& app, const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
                 const std::function<int()>& run) {
   try {
@@ -96,6 +125,20 @@ int parseAndRun(CLI::App& app, const std::vector<std::string>& args, std::ostrea
     return app.exit(e, out, err);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e, out, err);
+  } catch (const CLI::RequiredError& e) {
+    const std::string unknown = unknownOption(app, args);
+    std::string what = unknown.empty() ? oneLine(e.what()) : "unknown option '" + unknown + "'";
+    // `calibrate bogus`: a word where a command's subcommand is required
+    CLI::App* last = parsedChain(app).back();
+    const auto it = std::find(args.begin(), args.end(), last->get_name());
+    const auto subs = last->get_subcommands([](CLI::App*) { return true; });
+    if (unknown.empty() && !subs.empty() && it != args.end() && it + 1 != args.end() && (*(it + 1))[0] != '-') {
+      std::string known;
+      for (const CLI::App* s : subs) known += (known.empty() ? "" : ", ") + s->get_name();
+      what = "unknown subcommand '" + *(it + 1) + "' of " + last->get_name() + " (expected " + known + ")";
+    }
+    err << "predvs: error: " << what << " (see predvs --help)\n";
+    return 2;
   } catch (const CLI::ParseError& e) {
     err << "predvs: error: " << oneLine(e.what()) << " (see predvs --help)\n";
     return 2;

@@ -434,6 +434,19 @@ TEST_F(CliTest, ALabelMayNotBeAnotherPredictorsName) {
             0);
 }
 
+TEST_F(CliTest, AMisspelledOptionOrSubcommandIsNamed) {
+  // CLI11 reports a missing required option first: "--input is required" for a misspelt --input
+  const CliRun r = run({"predict", "--inptu", lineTrack(), "--predictor", "hold", "--delay-frames", "1", "--out", path("o")});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("unknown option '--inptu'"), std::string::npos) << r.err;
+  const CliRun c = run({"calibrate", "bogus"});
+  EXPECT_EQ(c.code, 2);
+  EXPECT_NE(c.err.find("unknown subcommand 'bogus' of calibrate (expected camera, latency)"), std::string::npos) << c.err;
+  // AND a required option really missing is still named as such
+  const CliRun m = run({"predict", "--predictor", "hold", "--delay-frames", "1", "--out", path("o")});
+  EXPECT_NE(m.err.find("--input is required"), std::string::npos) << m.err;
+}
+
 TEST_F(CliTest, SuccessfulRunReplacesPreviousDirectory) {
   // GIVEN a directory an earlier run wrote, with a file added since
   const std::string out = path("out");
