@@ -1,6 +1,6 @@
 // predvs app — `predvs compare`: every chosen predictor on every chosen scenario, many seeded runs
-// each, in parallel, summarised as a leaderboard with plots (docs/MODELS.md §10: "a figure that predictor
-// A beats predictor B is only claimed when measured on the same seeds in one run").
+// each, in parallel, summarised as a leaderboard with plots. Every predictor of a cell runs on the
+// same seeds in one run, so that "predictor A beats predictor B" is a like-for-like claim.
 //
 // Runs and seeds: a scenario runs `runs` times per predictor (--runs, else the scenario's `runs:`
 // key, else kDefaultRuns); run r (0-based) uses seed S + r for every predictor, S = --seed or the

@@ -258,7 +258,7 @@ double predictionRmse(Predictor& p, Truth truth, double t_end_s, double t0_s, do
   return std::sqrt(se / n);
 }
 
-/// docs/MODELS.md §10 E2: v0 = (20, 20) px/s, a = (1, 1) px/s^2 jumping to (30, 30) at t = 14 s.
+/// E2 (docs/MODELS.md §10; data/scenarios/e2-accel-jump.yaml): v0 = (20, 20) px/s, a = (1, 1) px/s^2 jumping to (30, 30) at t = 14 s.
 Eigen::Vector2d accelJump(double t) {
   const double v0 = 20.0, a0 = 1.0, a1 = 30.0, tj = 14.0;
   double p;

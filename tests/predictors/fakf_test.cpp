@@ -225,7 +225,7 @@ void report(const std::string& scenario, const std::string& name, const Scenario
 const std::vector<std::string> kCompared = {"kf-cv", "fakf-classic", "fakf"};
 
 TEST(FakfScenarios, E1LineE2AccelJumpE3Zigzag) {
-  // docs/MODELS.md §10: E1 line v = (10, 10) px/s; E2 v0 = (20, 20), a = (1, 1) jumping to (30, 30) px/s^2
+  // E1-E3 (docs/MODELS.md §10; data/scenarios/e1-line.yaml ...): E1 line v = (10, 10) px/s; E2 v0 = (20, 20), a = (1, 1) jumping to (30, 30) px/s^2
   // at 14 s; E3 vx = 1, vy = 10 switching to -10 px/s at 9 s. One frame ahead, 20 seeds.
   struct Case {
     std::string id;

@@ -1,4 +1,4 @@
-// Closed loop on the default scenario `ibvs-moving-target` (docs/MODELS.md §10): convergence on a static
+// Closed loop on the default scenario `ibvs-moving-target` (data/scenarios/ibvs-moving-target.yaml): convergence on a static
 // target, prediction versus the hold baseline on the same seed, determinism and the golden trace.
 #include "predvs/predictors/predictor.h"
 #include "predvs/servo/servo_loop.h"

@@ -21,7 +21,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 // Five-point differences with h = 1e-4 on poses of ~1 m and features of a few hundred px: about
-// 1e-10 (truncation h^4, rounding 1e-16 * 400 / 1e-4), well inside docs/MODELS.md §11's 1e-8.
+// 1e-10 (truncation h^4, rounding 1e-16 * 400 / 1e-4), well inside the 1e-8 of docs/DESIGN.md (the unicycle's Jacobians against the paper's own model).
 constexpr double kFdStep = 1e-4;
 constexpr double kFdTol = 1e-8;
 

@@ -18,7 +18,7 @@ namespace {
 
 // Five-point finite differences with h = 1e-4 on features of a few hundred px are good to about
 // 1e-10 (truncation h^4, rounding 1e-16 * 400 / 1e-4); a plain central difference sits at the
-// 1e-8 docs/MODELS.md §11 asks for, so it cannot check it.
+// 1e-8 docs/DESIGN.md states for the Jacobians, so it cannot check it.
 constexpr double kFdStep = 1e-4;
 constexpr double kJacobianTol = 1e-8;
 

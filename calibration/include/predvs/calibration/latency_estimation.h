@@ -6,7 +6,7 @@
 // (n channels, NaN = not seen), the time tau_j they were delivered to the controller and, when the
 // log stamps it, their acquisition time t_acq_j.
 //
-// Model (choose and document): the features of a frame are a smooth function of the robot's
+// Model (our choice, documented here): the features of a frame are a smooth function of the robot's
 // configuration when the frame was taken, and the configuration is the integral of the command,
 // p(t) = integral_{t_0}^{t} u dt, with the robot at rest before the first logged tick (p = 0 there,
 // true of `predvs servo` logs). The fit uses the start of motion, the first tick t_start with a

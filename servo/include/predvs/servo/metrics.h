@@ -1,6 +1,6 @@
 // predvs — error metrics shared by the open-loop prediction experiment and the closed loop
-// (docs/MODELS.md §10: RMSE, final error, peak error, convergence time, integrated absolute error,
-// control effort).
+// (the figures the papers' experiments report, docs/MODELS.md §10: RMSE, final error, peak error,
+// convergence time, integrated absolute error, control effort).
 //
 // Input: a scalar error e(t_i) >= 0 per step on a uniform or non-uniform time grid (open loop:
 // the Euclidean prediction error in the target's units; closed loop: the RMS over the four points

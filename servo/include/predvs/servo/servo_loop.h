@@ -1,5 +1,5 @@
 // predvs — the closed loop, a composition: a feature source, a predictor, a task (control law)
-// and a robot, timed by the timing model (docs/MODELS.md §0, §10; default scenario `ibvs-moving-target`).
+// and a robot, timed by the timing model (docs/MODELS.md §0; default scenario data/scenarios/ibvs-moving-target.yaml).
 //
 // The loop knows none of them by name: it asks their interfaces (task.h, robot.h,
 // feature_source.h, predictor.h). A new law, robot or source is new files plus one registry line.

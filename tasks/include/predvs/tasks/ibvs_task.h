@@ -27,7 +27,7 @@
 // other, tick after tick, at the robot's velocity limits. kappa = 0.02 divides the gain of those
 // directions by about 26 and changes the gain of s_0's by 0.04 %, of s_0 / 8 by 2.5 %. The feedback
 // term is vpServo's own law, undamped. Figures: docs/PERFORMANCE.md "The feed-forward through a damped
-// inverse"; docs/MODELS.md §10.
+// inverse"; docs/MODELS.md §12.
 //
 // Parameters: lambda (1/s, default 1), interaction (current | desired | mean, default current),
 // feedforward_damping (kappa in [0, 1], default 0.02).

@@ -19,7 +19,7 @@
 //     J minimises sum_k lambda^(K-k) |df_k - J dp_k - ft_k dt_k|^2 (+ the prior J0, P0); lambda < 1
 //     forgets old increments so a changing J is tracked, lambda = 1 is plain RLS.
 //
-// Choices (documented here, docs/MODELS.md §7 "choose and document"):
+// Choices the paper leaves open, ours and documented here (the estimator's equations: docs/MODELS.md §7):
 //  * No excitation: when |dp| (Euclidean norm in p's units) < min_dp the update is skipped (J and
 //    P untouched) and update() returns false. A still robot teaches nothing and, with lambda < 1,
 //    would only inflate P.
