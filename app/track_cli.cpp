@@ -325,8 +325,8 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
                     "the Gauss-Newton covariance of that least-squares problem scaled by the residual variance; r is held at its start value (h-step errors depend on q/r only); "
                     "then the blend with hold on one horizon (hold_blend_frames: 1) is run with the fitted noise and kept if its h-step error is lower (not for imm). "
                     "Fitted keys: kf-cv, kf-ca, st-akf, st-akf-pm, fakf-classic: q, r; cs-akf: alpha, a_max, a_neg_max, r; "
-                    "cs-akf-adaptive, fakf: alpha, sigma_min_sq, sigma_max_sq, r; stkf: r, "
-                    "q_pos, q_vel; imm: q_cv, q_ca, r. Writes DIR/params.yaml (use with predict/servo/compare "
+                    "cs-akf-adaptive, fakf: alpha, sigma_min_sq, sigma_max_sq, r; stkf: r, q (model: ca, the default), "
+                    "r, q_pos, q_vel (model: cv); imm: q_cv, q_ca, r. Writes DIR/params.yaml (use with predict/servo/compare "
                     "--params) and DIR/fit.json.\n"
                     "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
   fit_noise->add_option("--input", fna.input, "track CSV (t,u,v[,u_true,v_true]) as for predict")->required()->type_name("FILE");
