@@ -132,11 +132,7 @@ TEST_F(CliTest, PredictRejectsUnknownPredictor) {
 TEST_F(CliTest, PredictRejectsBadHorizon) {
   const std::string out = path("out"), in = lineTrack();
   const std::vector<std::string> base = {"predict", "--input", in, "--predictor", "kf-cv", "--out", out, "--no-plots"};
-  auto with = [&](std::vector<std::string> extra) {
-    auto a = base;
-    a.insert(a.end(), extra.begin(), extra.end());
-    return run(a);
-  };
+  auto with = [&](const std::vector<std::string>& extra) { return run(base, extra); };
   expectError(with({"--horizon-s", "abc"}), "--horizon-s: expected a number, got 'abc'", out);
   expectError(with({"--horizon-s", "nan"}), "--horizon-s: expected a finite number", out);
   expectError(with({"--horizon-s", "-0.1"}), "--horizon-s: expected a number >= 0", out);
@@ -404,11 +400,7 @@ TEST_F(CliTest, NothingToScoreIsAnError) {
   // track-study: a track shorter than the horizon, and one that hold predicts exactly
   const std::vector<std::string> one = {"track-study", "--kinds", "turns", "--rates", "30", "--seeds", "1",
                                         "--predictors", "hold,kf-cv"};
-  auto with = [&](std::vector<std::string> extra) {
-    std::vector<std::string> args = one;
-    args.insert(args.end(), extra.begin(), extra.end());
-    return run(args);
-  };
+  auto with = [&](const std::vector<std::string>& extra) { return run(one, extra); };
   const CliRun s = with({"--noise", "1", "--duration-s", "0.05"});
   EXPECT_EQ(s.code, 2);
   EXPECT_NE(s.err.find("track turns 30 Hz 1 px #1: no prediction 2 frames ahead is scored"), std::string::npos) << s.err;

@@ -36,6 +36,12 @@ inline CliRun run(const std::vector<std::string>& args) {
   return r;
 }
 
+/// Runs `args` followed by `extra` (a command's fixed arguments and the ones a case adds).
+inline CliRun run(std::vector<std::string> args, const std::vector<std::string>& extra) {
+  args.insert(args.end(), extra.begin(), extra.end());
+  return run(args);
+}
+
 /// Number of '\n' in s.
 inline int lineCount(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 

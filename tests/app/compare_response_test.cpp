@@ -32,9 +32,7 @@ bool hasMetric(const nlohmann::json& j, const std::string& metric) {
 }
 
 nlohmann::json compare(const std::vector<std::string>& extra, const fs::path& out) {
-  std::vector<std::string> args = {"compare", "--runs", "4", "--no-plots", "--out", out.string()};
-  args.insert(args.end(), extra.begin(), extra.end());
-  const CliRun r = run(args);
+  const CliRun r = run({"compare", "--runs", "4", "--no-plots", "--out", out.string()}, extra);
   EXPECT_EQ(r.code, 0) << r.err;
   return readJson(out / "leaderboard.json");
 }

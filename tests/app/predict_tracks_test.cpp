@@ -82,10 +82,8 @@ class PredictTracksTest : public ScratchDirTest {
   }
   CliRun predict(const std::string& input, const std::string& out, const std::string& predictors = "kf-cv,stkf",
                  const std::vector<std::string>& extra = {}) const {
-    std::vector<std::string> args{"predict", "--input", input, "--predictor", predictors, "--delay-frames", "2", "--out", out,
-                                  "--no-plots"};
-    args.insert(args.end(), extra.begin(), extra.end());
-    return run(args);
+    return run({"predict", "--input", input, "--predictor", predictors, "--delay-frames", "2", "--out", out, "--no-plots"},
+               extra);
   }
 };
 

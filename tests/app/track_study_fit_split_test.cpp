@@ -21,10 +21,9 @@ class TrackStudyFitSplit : public apptest::ScratchDirTest {
   TrackStudyFitSplit() : ScratchDirTest("predvs_fitsplit_test") {}
   /// track-study on one turns track (30 Hz, 1.5 px, seed 1, 10 s) with extra options; the rows of study.csv.
   std::vector<std::vector<std::string>> study(const std::string& dir, const std::vector<std::string>& extra) {
-    std::vector<std::string> args = {"track-study", "--kinds", "turns", "--rates", "30", "--noise", "1.5", "--seeds",
-                                     "1", "--duration-s", "10", "--predictors", "kf-cv,st-akf", "--out", path(dir)};
-    args.insert(args.end(), extra.begin(), extra.end());
-    const CliRun r = run(args);
+    const CliRun r = run({"track-study", "--kinds", "turns", "--rates", "30", "--noise", "1.5", "--seeds", "1",
+                          "--duration-s", "10", "--predictors", "kf-cv,st-akf", "--out", path(dir)},
+                         extra);
     EXPECT_EQ(r.code, 0) << r.err;
     last_out_ = r.out;
     return csvRows(slurp(path(dir) + "/study.csv"));

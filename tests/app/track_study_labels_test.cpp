@@ -26,11 +26,9 @@ class TrackStudyLabels : public apptest::ScratchDirTest {
   /// extra options; study.csv's RMSE vs truth per (predictor, seed) and its ratio to hold.
   std::map<std::string, std::pair<std::string, std::string>> study(const std::string& dir, const std::string& predictors,
                                                                    const std::vector<std::string>& extra = {}) {
-    std::vector<std::string> args = {"track-study", "--kinds", "turns", "--rates", "30", "--noise", "1.5",
-                                     "--seeds", "2", "--duration-s", "8", "--predictors", predictors,
-                                     "--out", path(dir)};
-    args.insert(args.end(), extra.begin(), extra.end());
-    const CliRun r = run(args);
+    const CliRun r = run({"track-study", "--kinds", "turns", "--rates", "30", "--noise", "1.5", "--seeds", "2",
+                          "--duration-s", "8", "--predictors", predictors, "--out", path(dir)},
+                         extra);
     EXPECT_EQ(r.code, 0) << r.err;
     last_out_ = r.out;
     std::map<std::string, std::pair<std::string, std::string>> out;
@@ -73,11 +71,7 @@ TEST_F(TrackStudyLabels, OptionsThatWouldDoNothingAreRefused) {
   // a parameter of a predictor not run, a seed make-track could not reproduce
   const std::string none = path("none");
   const std::vector<std::string> one = {"track-study", "--kinds", "turns", "--rates", "30", "--seeds", "1", "--out", none};
-  const auto with = [&](std::vector<std::string> extra) {
-    std::vector<std::string> args = one;
-    args.insert(args.end(), extra.begin(), extra.end());
-    return run(args);
-  };
+  const auto with = [&](const std::vector<std::string>& extra) { return run(one, extra); };
   expectError(with({"--fit-split", "0.3"}), "--fit-split: needs --fit", none);
   expectError(with({"--fit-objective", "likelihood"}), "--fit-objective: needs --fit", none);
   expectError(with({"--fit-starts", "2"}), "--fit-starts: needs --fit", none);
