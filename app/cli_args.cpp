@@ -81,9 +81,7 @@ std::string commandLine(const std::vector<std::string>& args) {
 }
 
 namespace {
-/// The first "-x" / "--name[=value]" of `args` that no command of the parsed chain (`app` and the
-/// subcommands it went into) knows, or "". CLI11 reports a missing required option before an unknown
-/// one, so `predict --inptu t.csv` said "--input is required": the misspelling is the news.
+/// `app` and the subcommands the parse went into, outermost first.
 std::vector<CLI::App*> parsedChain(CLI::App& app) {
   std::vector<CLI::App*> chain{&app};
   for (;;) {
@@ -93,6 +91,9 @@ std::vector<CLI::App*> parsedChain(CLI::App& app) {
   }
 }
 
+/// The first "-x" / "--name[=value]" of `args` that no command of the parsed chain knows, or "".
+/// CLI11 reports a missing required option before an unknown one, so `predict --inptu t.csv` said
+/// "--input is required": the misspelling is the news.
 std::string unknownOption(CLI::App& app, const std::vector<std::string>& args) {
   const std::vector<CLI::App*> chain = parsedChain(app);
   for (const std::string& a : args) {
