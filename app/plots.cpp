@@ -38,11 +38,13 @@ void drawFigure(const StagedOutputDir& dir, const PlotFigure& f) {
      << "set terminal pngcairo size " << static_cast<int>(cols) * pw << "," << static_cast<int>(rows) * ph + 60
      << " noenhanced font 'Sans,10'\n"
      << "set output '" << f.base << ".png'\n"
-     << "set datafile missing 'NaN'\nset grid\n"
-     << f.setup;
+     << "set datafile missing 'NaN'\nset grid\n";
   if (f.panels.size() > 1)
     gp << "set multiplot layout " << rows << "," << cols << " title " << gnuplotQuote(f.title) << "\n";
   for (const PlotPanel& p : f.panels) {
+    // Labels, objects and arrows persist from panel to panel in a multiplot: each panel starts
+    // without them, then gets the figure's (f.setup: e.g. the event marks) and its own.
+    gp << "unset label\nunset object\nunset arrow\n" << f.setup;
     gp << "set size noratio\nset autoscale x\nset autoscale xfix\nset yrange [*:*] noreverse\n"
        << "unset logscale y\nset format y '% h'\nset key inside top right opaque font ',9' samplen 2\n"
        << "set title " << gnuplotQuote(f.panels.size() > 1 ? p.title : f.title + (p.title.empty() ? "" : ": " + p.title))

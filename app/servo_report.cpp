@@ -210,6 +210,7 @@ void plotOpenTrajectories(const ServoReport& r, const StagedOutputDir& dir) {
     return lines;
   };
   const std::string key = "set key outside below horizontal maxcols 3 noopaque\n";
+  const std::string events = eventMarks(runEvents(sc));  // on the panels versus time
   PlotFigure f;
   f.base = "trajectories";
   f.title = seedTitle(sc) + ": the target's channels; forecasts drawn at the effect time they aim at";
@@ -234,7 +235,7 @@ void plotOpenTrajectories(const ServoReport& r, const StagedOutputDir& dir) {
     PlotPanel p;
     p.title = c + " versus time";
     p.ylabel = c + " [" + unit + "]";
-    p.setup = key;
+    p.setup = key + events;
     p.lines = series(cols(t_acq, l.column("meas_" + c)), cols(t_pred, l.column("pred_" + c)),
                      cols(t_pred, l.column("true_" + c)));
     f.panels.push_back(p);
@@ -301,13 +302,14 @@ void plotClosedTrajectories(const ServoReport& r, const StagedOutputDir& dir) {
 }
 
 /// A figure with one panel per name, each the trace column `prefix + name` versus time, one line
-/// per predictor.
+/// per predictor; the scenario's occlusions and onset marked.
 PlotFigure panelPerColumn(const ServoReport& r, const std::string& base, const std::string& what,
                           const std::vector<std::string>& names, const std::string& prefix, const std::string& unit) {
   const RunLayout& l = r.runs.front().layout;
   PlotFigure f;
   f.base = base;
   f.title = seedTitle(*r.scenario) + ": " + what;
+  f.setup = eventMarks(runEvents(*r.scenario));
   for (const auto& name : names) {
     PlotPanel p;
     p.title = name;
@@ -344,6 +346,7 @@ void plotDiagnostics(const ServoReport& r, const StagedOutputDir& dir) {
   PlotFigure f;
   f.base = "diagnostics";
   f.title = seedTitle(*r.scenario) + ": diagnostics of task " + r.scenario->closed_loop.task.name + " versus time";
+  f.setup = eventMarks(runEvents(*r.scenario));
   for (const auto& group : groupByPrefix(l.diagnostics)) {
     std::vector<std::string> names;
     for (size_t i : group) names.push_back(l.diagnostics[i]);

@@ -455,16 +455,24 @@ std::vector<std::string> writePlots(const TrackResult& r, int delay_frames, cons
   for (const auto& pr : r.predictions) scored = scored || pr.pooled.n > 0;
   if (!scored) return drawn;
 
-  // Error per predictor and frame: the mean over the points scored at that frame (target time).
+  // Error per predictor and frame: the mean over the points scored at that frame (target time);
+  // then, per predictor, its RMS over the frames of the last kWindowS seconds.
+  constexpr double kWindowS = 1.0;
+  const size_t k_count = r.predictions.size();
   {
     std::ofstream dat(dir.file("errors_plot.dat"));
     dat << "# t_target_s";
     for (const auto& pr : r.predictions) dat << " " << pr.spec.shownName();
+    for (const auto& pr : r.predictions) dat << " rms_" << pr.spec.shownName();
     dat << "\n" << std::setprecision(8);
     const size_t H = static_cast<size_t>(delay_frames);
+    std::vector<double> sum_sq(k_count, 0.0);
+    std::vector<int> in_window(k_count, 0);
+    std::vector<std::vector<double>> frame_error(k_count, std::vector<double>(r.rows(), std::nan("")));
+    size_t oldest = H;  // first row inside the window
     for (size_t row = H; row < r.rows(); ++row) {
-      dat << r.t_s[row];
-      for (const auto& pr : r.predictions) {
+      for (size_t k = 0; k < k_count; ++k) {
+        const auto& pr = r.predictions[k];
         double sum = 0.0;
         int count = 0;
         for (size_t p = 0; p < n; ++p) {
@@ -474,8 +482,22 @@ std::vector<std::string> writePlots(const TrackResult& r, int delay_frames, cons
             ++count;
           }
         }
-        dat << " " << (count ? csvCell(sum / count) : "NaN");
+        if (count) {
+          frame_error[k][row] = sum / count;
+          sum_sq[k] += frame_error[k][row] * frame_error[k][row];
+          ++in_window[k];
+        }
       }
+      for (; r.t_s[oldest] <= r.t_s[row] - kWindowS; ++oldest)
+        for (size_t k = 0; k < k_count; ++k)
+          if (std::isfinite(frame_error[k][oldest])) {
+            sum_sq[k] -= frame_error[k][oldest] * frame_error[k][oldest];
+            --in_window[k];
+          }
+      dat << r.t_s[row];
+      for (size_t k = 0; k < k_count; ++k) dat << " " << (std::isfinite(frame_error[k][row]) ? csvCell(frame_error[k][row]) : "NaN");
+      for (size_t k = 0; k < k_count; ++k)
+        dat << " " << (in_window[k] > 0 ? csvCell(std::sqrt(std::max(0.0, sum_sq[k]) / in_window[k])) : "NaN");
       dat << "\n";
     }
   }
@@ -483,12 +505,27 @@ std::vector<std::string> writePlots(const TrackResult& r, int delay_frames, cons
   errors.base = "errors";
   errors.title = "Prediction error " + std::to_string(delay_frames) + " frame(s) ahead (mean over points, vs measurement)";
   PlotPanel panel;
-  panel.ylabel = "error [px]";
+  panel.ylabel = "error [px] (log scale)";
   panel.xlabel = "time of the predicted frame t [s]";
-  for (size_t k = 0; k < r.predictions.size(); ++k)
-    panel.lines.push_back({"errors_plot.dat", "1:" + std::to_string(2 + k), "lines lw 1.2", seriesColor(k),
+  // Log y: a hand-held sequence's few jumps (and the start-up) are ten times its steady error, which
+  // a linear axis squeezes into the bottom tenth. Past six predictors, dashes tell the colours apart.
+  panel.log_y = true;
+  panel.title = "per frame";
+  PlotPanel rms;
+  rms.title = "RMS over the last " + csvNumber(kWindowS) + " s";
+  rms.ylabel = "RMS of the error [px] (log scale)";
+  rms.log_y = true;  // the start-up's 10-20 px beside a steady 1 px
+  rms.xlabel = panel.xlabel;
+  for (size_t k = 0; k < k_count; ++k) {
+    const std::string style = " dt " + std::to_string(dashType(k / 6));
+    panel.lines.push_back({"errors_plot.dat", "1:" + std::to_string(2 + k), "lines lw 1" + style, seriesColor(k),
                            r.predictions[k].spec.shownName(), ""});
+    rms.lines.push_back({"errors_plot.dat", "1:" + std::to_string(2 + k_count + k), "lines lw 2" + style, seriesColor(k),
+                         r.predictions[k].spec.shownName(), ""});
+  }
   errors.panels.push_back(panel);
+  errors.panels.push_back(rms);
+  errors.panel_height_px = 430;
   drawFigure(dir, errors);
   drawn.push_back("errors.png");
   return drawn;
