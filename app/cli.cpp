@@ -142,7 +142,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   app.require_subcommand(1);
   app.footer("Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
 
-  app.add_subcommand("list", "List the registered predictors and the scenarios in data/scenarios.");
+  app.add_subcommand("list", "List the registered predictors and the scenarios (with the data directory they are read from).");
   const TrackSubcommands tracks(app);  // predict, fit-noise, make-track, track-study (track_cli.h)
 
 
@@ -220,7 +220,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       "--set predictors.kf-cv.params.q=50 (a list element is chosen by index or by name; a name "
       "the list lacks is added); the overrides are recorded in summary.json.\n"
       "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
-  servo->add_option("--scenario", so.scenario, "scenario name in data/scenarios, or a path to a .yaml file")
+  servo->add_option("--scenario", so.scenario, "scenario name (predvs list), or a path to a .yaml file")
       ->capture_default_str()
       ->type_name("NAME|FILE");
   servo->add_option("--predictors", predictors_csv,
@@ -248,7 +248,8 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->type_name("DIR");
   servo->add_flag("--no-plots", servo_no_plots, "do not draw PNG plots (no gnuplot needed)");
   servo->add_option("--params", servo_params_file,
-                    "predictor parameter file (fit-noise): each entry becomes --set predictors.NAME.params.KEY=VALUE")
+                    "predictor parameter file (fit-noise), or the name of one of predvs's own (pre-issue-11, ...): each "
+                    "entry becomes --set predictors.NAME.params.KEY=VALUE")
       ->type_name("FILE");
 
   CompareOptions co;
@@ -343,7 +344,8 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   merge->add_flag("--no-plots", mg_no_plots, "do not draw PNG plots (no gnuplot needed)");
 
   compare->add_option("--params", cmp_params_file,
-                      "predictor parameter file (fit-noise): each entry becomes --set predictors.NAME.params.KEY=VALUE")
+                      "predictor parameter file (fit-noise), or the name of one of predvs's own (pre-issue-11, ...): each "
+                    "entry becomes --set predictors.NAME.params.KEY=VALUE")
       ->type_name("FILE");
 
 

@@ -7,11 +7,13 @@
 #include "predvs/calibration/noise_fit.h"
 #include "predvs/calibration/param_file.h"
 #include "predvs/predictors/predictor.h"
+#include "predvs/servo/data_dir.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <set>
@@ -20,9 +22,18 @@
 
 namespace predvs {
 
+std::string resolveParamsFile(const std::string& name_or_path) {
+  std::error_code ec;
+  if (std::filesystem::exists(name_or_path, ec) || name_or_path.find('/') != std::string::npos) return name_or_path;
+  const std::filesystem::path installed = std::filesystem::path(dataDir()) / "params" / name_or_path;
+  for (const std::string& candidate : {installed.string(), installed.string() + ".yaml"})
+    if (std::filesystem::is_regular_file(candidate, ec)) return candidate;
+  return name_or_path;
+}
+
 std::vector<PredictorSpec> readParamsFile(const std::string& path) {
   std::vector<PredictorSpec> specs;
-  for (const auto& e : readParamFile(path)) specs.push_back({e.name, e.params});
+  for (const auto& e : readParamFile(resolveParamsFile(path))) specs.push_back({e.name, e.params});
   return specs;
 }
 

@@ -32,8 +32,12 @@ namespace predvs {
 struct NoiseFitResult;
 struct FitTrack;
 
-/// Reads a parameter file (format above; calibration/param_file.h reads it). Throws
-/// std::invalid_argument "FILE: ..." on any defect.
+/// A parameter file given by path, or by the name of one of the data directory's params/ (predvs
+/// list's data; `--params pre-issue-11` is params/pre-issue-11.yaml, wherever predvs is installed).
+/// A path with a '/' or a file that exists is taken as it is.
+std::string resolveParamsFile(const std::string& name_or_path);
+/// Reads a parameter file (format above; calibration/param_file.h reads it), given as
+/// resolveParamsFile() takes it. Throws std::invalid_argument "FILE: ..." on any defect.
 std::vector<PredictorSpec> readParamsFile(const std::string& path);
 /// The YAML text of a parameter file for `specs`, with `comment` lines first (calibration/param_file.h).
 std::string paramsFileText(const std::vector<PredictorSpec>& specs, const std::vector<std::string>& comment);

@@ -293,7 +293,8 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
                       "step (docs/MODELS.md §16); 0 = off (the default); `predvs track` uses 8")
       ->type_name("G");
   predict->add_option("--params", pa.params_file,
-                      "parameter file (YAML, as written by fit-noise) for the predictors it names (not a LABEL=NAME "
+                      "parameter file (YAML, as written by fit-noise; or the name of one of predvs's own, e.g. "
+                      "pre-issue-11) for the predictors it names (not a LABEL=NAME "
                       "entry of --predictor: give it --param LABEL.KEY=VALUE); --param wins")
       ->type_name("FILE");
   predict->add_flag("--fit", pa.fit,

@@ -108,6 +108,7 @@ int main(int argc, char** argv) {
       params.setText(arg.substr(0, eq), arg.substr(eq + 1));  // a word (model=cv): the predictor checks it
   }
   try {
+    predvs::makePredictor(name, 8, params);  // an unknown name or parameter is refused before any run
     std::printf("steady-state RMS image error without predictor: %.3f px\n", runLoop(""));
     std::printf("steady-state RMS image error with %s: %.3f px\n", name.c_str(), runLoop(name, params));
   } catch (const std::exception& e) {

@@ -439,6 +439,17 @@ TEST_F(CliTest, AMisspelledOptionOrSubcommandIsNamed) {
   EXPECT_NE(m.err.find("--input is required"), std::string::npos) << m.err;
 }
 
+TEST_F(CliTest, AParameterFileOfPredvsIsGivenByName) {
+  // data/params/pre-issue-11.yaml, found in the data directory wherever predvs is installed
+  const CliRun r = run({"predict", "--input", lineTrack(), "--predictor", "kf-ca", "--delay-frames", "1", "--params",
+                        "pre-issue-11", "--no-plots", "--out", path("out")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(slurp(path("out") + "/summary.json").find("\"shrink_sigmas\""), std::string::npos);
+  expectError(run({"predict", "--input", lineTrack(), "--predictor", "kf-cv", "--delay-frames", "1", "--params", "nope",
+                   "--out", path("o2")}),
+              "nope: cannot open the parameter file", path("o2"));
+}
+
 TEST_F(CliTest, SuccessfulRunReplacesPreviousDirectory) {
   // GIVEN a directory an earlier run wrote, with a file added since
   const std::string out = path("out");

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <limits>
 #include <utility>
 
@@ -30,8 +31,8 @@ class RecentValues {
   template <class Compute>
   const T& get(const Key& key, Compute&& compute) {
     for (int i = 0; i < N; ++i)
-      if (keys_[static_cast<size_t>(i)] == key) return values_[static_cast<size_t>(i)];
-    const auto slot = static_cast<size_t>(next_);
+      if (keys_[static_cast<std::size_t>(i)] == key) return values_[static_cast<std::size_t>(i)];
+    const auto slot = static_cast<std::size_t>(next_);
     next_ = (next_ + 1) % N;
     values_[slot] = std::forward<Compute>(compute)();
     keys_[slot] = key;
