@@ -41,6 +41,7 @@ RunRecord runClosedLoop(const Scenario& sc, const ScenarioPredictor& p, std::uin
   for (const auto& s : r.trace) rec.t_s.push_back(s.t_s), rec.error.push_back(s.error);
   RunLayout& l = rec.layout;
   l.columns = r.columns;
+  l.command_units = r.command_units;
   l.error_column = "error_px";
   l.desired = r.desired;
   // traceColumns(): t_s, t_acq_s, 3 x features, error_px, commands, diagnostics.

@@ -36,6 +36,7 @@ struct RunLayout {
   std::string error_column;              ///< "error_px" (closed) or "error" (open)
   std::vector<std::string> features;     ///< task features (closed) or trajectory channels (open)
   std::vector<std::string> commands;     ///< command components (closed loop; empty open loop)
+  std::vector<std::string> command_units;  ///< their units, when the robot states them (else empty)
   std::vector<std::string> diagnostics;  ///< the task's diagnostics (closed loop; may be empty)
   Eigen::VectorXd desired;               ///< s* (closed loop; empty open loop)
 

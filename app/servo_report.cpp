@@ -332,11 +332,14 @@ void plotFeatures(const ServoReport& r, const StagedOutputDir& dir) {
   drawFigure(dir, f);
 }
 
-/// command.png (closed loop): every component of the applied command versus time.
+/// command.png (closed loop): every component of the applied command versus time, with its unit
+/// when the robot states it (CommandSpace::units).
 void plotCommand(const ServoReport& r, const StagedOutputDir& dir) {
   const RunLayout& l = r.runs.front().layout;
-  drawFigure(dir, panelPerColumn(r, "command", "applied command versus time (after the robot's limits)", l.commands, "",
-                                 ""));
+  PlotFigure f = panelPerColumn(r, "command", "applied command versus time (after the robot's limits)", l.commands, "", "");
+  if (l.command_units.size() == l.commands.size())
+    for (size_t i = 0; i < l.commands.size(); ++i) f.panels[i].ylabel = l.commands[i] + " [" + l.command_units[i] + "]";
+  drawFigure(dir, f);
 }
 
 /// diagnostics.png (closed loop, a task with diagnostics): every diagnostic versus time, related

@@ -17,7 +17,7 @@ constexpr double kUnlimited = 1e12;
 }  // namespace
 
 FreeCameraRobot::FreeCameraRobot(const Params& params)
-    : space_{"camera-twist", {"vx", "vy", "vz", "wx", "wy", "wz"}},
+    : space_{"camera-twist", {"vx", "vy", "vz", "wx", "wy", "wz"}, {"m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s"}},
       max_translation_mps_(params.get("max_translation_mps", 0.2, 1e-9, 1e3)),
       max_rotation_radps_(params.get("max_rotation_radps", 0.7, 1e-9, 1e3)),
       saturation_(params.get("saturation", 1.0, 0.0, 1.0) != 0.0) {
@@ -64,7 +64,7 @@ std::vector<std::string> FreeCameraRobot::stateNames() const {
 }
 
 XyStageRobot::XyStageRobot(const Params& params)
-    : space_{"camera-xy", {"vx", "vy"}},
+    : space_{"camera-xy", {"vx", "vy"}, {"m/s", "m/s"}},
       max_translation_mps_(params.get("max_translation_mps", 0.2, 1e-9, 1e3)),
       saturation_(params.get("saturation", 1.0, 0.0, 1.0) != 0.0) {
   params.requireAllUsed("robot 'xy-stage'");

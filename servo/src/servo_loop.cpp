@@ -376,6 +376,7 @@ ServoResult ServoLoop::run() {
   r.prediction_used = impl_->compensate;
   r.desired = desiredFeatures();
   r.columns = traceColumns();
+  r.command_units = robot().commandSpace().units;
   if (impl_->config.predictor_diagnostics)
     for (const auto& kv : impl_->predictor.diagnostics()) r.predictor_diagnostic_names.push_back(kv.first);
   r.trace.reserve(static_cast<size_t>(impl_->last_tick + 1));

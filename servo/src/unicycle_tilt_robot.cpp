@@ -53,7 +53,7 @@ double sinc(double a) { return std::abs(a) < 1e-4 ? 1.0 - a * a / 6.0 : std::sin
 UnicycleTiltRobot::UnicycleTiltRobot(const Params& params) : UnicycleTiltRobot(configFrom(params)) {}
 
 UnicycleTiltRobot::UnicycleTiltRobot(const UnicycleTiltConfig& config)
-    : config_(config), space_{"unicycle-tilt", {"v_m_s", "omega_rad_s", "tilt_rate_rad_s"}} {
+    : config_(config), space_{"unicycle-tilt", {"v_m_s", "omega_rad_s", "tilt_rate_rad_s"}, {"m/s", "rad/s", "rad/s"}} {
   checkConfig(config_);
 }
 

@@ -28,7 +28,8 @@ void requireSize6(const Eigen::VectorXd& command, const char* what) {
 
 Viper850Robot::Viper850Robot(const Params& params)
     : command_space_{"joint-velocity",
-                     {"qdot1_radps", "qdot2_radps", "qdot3_radps", "qdot4_radps", "qdot5_radps", "qdot6_radps"}},
+                     {"qdot1_radps", "qdot2_radps", "qdot3_radps", "qdot4_radps", "qdot5_radps", "qdot6_radps"},
+                     std::vector<std::string>(6, "rad/s")},
       q_visp_(6, 0.0) {
   model_.init(vpViper850::TOOL_PTGREY_FLEA2_CAMERA, vpCameraParameters::perspectiveProjWithoutDistortion);
   const vpColVector qmin = model_.getJointMin();

@@ -175,6 +175,30 @@ TEST_F(ServoReportTest, ALawWithDiagnosticsGetsDiagnosticsAndCommandPlots) {
   EXPECT_NE(gp.find("title \"hold s_u\""), std::string::npos) << gp;
   EXPECT_NE(gp.find("title \"kf-cv s_v\""), std::string::npos) << gp;
   // (ibvs, which has no diagnostics, gets none: CliTest.ServoShortClosedLoopWritesAllFiles)
+  // AND the command's panels carry the units the robot states (CommandSpace::units)
+  const std::string command = slurp(out + "/command.gp");
+  EXPECT_NE(command.find("set ylabel \"vx [m/s]\""), std::string::npos) << command;
+  EXPECT_NE(command.find("set ylabel \"wz [rad/s]\""), std::string::npos) << command;
+}
+
+TEST_F(ServoReportTest, EveryPanelVersusTimeMarksTheOcclusion) {
+  if (!predvs::gnuplotAvailable()) GTEST_SKIP() << "gnuplot not on PATH";
+  // GIVEN a closed loop with one occlusion (e8-vtc-occlusion: 12-15 s), 16 s long
+  const std::string out = path("occ");
+  const CliRun r = run({"servo", "--scenario", "e8-vtc-occlusion", "--set", "duration_s=16", "--out", out});
+  ASSERT_EQ(r.code, 0) << r.err;
+  // THEN every panel of the plots versus time shades it, once per panel (a multiplot keeps labels
+  // from panel to panel unless each panel unsets them)
+  for (const char* gp_file : {"error.gp", "features.gp", "command.gp", "diagnostics.gp"}) {
+    const std::string gp = slurp(out + "/" + gp_file);
+    size_t panels = 0, shaded = 0, resets = 0;
+    for (size_t at = gp.find("\nplot "); at != std::string::npos; at = gp.find("\nplot ", at + 1)) ++panels;
+    for (size_t at = gp.find("set object rect from 12"); at != std::string::npos; at = gp.find("set object rect from 12", at + 1)) ++shaded;
+    for (size_t at = gp.find("unset label"); at != std::string::npos; at = gp.find("unset label", at + 1)) ++resets;
+    EXPECT_GT(panels, 0u) << gp_file;
+    EXPECT_EQ(shaded, panels) << gp_file;
+    EXPECT_EQ(resets, panels) << gp_file;
+  }
 }
 
 TEST_F(ServoReportTest, BadPredictorListIsOneLineExit2AndNoDirectory) {

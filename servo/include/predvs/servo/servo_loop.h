@@ -169,6 +169,7 @@ struct ServoResult {
   bool prediction_used = false;  ///< whether the compensation + prediction path was active
   Eigen::VectorXd desired;       ///< s*
   std::vector<std::string> columns;  ///< trace columns (ServoLoop::traceColumns())
+  std::vector<std::string> command_units;  ///< the robot's CommandSpace::units (reports)
   std::vector<ServoSample> trace;
   std::vector<std::string> predictor_diagnostic_names;  ///< of ServoSample::predictor_diagnostics
   Metrics metrics;               ///< of the error, with control effort (steady figures NaN after a failure)

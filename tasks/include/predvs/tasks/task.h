@@ -38,6 +38,7 @@ namespace predvs {
 struct CommandSpace {
   std::string kind;
   std::vector<std::string> names;
+  std::vector<std::string> units = {};  ///< one per name ("m/s", "rad/s") for reports; empty: not stated
   int size() const { return static_cast<int>(names.size()); }
 };
 
