@@ -428,9 +428,9 @@ void runCalibrateLatency(const CalibrateLatencyOptions& o, std::ostream& out, st
   writeTextFile(dir, "latency.json", j.dump(2) + "\n");
   if (o.plots) {
     std::ostringstream dat;
-    dat << "# delay_s rss_delivery" << (r.has_actuation ? " rss_acquisition" : "") << "\n";
+    dat << "# delay_ms rss_delivery" << (r.has_actuation ? " rss_acquisition" : "") << "\n";
     for (size_t g = 0; g < r.total.grid_s.size(); ++g) {
-      dat << datNumber(r.total.grid_s[g]) << " " << datNumber(r.total.rss[g]);
+      dat << datNumber(r.total.grid_s[g] * 1000.0) << " " << datNumber(r.total.rss[g]);
       if (r.has_actuation) dat << " " << datNumber(g < r.actuation.rss.size() ? r.actuation.rss[g] : kNaN);
       dat << "\n";
     }
@@ -439,10 +439,21 @@ void runCalibrateLatency(const CalibrateLatencyOptions& o, std::ostream& out, st
     f.base = "profile";
     f.title = "latency fit: residual sum of squares versus the delay (" + o.log + ")";
     PlotPanel panel;
-    panel.xlabel = "delay candidate L [s]";
+    panel.xlabel = "delay candidate L [ms]";
     panel.ylabel = "RSS [px^2]";
-    panel.setup = "set arrow from " + datNumber(r.total.delay_s) + ", graph 0 to " + datNumber(r.total.delay_s) +
-                  ", graph 1 nohead dt 2 lc rgb '#1f77b4'\n";
+    // The estimate, its +-1 sigma band and, with stamps, the stamped delivery - acquisition, in ms as
+    // the text output gives them.
+    const double d_ms = r.total.delay_s * 1000.0, s_ms = r.total.sigma_s * 1000.0;
+    panel.setup = "set object rect from " + datNumber(d_ms - s_ms) + ", graph 0 to " + datNumber(d_ms + s_ms) +
+                  ", graph 1 fc rgb '#dbe9f6' fs solid noborder behind\n" + "set arrow from " + datNumber(d_ms) + ", graph 0 to " +
+                  datNumber(d_ms) + ", graph 1 nohead dt 2 lc rgb '#1f77b4'\n" + "set label " +
+                  gnuplotQuote("estimate " + fixedNumber(d_ms, 1) + " +- " + fixedNumber(s_ms, 1) + " ms") + " at " +
+                  datNumber(d_ms) + ", graph 0.06 offset 0.5,0 textcolor rgb '#1f77b4'\n";
+    if (r.has_actuation && std::isfinite(r.stamped_delay_s))
+      panel.setup += "set arrow from " + datNumber(r.stamped_delay_s * 1000.0) + ", graph 0 to " +
+                     datNumber(r.stamped_delay_s * 1000.0) + ", graph 1 nohead dt 3 lc rgb 'black'\n" + "set label " +
+                     gnuplotQuote("stamped " + fixedNumber(r.stamped_delay_s * 1000.0, 1) + " ms") + " at " +
+                     datNumber(r.stamped_delay_s * 1000.0) + ", graph 0.12 offset 0.5,0\n";
     panel.lines.push_back({"profile.dat", "1:2", "lines lw 2", "#1f77b4", "delivered features (vision + actuation)", ""});
     if (r.has_actuation)
       panel.lines.push_back({"profile.dat", "1:3", "lines lw 2", "#d62728", "features at acquisition (actuation)", ""});

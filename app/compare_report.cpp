@@ -466,7 +466,8 @@ void plotGridHeatMaps(const Plan& plan, const Results& res, const StagedOutputDi
        << static_cast<int>(rows) * ph + 70
        << " noenhanced font 'Sans,10'\nset output '" << base << ".png'\n"
        << "set datafile missing 'NaN'\nunset key\nset style fill solid 1.0 noborder\n"
-       << "set palette defined (0 '#2c7bb6', 0.5 '#ffffbf', 1 '#d7191c')\n"
+       // One-directional (a time: faster is lighter), light enough for the black labels on every cell.
+       << "set palette defined (0 '#fff7bc', 0.5 '#fec44f', 1 '#d95f0e')\n"
        << "set cbrange [0:" << (t_max > 0.0 ? t_max : 1.0) << "]\nset cblabel 'median convergence time [s]' offset 1.5,0\n"
        << "set xrange [-0.5:" << nx - 0.5 << "]\nset yrange [-0.5:" << ny - 0.5 << "]\n"
        << "set xtics " << tics(axes[0]) << "\nset ytics " << tics(axes[1]) << "\n"
@@ -482,9 +483,10 @@ void plotGridHeatMaps(const Plan& plan, const Results& res, const StagedOutputDi
     for (size_t p = 0; p < n_pred; ++p) {
       const std::string data = "'" + base + ".dat' index " + std::to_string(p);
       gp << "set title " << gnuplotQuote(sc.predictors[p].name) << "\n"
-         << "plot " << data << " using ($4 > 0 || $5 > 0 ? 1/0 : $1):2:(0.5):(0.5) with boxxyerror lc rgb 'gray85', \\\n"
-         << "     " << data << " using ($4 > 0 || $5 == 0 ? 1/0 : $1):2:(0.5):(0.5) with boxxyerror lc rgb 'gray60', \\\n"
-         << "     " << data << " using 1:2:(0.5):(0.5):3 with boxxyerror lc palette, \\\n"
+         << "plot " << data << " using ($4 > 0 || $5 > 0 ? 1/0 : $1):2:(0.5):(0.5) with boxxyerror lc rgb '#e5e5e5', \\\n"
+         << "     " << data << " using ($4 > 0 || $5 == 0 ? 1/0 : $1):2:(0.5):(0.5) with boxxyerror lc rgb '#666666', \\\n"
+         // (cells without a converged run skipped: gnuplot paints a NaN colour value grey over the fills)
+         << "     " << data << " using ($3 == $3 ? $1 : 1/0):2:(0.5):(0.5):3 with boxxyerror lc palette, \\\n"
          << "     " << data << " using ($1 + 0.36):($5 > 0 ? $2 + 0.3 : 1/0) with points pt 2 ps 1.2 lw 1.5 lc rgb 'black', \\\n"
          << "     " << data << " using 1:2:6 with labels offset 0,0.5 font ',9', \\\n"
          << "     " << data << " using 1:2:7 with labels offset 0,-0.6 font ',8'\n";
