@@ -94,8 +94,7 @@ std::vector<CLI::App*> parsedChain(CLI::App& app) {
 /// The first "-x" / "--name[=value]" of `args` that no command of the parsed chain knows, or "".
 /// CLI11 reports a missing required option before an unknown one, so `predict --inptu t.csv` said
 /// "--input is required": the misspelling is the news.
-std::string unknownOption(CLI::App& app, const std::vector<std::string>& args) {
-  const std::vector<CLI::App*> chain = parsedChain(app);
+std::string unknownOption(const std::vector<CLI::App*>& chain, const std::vector<std::string>& args) {
   for (const std::string& a : args) {
     if (a == "--") break;
     if (a.size() < 2 || a[0] != '-' || std::isdigit(static_cast<unsigned char>(a[1])) || a[1] == '.') continue;
@@ -127,10 +126,11 @@ int parseAndRun(CLI::App& app, const std::vector<std::string>& args, std::ostrea
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e, out, err);
   } catch (const CLI::RequiredError& e) {
-    const std::string unknown = unknownOption(app, args);
+    const std::vector<CLI::App*> chain = parsedChain(app);
+    const std::string unknown = unknownOption(chain, args);
     std::string what = unknown.empty() ? oneLine(e.what()) : "unknown option '" + unknown + "'";
     // `calibrate bogus`: a word where a command's subcommand is required
-    CLI::App* last = parsedChain(app).back();
+    CLI::App* last = chain.back();
     const auto it = std::find(args.begin(), args.end(), last->get_name());
     const auto subs = last->get_subcommands([](CLI::App*) { return true; });
     if (unknown.empty() && !subs.empty() && it != args.end() && it + 1 != args.end() && (*(it + 1))[0] != '-') {

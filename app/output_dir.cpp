@@ -33,13 +33,18 @@ fs::path outTarget(fs::path target) {
   if (target.filename().empty()) target = target.parent_path();  // "dir/" -> "dir"
   return target;
 }
+
+/// The directory a link to one names (replacing the link would lose it), else `target` itself.
+fs::path followDirectoryLink(const fs::path& target) {
+  std::error_code ec;
+  return fs::is_symlink(target, ec) && fs::is_directory(target, ec) ? fs::canonical(target, ec) : target;
+}
 }  // namespace
 
 void StagedOutputDir::checkReplaceable(const fs::path& target, const std::vector<std::string>& inputs) {
   const fs::path given = outTarget(target);
-  fs::path t = given;
+  const fs::path t = followDirectoryLink(given);
   std::error_code ec;
-  if (fs::is_symlink(t, ec) && fs::is_directory(t, ec)) t = fs::canonical(t, ec);
   if (fs::exists(t, ec) && !fs::is_directory(t, ec))
     throw std::invalid_argument("--out: '" + given.string() + "' exists and is not a directory");
   const auto refuse = [&](const std::string& what) {
@@ -55,10 +60,9 @@ void StagedOutputDir::checkReplaceable(const fs::path& target, const std::vector
     if (!in.empty() && isAtOrBelow(in, t)) refuse("holds the input '" + in + "'");
 }
 
-StagedOutputDir::StagedOutputDir(const fs::path& target) : target_(outTarget(target)) {
-  checkReplaceable(target_, {});
+StagedOutputDir::StagedOutputDir(const fs::path& target) : target_(followDirectoryLink(outTarget(target))) {
+  checkReplaceable(target, {});
   std::error_code ec;
-  if (fs::is_symlink(target_, ec) && fs::is_directory(target_, ec)) target_ = fs::canonical(target_, ec);
 
   fs::path parent = target_.parent_path();
   if (parent.empty()) parent = ".";
