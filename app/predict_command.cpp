@@ -428,6 +428,78 @@ class ErrorSums : public BlockConsumer {
   std::vector<Sums> sums_;
 };
 
+/// The third panel of predictions.png (a BlockConsumer, one item per predictor): each predictor's
+/// RMS error per equal time slice of the track, pooled over every point and both coordinates, against
+/// the truth when the track has it and else against the measurement (the table's error, slice by
+/// slice), over the rows the table scores. About kErrorSliceFrames frames per slice, at most
+/// kMaxErrorSlices slices. Each predictor's sums are added in row order, so the panel is the same
+/// for any jobs and block size.
+class ErrorSlices : public BlockConsumer {
+ public:
+  ErrorSlices(const FeatureTrack& track, const PredictionReport& report, size_t score_from)
+      : track_(track), truth_(track.hasTruth()), score_from_(score_from) {
+    const size_t rows = track.size();
+    slices_ = std::max<size_t>(1, std::min(kMaxErrorSlices, rows / kErrorSliceFrames));
+    t0_ = track.t_s.front();
+    span_ = track.t_s.back() - t0_;
+    if (!(span_ > 0.0)) slices_ = 1;
+    sums_.resize(report.runs.size());
+    for (auto& s : sums_) s = std::make_unique<Sums>(slices_);
+  }
+  size_t items(const PredictionBlock&) const override { return sums_.size(); }
+  void run(const PredictionBlock& blk, size_t k) override {
+    const size_t np = blk.channels / 2, r0 = truth_ ? 2 : 0;
+    const size_t begin = std::max(blk.i0, std::min(score_from_, blk.i1)) - blk.i0, end = blk.i1 - blk.i0;
+    Sums& s = *sums_[k];
+    for (size_t i = begin; i < end; ++i) {
+      const size_t slice = sliceOf(track_.t_s[blk.i0 + i]);
+      for (size_t p = 0; p < np; ++p) {
+        const double du = blk.prediction(k, 2 * p)[i] - blk.reference(p, r0)[i];
+        const double dv = blk.prediction(k, 2 * p + 1)[i] - blk.reference(p, r0 + 1)[i];
+        if (!std::isfinite(du) || !std::isfinite(dv)) continue;
+        s.sq[slice] += du * du + dv * dv;
+        ++s.n[slice];
+      }
+    }
+  }
+  size_t slices() const { return slices_; }
+  /// The time the forecasts of slice j are made for: the slice's middle plus the horizon.
+  double targetTime(size_t j, double horizon_s) const {
+    return t0_ + span_ * (static_cast<double>(j) + 0.5) / static_cast<double>(slices_) + horizon_s;
+  }
+  /// Predictor k's RMS error over slice j (NaN: no scored pair in it).
+  double rms(size_t k, size_t j) const {
+    const Sums& s = *sums_[k];
+    return s.n[j] ? std::sqrt(s.sq[j] / static_cast<double>(s.n[j])) : kNaN;
+  }
+  /// Rows per slice, and a slice's length (for the panel's title).
+  double framesPerSlice() const { return static_cast<double>(track_.size()) / static_cast<double>(slices_); }
+  double sliceSeconds() const { return span_ / static_cast<double>(slices_); }
+  /// The time axis every panel shares: the first row's time to the last row's target time.
+  double firstTime() const { return t0_; }
+  double lastTime() const { return t0_ + span_; }
+
+ private:
+  static constexpr size_t kErrorSliceFrames = 8;
+  static constexpr size_t kMaxErrorSlices = 200;
+  struct alignas(64) Sums {  // on cache lines of its own: items of different predictors run at once
+    explicit Sums(size_t slices) : sq(slices, 0.0), n(slices, 0) {}
+    std::vector<double> sq;
+    std::vector<size_t> n;
+  };
+  size_t sliceOf(double t) const {
+    if (slices_ == 1) return 0;
+    const double x = (t - t0_) / span_ * static_cast<double>(slices_);
+    return x <= 0.0 ? 0 : std::min(slices_ - 1, static_cast<size_t>(x));
+  }
+  const FeatureTrack& track_;
+  bool truth_;
+  size_t score_from_;
+  size_t slices_ = 1;
+  double t0_ = 0.0, span_ = 0.0;
+  std::vector<std::unique_ptr<Sums>> sums_;
+};
+
 /// The report's prediction columns, block after block (a BlockConsumer; predictTrack). Reserved on
 /// the first block, in huge pages where the kernel offers them, and filled without zeroing first
 /// (large_buffer.h).
@@ -766,7 +838,7 @@ void writeSummaryJson(const FeatureTrack& track, const PredictionReport& report,
 /// predictions_plot.dat, predictions_plot.bin and predictions.gp (see predictToFiles) from the
 /// plot's table.
 void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, int delay_frames, PlotTable& plot,
-                    const StagedOutputDir& dir) {
+                    const ErrorSlices& slices, const StagedOutputDir& dir) {
   const int n = track.points();
   const bool single = n == 1;
   // Plot data (the first point): measured points at their time, predictions at the time they are
@@ -808,6 +880,26 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
     writeWhole(dir.file("predictions_plot.bin"),
                std::string(reinterpret_cast<const char*>(bin.data()), bin.size() * sizeof(double)));
   }
+  // The error panel's data: per slice, the time its forecasts are made for, then each predictor's RMS
+  // error (NaN where it scored nothing). A log axis takes only positive values: an exact forecast's 0
+  // is drawn as missing, and the axis is linear when no value is positive.
+  bool positive = false;
+  {
+    std::string dat = std::string("# t_target_s, then per predictor its RMS error [px] vs ") +
+                      (track.hasTruth() ? "truth" : "measurement") + " over a time slice of the track (every point)\n# t_target_s";
+    for (const auto& run : report.runs) dat += " " + run.spec.shownName();
+    dat += '\n';
+    for (size_t j = 0; j < slices.slices(); ++j) {
+      dat += datNumber(slices.targetTime(j, report.horizon_s));
+      for (size_t k = 0; k < report.runs.size(); ++k) {
+        const double e = slices.rms(k, j);
+        positive = positive || e > 0.0;
+        dat += ' ' + datNumber(e);
+      }
+      dat += '\n';
+    }
+    writeWhole(dir.file("predictions_errors.dat"), dat);
+  }
   std::ofstream gp(dir.file("predictions.gp"));
   std::ostringstream title;
   title << "Prediction " << std::setprecision(4) << report.horizon_s << " s ahead";
@@ -823,12 +915,18 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
      << "'predictions_plot.dat' and fmt = ''.\n"
      << "data = 'predictions_plot.bin'\n"
      << "fmt = \"" << binary << "\"\n"
-     << "set terminal pngcairo size 1200,850 enhanced font 'Sans,10'\n"
+     << "set terminal pngcairo size 1200,1250 enhanced font 'Sans,10'\n"
      << "set output 'predictions.png'\n"
      << "set datafile missing 'NaN'\n"
-     << "set multiplot layout 2,1 title "
+     << "set multiplot layout 3,1 title "
      << gnuplotQuote(title.str() + ": each predictor's forecast is drawn at the time it is made for") << "\n"
-     << "set grid\nset autoscale xfix\nset xlabel 'time t [s]'\n"
+     << "set grid\nset xlabel 'time t [s]'\nset lmargin 10\n";
+  // One time axis for the three panels (the forecasts reach the last row's time plus the horizon).
+  if (slices.lastTime() + report.horizon_s > slices.firstTime())
+    gp << "set xrange [" << datNumber(slices.firstTime()) << ":" << datNumber(slices.lastTime() + report.horizon_s) << "]\n";
+  else
+    gp << "set autoscale xfix\n";
+  gp
      << "set key outside right top vertical Left reverse samplen 2\n";
   for (int axis = 0; axis < 2; ++axis) {
     const char* name = axis == 0 ? "u" : "v";
@@ -841,13 +939,26 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
     if (envelope) gp << " with lines lw 5 lc rgb 'black' notitle, '' @fmt using 1:" << (2 + axis);
     gp << " with points pt 7 ps 0.5 lc rgb 'black' title 'measured'";
     for (size_t k = 0; k < report.runs.size(); ++k)
-      gp << ", '' @fmt using 4:" << (7 + 2 * k + static_cast<size_t>(axis)) << " with lines lw 1.5 lc rgb '"
-         << seriesColor(k) << "' title " << gnuplotQuote(report.runs[k].spec.shownName());
+      gp << ", '' @fmt using 4:" << (7 + 2 * k + static_cast<size_t>(axis)) << " with lines lw 1.5 dt "
+         << dashType(k / 6) << " lc rgb '" << seriesColor(k) << "' title " << gnuplotQuote(report.runs[k].spec.shownName());
     if (track.hasTruth())
       gp << ", '' @fmt using 1:" << (5 + axis) << " with lines dt 2 lw 2 lc rgb 'black' title 'true'";
     gp << "\n";
   }
-  gp << "unset multiplot\n";
+  // The third panel: which predictor is better, and where (a turn, a gap), which the forecasts above,
+  // a few pixels apart on a track hundreds of pixels long, do not show.
+  std::ostringstream error_title;
+  error_title << "RMS prediction error vs " << (track.hasTruth() ? "truth" : "measurement") << " per time slice of "
+              << std::setprecision(2) << slices.sliceSeconds() << " s (" << std::llround(slices.framesPerSlice())
+              << " frames), every point";
+  gp << "set title " << gnuplotQuote(error_title.str()) << "\n"
+     << "set xlabel 'time the forecast is made for [s]'\n"
+     << "set ylabel 'RMS error [px]" << (positive ? " (log scale)" : "") << "'\n"
+     << (positive ? "set logscale y\n" : "") << "plot ";
+  for (size_t k = 0; k < report.runs.size(); ++k)
+    gp << (k ? ", " : "") << "'predictions_errors.dat' using 1:" << (2 + k) << " with lines lw 1.5 dt " << dashType(k / 6)
+       << " lc rgb '" << seriesColor(k) << "' title " << gnuplotQuote(report.runs[k].spec.shownName());
+  gp << "\nunset multiplot\n";
   gp.close();
 }
 
@@ -859,17 +970,20 @@ PredictionReport predictToFiles(const FeatureTrack& track, const std::vector<Pre
   ErrorSums errors(report, track.hasTruth(), files.score_from);
   CsvWriter csv(dir.file("predictions.csv"), track, report);
   std::unique_ptr<PlotTable> plot;
+  std::unique_ptr<ErrorSlices> slices;
   std::vector<BlockConsumer*> consumers{&csv, &errors};
   if (files.plots && track.size() > 0) {
     plot = std::make_unique<PlotTable>(track, report);
+    slices = std::make_unique<ErrorSlices>(track, report, files.score_from);
     consumers.push_back(plot.get());
+    consumers.push_back(slices.get());
   }
   streamPredictions(track, predictors, horizon_s, jobs, files.block_rows, consumers, report);
   errors.finish();
   csv.finish();
   writeSummaryJson(track, report, files, dir);
   if (plot) {
-    writePlotFiles(track, report, files.delay_frames, *plot, dir);
+    writePlotFiles(track, report, files.delay_frames, *plot, *slices, dir);
     runGnuplot(dir.staging().string(), "predictions.gp");
   }
   return report;

@@ -155,7 +155,10 @@ struct PredictionFiles {
 ///                    overall), "per_point": [{"point", "vs_measurement", "vs_truth"}]}]}
 ///  predictions.png: u and v versus time of the first point (for N > 1 its title says so; every
 ///                   point is in predictions.csv and its errors in summary.json); the envelope of
-///                   kPlotSlices time slices beyond kMaxPlotRows rows (its title then says so). Drawn by predictions.gp from
+///                   kPlotSlices time slices beyond kMaxPlotRows rows (its title then says so); under
+///                   them each predictor's RMS error (vs truth when the track has it, else vs the
+///                   measurement; every point, the rows scored) per equal time slice of about 8 frames,
+///                   at most 200 slices, from predictions_errors.dat. Drawn by predictions.gp from
 ///                   predictions_plot.bin: the numbers of the text predictions_plot.dat (same rows
 ///                   and columns: t_s u_px v_px t_target_s u_true_px v_true_px, then u_pred v_pred
 ///                   per predictor) as doubles in the machine's byte order (NaN for "NaN"), which

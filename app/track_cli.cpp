@@ -258,7 +258,8 @@ TrackSubcommands::TrackSubcommands(CLI::App& app) : s_(std::make_unique<State>()
       "and with u_true/v_true when present; rows outside the measured span are not scored. "
       "Writes DIR/predictions.csv (t,u,v,t_target,NAME.u_pred,NAME.v_pred per predictor; with N > 1 points "
       "t,point,u,v,...), DIR/summary.json (RMSE per predictor, overall and per point) and DIR/predictions.png "
-      "(the first point; beyond 20,000 rows the minimum and maximum of each series over 1200 equal time slices are drawn, predictions.csv keeps all). "
+      "(the first point; beyond 20,000 rows the minimum and maximum of each series over 1200 equal time slices are drawn, predictions.csv keeps all; "
+      "below them each predictor's RMS error per time slice of about 8 frames, every point). "
       "The simulated open-loop experiments E1-E4 run with `predvs servo --scenario e1-line` etc.\n"
       "Errors: one line 'predvs: error: ...' on stderr, exit status 2, no output directory.");
   predict->add_option("--input", pa.input, "CSV track: t,u,v | t,u0,v0,u1,v1,... | t,point,u,v (+ optional *_true columns); t in s, u,v in px")

@@ -10,6 +10,7 @@
 #include "track_csv.h"
 
 #include "predvs/predictors/predictor.h"
+#include "predvs/servo/sampled_signal.h"
 
 #include <gtest/gtest.h>
 
@@ -337,7 +338,8 @@ TEST(PredictThroughput, StreamedFilesAreTheSameForAnyBlockSizeAndHoldPredictTrac
     const auto dir_other = filesOf(track, specs, 1, "blocks_1000_" + tag, other);
     const predvs::PredictionReport report = predvs::predictTrack(track, specs, 2.0 / 30.0, 2, 4096);
     // THEN every file is byte for byte the same
-    for (const char* f : {"predictions.csv", "summary.json", "predictions_plot.dat", "predictions_plot.bin"}) {
+    for (const char* f : {"predictions.csv", "summary.json", "predictions_plot.dat", "predictions_plot.bin",
+                          "predictions_errors.dat"}) {
       const std::string text = readAll(dir_whole / f);
       EXPECT_GT(text.size(), 1000u) << f;
       EXPECT_TRUE(text == readAll(dir_small / f)) << f << " " << tag;
@@ -402,6 +404,103 @@ TEST(PredictThroughput, ScoringFromARowIsTheErrorOfTheRowsAfterIt) {
       EXPECT_LT(got.vs_truth.n, 5000 - 1234 + 1);
       EXPECT_GT(got.vs_truth.n, 5000 - 1234 - 10);
     }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(PredictErrorPanel, EachSliceIsTheRmsOfItsScoredRowsAgainstTheTruth) {
+  // GIVEN a two-point track with truth and dropped frames, two predictors, scored from row 700
+  // (predict --fit-split), in blocks of 333 rows
+  const size_t rows = 2000, score_from = 700;
+  const predvs::FeatureTrack track = syntheticTrack(rows, 2);
+  const std::vector<predvs::PredictorSpec> specs{{"hold", {}}, {"kf-cv", {}}};
+  predvs::PredictionFiles files;
+  files.score_from = score_from;
+  files.block_rows = 333;
+  const auto dir = filesOf(track, specs, 2, "error_panel", files);
+  // WHEN predictions_errors.dat (the third panel of predictions.png) is read
+  std::ifstream dat(dir / "predictions_errors.dat");
+  std::vector<std::vector<double>> table;
+  for (std::string line; std::getline(dat, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream in(line);
+    std::vector<double> row;
+    for (std::string cell; in >> cell;) row.push_back(cell == "NaN" ? std::nan("") : std::stod(cell));
+    ASSERT_EQ(row.size(), 3u) << line;
+    table.push_back(row);
+  }
+  // THEN it has 200 slices (2000 rows / 8, at most 200), and each is the RMS over the slice's rows
+  // from row 700 on of every point's error against the truth at t + horizon, pooled; slices before
+  // row 700 are empty
+  ASSERT_EQ(table.size(), 200u);
+  const double h = 2.0 / 30.0, t0 = track.t_s.front(), span = track.t_s.back() - t0;
+  const predvs::PredictionReport report = predvs::predictTrack(track, specs, h, 1);
+  std::vector<std::vector<double>> sq(2, std::vector<double>(200, 0.0));
+  std::vector<std::vector<int>> n(2, std::vector<int>(200, 0));
+  for (size_t p = 0; p < 2; ++p) {
+    const std::vector<double> ut = predvs::interpolateShifted(track.t_s, track.u_true_px[p], h);
+    const std::vector<double> vt = predvs::interpolateShifted(track.t_s, track.v_true_px[p], h);
+    for (size_t k = 0; k < 2; ++k)
+      for (size_t i = score_from; i < rows; ++i) {
+        const double du = report.runs[k].points[p].u_pred_px[i] - ut[i], dv = report.runs[k].points[p].v_pred_px[i] - vt[i];
+        if (!std::isfinite(du) || !std::isfinite(dv)) continue;
+        const size_t j = std::min<size_t>(199, static_cast<size_t>((track.t_s[i] - t0) / span * 200.0));
+        sq[k][j] += du * du + dv * dv;
+        ++n[k][j];
+      }
+  }
+  size_t empty = 0;
+  for (size_t j = 0; j < 200; ++j) {
+    EXPECT_NEAR(table[j][0], t0 + span * (j + 0.5) / 200.0 + h, 1e-6) << j;
+    for (size_t k = 0; k < 2; ++k) {
+      if (n[k][j] == 0) {
+        EXPECT_TRUE(std::isnan(table[j][1 + k])) << j;
+        empty += k;
+        continue;
+      }
+      const double want = std::sqrt(sq[k][j] / n[k][j]);
+      EXPECT_NEAR(table[j][1 + k], want, 1e-7 * want) << "slice " << j << " predictor " << k;
+    }
+  }
+  EXPECT_GE(empty, 69u);  // the slices of rows 0-699 (each slice holds about 10 rows)
+  EXPECT_LE(empty, 71u);
+  // ... and hold's error, the motion over the horizon, is above kf-cv's in most slices
+  size_t hold_worse = 0;
+  for (size_t j = 70; j < 200; ++j) hold_worse += table[j][1] > table[j][2];
+  EXPECT_GT(hold_worse, 100u);
+  // ... and predictions.gp draws it as a third panel on a log axis
+  const std::string gp = readAll(dir / "predictions.gp");
+  EXPECT_NE(gp.find("multiplot layout 3,1"), std::string::npos);
+  EXPECT_NE(gp.find("set logscale y"), std::string::npos);
+  EXPECT_NE(gp.find("'predictions_errors.dat' using 1:3"), std::string::npos);
+  EXPECT_NE(gp.find("RMS prediction error vs truth"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(PredictErrorPanel, AnExactForecastEverywhereKeepsALinearAxis) {
+  // GIVEN a still target without noise at (0, 0), where the interpolated reference is exact: hold's
+  // error is 0 on every row
+  predvs::FeatureTrack track;
+  track.path = "still";
+  track.format = "wide";
+  track.point_names = {"0"};
+  for (int i = 0; i < 100; ++i) track.t_s.push_back(i / 30.0);
+  track.u_px = {std::vector<double>(100, 0.0)};
+  track.v_px = {std::vector<double>(100, 0.0)};
+  // WHEN hold's outputs are written with the plot
+  const auto dir = filesOf(track, {{"hold", {}}}, 1, "error_panel_still");
+  // THEN every slice is 0 vs the measurement, the axis is linear (a log axis has no 0) and the PNG is drawn
+  const std::string gp = readAll(dir / "predictions.gp");
+  EXPECT_EQ(gp.find("set logscale y"), std::string::npos);
+  EXPECT_NE(gp.find("RMS prediction error vs measurement"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir / "predictions.png"));
+  std::ifstream dat(dir / "predictions_errors.dat");
+  size_t slices = 0;
+  for (std::string line; std::getline(dat, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    EXPECT_EQ(line.substr(line.find(' ') + 1), "0") << line;
+    ++slices;
+  }
+  EXPECT_EQ(slices, 12u);  // 100 rows / 8
   std::filesystem::remove_all(dir);
 }
 
