@@ -472,6 +472,8 @@ class ErrorSlices : public BlockConsumer {
     const Sums& s = *sums_[k];
     return s.n[j] ? std::sqrt(s.sq[j] / static_cast<double>(s.n[j])) : kNaN;
   }
+  /// The first row scored, when the track has a row there (else 0: every row).
+  size_t scoredFrom() const { return score_from_ < track_.size() ? score_from_ : 0; }
   /// Rows per slice, and a slice's length (for the panel's title).
   double framesPerSlice() const { return static_cast<double>(track_.size()) / static_cast<double>(slices_); }
   double sliceSeconds() const { return span_ / static_cast<double>(slices_); }
@@ -920,7 +922,12 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
      << "set datafile missing 'NaN'\n"
      << "set multiplot layout 3,1 title "
      << gnuplotQuote(title.str() + ": each predictor's forecast is drawn at the time it is made for") << "\n"
-     << "set grid\nset xlabel 'time t [s]'\nset lmargin 10\n";
+     << "set grid\nset xlabel 'time t [s]'\n";
+  // The same plot area in the three panels: fixed margins, the right one as wide as the longest key
+  // entry ("measured" in the upper two) and its sample.
+  size_t key_chars = std::string("measured").size();
+  for (const auto& run : report.runs) key_chars = std::max(key_chars, run.spec.shownName().size());
+  gp << "set lmargin 10\nset rmargin " << key_chars + 8 << "\n";
   // One time axis for the three panels (the forecasts reach the last row's time plus the horizon).
   if (slices.lastTime() + report.horizon_s > slices.firstTime())
     gp << "set xrange [" << datNumber(slices.firstTime()) << ":" << datNumber(slices.lastTime() + report.horizon_s) << "]\n";
@@ -951,6 +958,8 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
   error_title << "RMS prediction error vs " << (track.hasTruth() ? "truth" : "measurement") << " per time slice of "
               << std::setprecision(2) << slices.sliceSeconds() << " s (" << std::llround(slices.framesPerSlice())
               << " frames), every point";
+  if (slices.scoredFrom() > 0)
+    error_title << ", the rows scored (from t = " << std::setprecision(4) << track.t_s[slices.scoredFrom()] << " s)";
   gp << "set title " << gnuplotQuote(error_title.str()) << "\n"
      << "set xlabel 'time the forecast is made for [s]'\n"
      << "set ylabel 'RMS error [px]" << (positive ? " (log scale)" : "") << "'\n"

@@ -473,6 +473,7 @@ TEST(PredictErrorPanel, EachSliceIsTheRmsOfItsScoredRowsAgainstTheTruth) {
   EXPECT_NE(gp.find("set logscale y"), std::string::npos);
   EXPECT_NE(gp.find("'predictions_errors.dat' using 1:3"), std::string::npos);
   EXPECT_NE(gp.find("RMS prediction error vs truth"), std::string::npos);
+  EXPECT_NE(gp.find("the rows scored (from t = "), std::string::npos);
   std::filesystem::remove_all(dir);
 }
 
