@@ -53,8 +53,10 @@
 //                     ranked by mean rmse, mean ± std, the columns of report.h (tableMetrics(): the
 //                     same columns `predvs servo` prints); the terminal shows the same tables
 //                     (means) with "vs hold" when hold is among the predictors
-//   error_<variant>.png  mean over runs of the error versus time, one line per predictor (for a
-//                     sweep: its first and last value; occlusions shaded, an onset marked), with
+//   error_<variant>.png  mean over runs of the error versus time, one line per predictor, each
+//                     with about 20 markers of its own shape, staggered, so that coinciding lines
+//                     stay told apart (for a sweep: its first and last value; occlusions shaded,
+//                     an onset marked), with
 //                     error_<variant>.gp / .dat; the file id of a variant is
 //                     <scenario>_<KEY><value> (error_e6-noise-study_sigma10.png)
 //   mse_vs_sigma_<scenario>.png  open-loop noise.sigma sweeps: position and velocity MSE per

@@ -198,14 +198,14 @@ void plotErrors(const Plan& plan, const Results& res, const StagedOutputDir& dir
       for (double e : c.mean_error) any = any || std::isfinite(e);
     if (!any) continue;
     const std::string base = "error_" + var.file_id;
+    const auto& cells = res.cells[v];
+    size_t len = 0;
+    for (const auto& c : cells) len = std::max(len, c.t_s.size());
     {
       std::ostringstream d;
       d << "# t_s then the mean over runs of the error of each predictor:";
       for (const auto& p : sc.predictors) d << " " << p.name;
       d << "\n";
-      const auto& cells = res.cells[v];
-      size_t len = 0;
-      for (const auto& c : cells) len = std::max(len, c.t_s.size());
       for (size_t k = 0; k < len; ++k) {
         double t = kNaN;
         for (const auto& c : cells)
@@ -226,6 +226,9 @@ void plotErrors(const Plan& plan, const Results& res, const StagedOutputDir& dir
     p.ylabel = closed ? "tracking error e [px]" : "||predicted - true|| [" + errorUnitLabel(sc) + "]";
     p.log_y = true;
     p.setup = "set key outside right top noopaque\n";
+    // About 20 markers per curve: a predictor that coincides with another (st-akf under st-akf-pm
+    // on E12, stkf under stkf-plain on E6) shows its own between the other's.
+    p.marker_rows = std::max<size_t>(1, len / 20);
     for (size_t k = 0; k < sc.predictors.size(); ++k)
       p.lines.push_back({base + ".dat", "1:" + std::to_string(k + 2), k < 6 ? "lines lw 1.6" : "lines lw 1.6 dt 2",
                          seriesColor(k), sc.predictors[k].name, ""});

@@ -52,15 +52,37 @@ void drawFigure(const StagedOutputDir& dir, const PlotFigure& f) {
     if (p.log_y) gp << "set logscale y\nset format y '%g'\n";
     gp << keyHeadroom(p, ph);
     gp << p.setup << "plot ";
+    auto marked = [&](const PlotLine& l) {
+      return p.marker_rows > 0 && !l.file.empty() && !l.title.empty() && l.select.find("every") == std::string::npos &&
+             l.style.rfind("lines", 0) == 0 && l.style.rfind("linespoints", 0) != 0;
+    };
+    size_t n_marked = 0;
+    for (const PlotLine& l : p.lines) n_marked += marked(l);
+    size_t k_marked = 0;
     for (size_t k = 0; k < p.lines.size(); ++k) {
       const PlotLine& l = p.lines[k];
       gp << (k ? ", \\\n     " : "");
+      const std::string source =
+          l.file.empty() ? std::string() : "'" + l.file + "'" + (l.select.empty() ? "" : " " + l.select);
       if (l.file.empty())
         gp << l.using_spec;
       else
-        gp << "'" << l.file << "'" << (l.select.empty() ? "" : " " + l.select) << " using " << l.using_spec;
-      gp << " with " << l.style << " lc rgb '" << l.color << "' "
-         << (l.title.empty() ? std::string("notitle") : "title " + gnuplotQuote(l.title));
+        gp << source << " using " << l.using_spec;
+      const std::string color = " lc rgb '" + l.color + "' ";
+      if (!marked(l)) {
+        gp << " with " << l.style << color << (l.title.empty() ? std::string("notitle") : "title " + gnuplotQuote(l.title));
+        continue;
+      }
+      // The line without a key entry, its markers, then the key entry alone: the function NaN, which
+      // draws nothing (a data series of NaN would be skipped with its key entry, under `set datafile
+      // missing 'NaN'`).
+      const std::string marker = " pt " + std::to_string(markerType(k_marked)) + " ps 0.9";
+      const size_t first = k_marked * p.marker_rows / n_marked;
+      gp << " with " << l.style << color << "notitle, \\\n     " << source << " every " << p.marker_rows
+         << "::" << first << " using " << l.using_spec << " with points" << marker << color << "notitle, \\\n     "
+         << "NaN with linespoints" << l.style.substr(5) << marker << color
+         << "title " << gnuplotQuote(l.title);
+      ++k_marked;
     }
     gp << "\n";
   }
@@ -86,6 +108,13 @@ std::vector<std::vector<size_t>> groupByPrefix(const std::vector<std::string>& n
 }
 
 int dashType(size_t k) { return static_cast<int>(k % 5) + 1; }
+
+int markerType(size_t k) {
+  // Open and filled shapes gnuplot's cairo terminals draw alike: circle, square, triangle up and
+  // down, diamond, pentagon, then their filled forms.
+  static const int kTypes[] = {6, 4, 8, 10, 12, 14, 7, 5, 9, 11, 13, 15};
+  return kTypes[k % (sizeof kTypes / sizeof kTypes[0])];
+}
 
 // The envelope of a long table (plots.h): per slice of the x span (at most a pixel column), the
 // time columns' first and last value and every other column's min and max, in the order the data

@@ -42,6 +42,12 @@ struct PlotLine {
 struct PlotPanel {
   std::string title, xlabel = "time t [s]", ylabel;
   bool log_y = false;
+  /// > 0: every titled line read from a file (without `every` in its select) also gets a marker
+  /// every marker_rows rows, its own point type, the k-th of n such lines starting at row
+  /// k * marker_rows / n, and its key entry shows line and marker. Curves that coincide (a
+  /// predictor and its variant with an action that never fires) then still show each one's
+  /// markers; 0: lines only.
+  size_t marker_rows = 0;
   std::string setup;  ///< gnuplot commands for this panel, after the per-panel defaults
   std::vector<PlotLine> lines;
 };
@@ -68,6 +74,9 @@ std::vector<std::vector<size_t>> groupByPrefix(const std::vector<std::string>& n
 
 /// Dash type of the k-th curve of a group: solid, then dashed patterns.
 int dashType(size_t k);
+
+/// gnuplot point type of the k-th marked curve (PlotPanel::marker_rows): open shapes, then filled.
+int markerType(size_t k);
 
 /// One column of a table given to plotEnvelope() or EnvelopeBuilder::addBlock(): its values, one per
 /// row (not owned), each plus `shift` when `shifted`; NaN in every row when `values` is null.

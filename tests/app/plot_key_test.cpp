@@ -51,4 +51,45 @@ TEST_F(PlotKey, APanelWithAKeyGetsHeadroomForIt) {
   EXPECT_EQ(gp.substr(third, 23), "set offsets 0, 0, 0, 0\n");
 }
 
+TEST_F(PlotKey, MarkedLinesShowStaggeredMarkersAndKeepOneKeyEntryEach) {
+  if (!predvs::gnuplotAvailable()) GTEST_SKIP() << "gnuplot not installed";
+  // GIVEN a panel with markers every 4 rows: two titled lines that coincide, an untitled line, a
+  // titled point series and a titled line that already selects rows
+  predvs::StagedOutputDir dir(path("marked"));
+  std::string dat;
+  for (int i = 0; i < 40; ++i) dat += std::to_string(i) + " " + std::to_string(1 + i % 3) + "\n";
+  predvs::writeTextFile(dir, "d.dat", dat);
+  predvs::PlotFigure f;
+  f.base = "marked";
+  f.title = "markers";
+  predvs::PlotPanel p;
+  p.marker_rows = 4;
+  p.log_y = true;
+  p.lines = {{"d.dat", "1:2", "lines lw 1.6", "red", "a", ""},
+             {"d.dat", "1:2", "lines lw 1.6 dt 2", "blue", "b", ""},
+             {"d.dat", "1:2", "lines", "black", "", ""},
+             {"d.dat", "1:2", "points pt 7", "green", "c", ""},
+             {"d.dat", "1:2", "lines", "grey", "d", "every ::0::9"}};
+  f.panels = {p};
+  // WHEN it is drawn
+  predvs::drawFigure(dir, f);
+  const std::string gp = slurp(dir.file("marked.gp"));
+  EXPECT_TRUE(std::filesystem::exists(dir.file("marked.png")));
+  // THEN each titled line is drawn without a key entry, its markers every 4 rows start at row
+  // k * 4 / 2 for the k-th of the two marked lines, and its key entry is the function NaN with the
+  // line's style and the marker
+  EXPECT_NE(gp.find("'d.dat' using 1:2 with lines lw 1.6 lc rgb 'red' notitle"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("'d.dat' every 4::0 using 1:2 with points pt 6 ps 0.9 lc rgb 'red' notitle"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("NaN with linespoints lw 1.6 pt 6 ps 0.9 lc rgb 'red' title \"a\""), std::string::npos) << gp;
+  EXPECT_NE(gp.find("'d.dat' every 4::2 using 1:2 with points pt 4 ps 0.9 lc rgb 'blue' notitle"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("NaN with linespoints lw 1.6 dt 2 pt 4 ps 0.9 lc rgb 'blue' title \"b\""), std::string::npos) << gp;
+  // ... and the untitled line, the point series and the line with its own row selection are as without markers
+  EXPECT_NE(gp.find("'d.dat' using 1:2 with lines lc rgb 'black' notitle"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("'d.dat' using 1:2 with points pt 7 lc rgb 'green' title \"c\""), std::string::npos) << gp;
+  EXPECT_NE(gp.find("'d.dat' every ::0::9 using 1:2 with lines lc rgb 'grey' title \"d\""), std::string::npos) << gp;
+  size_t every = 0;
+  for (size_t at = gp.find(" every 4::"); at != std::string::npos; at = gp.find(" every 4::", at + 1)) ++every;
+  EXPECT_EQ(every, 2u);
+}
+
 }  // namespace
