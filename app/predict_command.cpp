@@ -933,8 +933,7 @@ void writePlotFiles(const FeatureTrack& track, const PredictionReport& report, i
     gp << "set xrange [" << datNumber(slices.firstTime()) << ":" << datNumber(slices.lastTime() + report.horizon_s) << "]\n";
   else
     gp << "set autoscale xfix\n";
-  gp
-     << "set key outside right top vertical Left reverse samplen 2\n";
+  gp << "set key outside right top vertical Left reverse samplen 2\n";
   for (int axis = 0; axis < 2; ++axis) {
     const char* name = axis == 0 ? "u" : "v";
     gp << "set title " << gnuplotQuote(std::string("image coordinate ") + name + " (measured vs predicted)") << "\n"
