@@ -57,10 +57,9 @@ Params readParams(const YAML::Node& node, const std::string& file, const std::st
   Params params;
   if (!node.IsDefined() || node.IsNull()) return params;
   if (!node.IsMap()) throwAt(file, yamlLine(node), "'" + section + "': expected a mapping of parameter: number");
-  std::set<std::string> seen;
+  refuseKeysGivenTwice(node, file, section);
   for (const auto& kv : node) {
     const std::string key = kv.first.Scalar();
-    if (!seen.insert(key).second) throwAt(file, yamlLine(kv.first), "'" + section + "." + key + "' given twice");
     if (skip.count(key)) continue;
     if (words && kv.second.IsScalar()) {
       char* end = nullptr;

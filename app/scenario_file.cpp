@@ -97,11 +97,14 @@ YamlSection::YamlSection(const YAML::Node& node, std::string file, std::string s
   if (!node_.IsMap())
     throwAt(file_, line_, (section_.empty() ? std::string("the file") : "'" + section_ + "'") +
                               ": expected a mapping of key: value");
-  // YAML leaves a key given twice to the reader (yaml-cpp keeps both and reads the first).
+  refuseKeysGivenTwice(node_, file_, section_);
+}
+
+void refuseKeysGivenTwice(const YAML::Node& map, const std::string& file, const std::string& section) {
   std::set<std::string> seen;
-  for (const auto& kv : node_)
+  for (const auto& kv : map)
     if (kv.first.IsScalar() && !seen.insert(kv.first.Scalar()).second)
-      throwAt(file_, yamlLine(kv.first), "'" + qualified(kv.first.Scalar()) + "' given twice");
+      throwAt(file, yamlLine(kv.first), "'" + (section.empty() ? "" : section + ".") + kv.first.Scalar() + "' given twice");
 }
 
 std::string YamlSection::qualified(const std::string& key) const {

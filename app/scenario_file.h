@@ -40,6 +40,11 @@ YAML::Node loadYamlFile(const std::string& path);
 /// 1-based line of a node (0 if unknown).
 int yamlLine(const YAML::Node& node);
 
+/// Throws "FILE:LINE: 'SECTION.KEY' given twice" ('KEY' when `section` is empty) at the second of
+/// two equal scalar keys of the mapping `map`: YAML leaves a key given twice to the reader, and
+/// yaml-cpp keeps both and reads the first.
+void refuseKeysGivenTwice(const YAML::Node& map, const std::string& file, const std::string& section);
+
 /// A YAML mapping read with use tracking. Each accessor marks its key as known; finish() throws
 /// for the first key that was never asked for. Values are validated (type, finiteness, range)
 /// and errors name FILE:LINE and SECTION.KEY.
