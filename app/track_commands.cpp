@@ -35,13 +35,14 @@ void checkGeneratorArgs(double duration_s, double drop_prob, double glitch_prob,
 }
 
 bool validNoisePx(double s) { return s >= 0.0 && std::isfinite(s); }
+bool validRateHz(double r) { return r >= 1.0 && r <= 1000.0; }
 
 }  // namespace
 
 int runMakeTrack(const MakeTrackArgs& a, std::ostream& out) {
   ManeuverTrackConfig c;
   c.kind = parseManeuverKind(a.kind);
-  if (!(a.rate_hz >= 1.0 && a.rate_hz <= 1000.0)) throw std::invalid_argument("--rate-hz: expected a rate in [1, 1000] Hz");
+  if (!validRateHz(a.rate_hz)) throw std::invalid_argument("--rate-hz: expected a rate in [1, 1000] Hz");
   if (!validNoisePx(a.noise_px)) throw std::invalid_argument("--noise-px: expected a finite standard deviation >= 0 px");
   checkGeneratorArgs(a.duration_s, a.drop_prob, a.glitch_prob, a.glitch_px);
   if (a.seed < 0) throw std::invalid_argument("--seed: expected an integer >= 0");
@@ -149,7 +150,7 @@ int runTrackStudy(const TrackStudyArgs& a, std::ostream& out, std::ostream& err)
   checkGeneratorArgs(a.duration_s, a.drop_prob, a.glitch_prob, a.glitch_px);
   if (a.delay_frames < 0) throw std::invalid_argument("--delay-frames: expected an integer >= 0");
   for (double r : a.rates_hz)
-    if (!(r >= 1.0 && r <= 1000.0)) throw std::invalid_argument("--rates: expected rates in [1, 1000] Hz");
+    if (!validRateHz(r)) throw std::invalid_argument("--rates: expected rates in [1, 1000] Hz");
   for (double s : a.noises_px)
     if (!validNoisePx(s)) throw std::invalid_argument("--noise: expected finite standard deviations >= 0 px");
   std::map<std::string, Params> fixed;
