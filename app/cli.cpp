@@ -47,6 +47,11 @@ void listSection(std::ostream& out, const std::string& title, const Rows& rows) 
   for (const auto& r : rows) out << "  " << std::left << std::setw(static_cast<int>(w)) << r.name << "  " << r.summary << "\n";
 }
 
+/// servo's and compare's --params.
+constexpr const char* kParamsFileHelp =
+    "predictor parameter file (fit-noise), or the name of one of predvs's own (pre-issue-11, ...): each "
+    "entry becomes --set predictors.NAME.params.KEY=VALUE";
+
 /// A CLI11 check: a length > 0 (m) ("" when it is one, else why not).
 std::string positiveLength(const std::string& text) {
   char* end = nullptr;
@@ -247,10 +252,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
   servo->add_option("--out", so.out_dir, "output directory, replaced only when the run succeeds (default: out/<scenario>)")
       ->type_name("DIR");
   servo->add_flag("--no-plots", servo_no_plots, "do not draw PNG plots (no gnuplot needed)");
-  servo->add_option("--params", servo_params_file,
-                    "predictor parameter file (fit-noise), or the name of one of predvs's own (pre-issue-11, ...): each "
-                    "entry becomes --set predictors.NAME.params.KEY=VALUE")
-      ->type_name("FILE");
+  servo->add_option("--params", servo_params_file, kParamsFileHelp)->type_name("FILE");
 
   CompareOptions co;
   std::string cmp_scenarios = "all", cmp_predictors, cmp_runs, cmp_seed, cmp_jobs;
@@ -343,10 +345,7 @@ int runCli(std::vector<std::string> args, std::ostream& out, std::ostream& err) 
       ->type_name("DIR");
   merge->add_flag("--no-plots", mg_no_plots, "do not draw PNG plots (no gnuplot needed)");
 
-  compare->add_option("--params", cmp_params_file,
-                      "predictor parameter file (fit-noise), or the name of one of predvs's own (pre-issue-11, ...): each "
-                    "entry becomes --set predictors.NAME.params.KEY=VALUE")
-      ->type_name("FILE");
+  compare->add_option("--params", cmp_params_file, kParamsFileHelp)->type_name("FILE");
 
 
   CLI::App* calibrate = app.add_subcommand("calibrate", "Calibrate a camera from pattern images, or the vision delay from a servo log");
